@@ -1,0 +1,33 @@
+// The subcommand interface. src/cli/ is the only place that knows
+// Boost.Program_options; each subcommand parses its own arguments.
+#pragma once
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace deflex::cli {
+
+// Streams a command writes to; tests pass string streams.
+struct Io {
+  std::istream& in;
+  std::ostream& out;
+  std::ostream& err;
+  bool err_is_terminal = false;  // progress output only on a terminal
+};
+
+// A subcommand: args are the words after the subcommand name. Returns the exit
+// code (deflex::Exit); failures may also be thrown as deflex::Error.
+using CommandFn = int (*)(const std::vector<std::string>& args, Io& io);
+
+int cmd_path(const std::vector<std::string>& args, Io& io);
+int cmd_check(const std::vector<std::string>& args, Io& io);
+int cmd_diff(const std::vector<std::string>& args, Io& io);
+int cmd_rewrite(const std::vector<std::string>& args, Io& io);
+int cmd_stiffness(const std::vector<std::string>& args, Io& io);   // issue 3
+int cmd_forces(const std::vector<std::string>& args, Io& io);      // issue 4
+int cmd_calibrate(const std::vector<std::string>& args, Io& io);   // issue 4
+
+// Runs `deflex ARGS...` in-process (what main() does); used by golden tests.
+int run(const std::vector<std::string>& argv, Io& io);
+
+}  // namespace deflex::cli

@@ -1,0 +1,92 @@
+// Compiler-style diagnostics and the exit code of each failure class.
+#pragma once
+#include <cstdint>
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace deflex {
+
+// One exit code per failure class (listed in `deflex --help`).
+enum class Exit : int {
+  ok = 0,        // success; for check/diff: clean / only coordinates differ
+  input = 1,     // the program (or a compared program) has errors / differs
+  usage = 2,     // bad command line
+  config = 3,    // config.yaml, machine profile, dialect or library error
+  io = 4,        // a file could not be read or written
+  internal = 70  // a bug in deflex (EX_SOFTWARE)
+};
+
+// A failure that ends the command with its class's exit code.
+class Error : public std::runtime_error {
+ public:
+  Error(Exit code, const std::string& what) : std::runtime_error(what), code_(code) {}
+  Exit code() const { return code_; }
+
+ private:
+  Exit code_;
+};
+
+enum class Severity { note, warning, error };
+
+// Text of a file with a line index, so a byte offset maps to line:col.
+// Lines are 1-based, columns are 1-based byte columns (as gcc prints them).
+class SourceText {
+ public:
+  SourceText() = default;
+  SourceText(std::string name, std::string bytes);
+  const std::string& name() const { return name_; }
+  const std::string& bytes() const { return bytes_; }
+  std::size_t line_count() const { return line_begin_.size(); }
+  // Byte range of line `line` (1-based) without its line end.
+  std::string_view line_text(std::uint32_t line) const;
+  std::uint32_t line_begin(std::uint32_t line) const { return line_begin_[line - 1]; }
+  // Byte offset just past line `line` including its line end.
+  std::uint32_t line_end_with_eol(std::uint32_t line) const;
+  std::uint32_t line_of(std::uint32_t offset) const;  // 1-based
+
+ private:
+  std::string name_;
+  std::string bytes_;
+  std::vector<std::uint32_t> line_begin_;
+};
+
+struct Diagnostic {
+  Severity severity = Severity::error;
+  std::string file;
+  std::uint32_t line = 0;  // 0: no location
+  std::uint32_t col = 0;
+  std::string message;
+  std::string source_line;  // empty: no excerpt
+};
+
+// Collects diagnostics, prints them as they come (gcc format), counts errors
+// and stops a run after max_errors.
+class Diagnostics {
+ public:
+  explicit Diagnostics(std::ostream* out = nullptr, int max_errors = 20)
+      : out_(out), max_errors_(max_errors) {}
+  void report(Severity s, const SourceText& src, std::uint32_t line, std::uint32_t col,
+              std::string message);
+  void report(Severity s, std::string file, std::string message);  // no location
+  int errors() const { return errors_; }
+  int warnings() const { return warnings_; }
+  bool too_many() const { return max_errors_ > 0 && errors_ >= max_errors_; }
+  const std::vector<Diagnostic>& all() const { return all_; }
+  void set_keep(bool keep) { keep_ = keep; }
+
+ private:
+  void emit(Diagnostic d);
+  std::ostream* out_;
+  int max_errors_;
+  int errors_ = 0;
+  int warnings_ = 0;
+  bool keep_ = true;
+  std::vector<Diagnostic> all_;
+};
+
+std::string format(const Diagnostic& d);
+
+}  // namespace deflex

@@ -1,0 +1,30 @@
+#!/bin/sh
+# Install deflex's build and test dependencies from Debian 12 packages.
+# Idempotent: packages already present are skipped; apt-get runs only when
+# something is missing. Must run as root (or with sudo available).
+#   scripts/install-deps.sh          build + run dependencies
+#   scripts/install-deps.sh --test   also what the test suite needs (LinuxCNC's rs274)
+#   scripts/install-deps.sh --bench  also hyperfine for bench/
+set -eu
+pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
+libeigen3-dev libboost-program-options-dev libyaml-cpp-dev doctest-dev libtbb-dev
+libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
+libocct-data-exchange-dev libgmsh-dev"
+for a in "$@"; do
+  case "$a" in
+    --test)  pkgs="$pkgs linuxcnc-uspace" ;;
+    --bench) pkgs="$pkgs hyperfine" ;;
+    *) echo "install-deps.sh: unknown option $a" >&2; exit 2 ;;
+  esac
+done
+missing=""
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+[ -z "$missing" ] && exit 0
+SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+echo "install-deps.sh: installing$missing" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+# shellcheck disable=SC2086
+$SUDO apt-get install -y -qq --no-install-recommends $missing >/dev/null

@@ -1,0 +1,75 @@
+#include "deflex/diag/diagnostics.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <ostream>
+
+namespace deflex {
+
+SourceText::SourceText(std::string name, std::string bytes)
+    : name_(std::move(name)), bytes_(std::move(bytes)) {
+  if (bytes_.size() >= 0xFFFFFFFFu)
+    throw Error(Exit::io, name_ + ": file larger than 4 GiB is not supported");
+  line_begin_.reserve(bytes_.size() / 16 + 1);
+  line_begin_.push_back(0);
+  const char* p = bytes_.data();
+  const char* end = p + bytes_.size();
+  // A line ends at LF; CR before LF belongs to the line end. A lone CR is kept as text.
+  while (const char* nl = static_cast<const char*>(std::memchr(p, '\n', end - p))) {
+    p = nl + 1;
+    if (p == end) break;
+    line_begin_.push_back(static_cast<std::uint32_t>(p - bytes_.data()));
+  }
+  if (bytes_.empty()) line_begin_.clear();
+}
+
+std::uint32_t SourceText::line_end_with_eol(std::uint32_t line) const {
+  return line < line_begin_.size() ? line_begin_[line] : static_cast<std::uint32_t>(bytes_.size());
+}
+
+std::string_view SourceText::line_text(std::uint32_t line) const {
+  if (line == 0 || line > line_begin_.size()) return {};
+  std::uint32_t b = line_begin_[line - 1], e = line_end_with_eol(line);
+  if (e > b && bytes_[e - 1] == '\n') --e;
+  if (e > b && bytes_[e - 1] == '\r') --e;
+  return std::string_view(bytes_).substr(b, e - b);
+}
+
+std::uint32_t SourceText::line_of(std::uint32_t offset) const {
+  auto it = std::upper_bound(line_begin_.begin(), line_begin_.end(), offset);
+  return static_cast<std::uint32_t>(it - line_begin_.begin());
+}
+
+std::string format(const Diagnostic& d) {
+  static const char* names[] = {"note", "warning", "error"};
+  std::string s = d.file;
+  if (d.line) s += ":" + std::to_string(d.line) + ":" + std::to_string(d.col);
+  s += std::string(s.empty() ? "" : ": ") + names[static_cast<int>(d.severity)] + ": " + d.message + "\n";
+  if (!d.source_line.empty() || d.line) {
+    s += "  " + d.source_line + "\n  ";
+    // Keep tabs under tabs so the caret lines up in a terminal.
+    for (std::uint32_t i = 1; i < d.col && i - 1 < d.source_line.size(); ++i)
+      s += d.source_line[i - 1] == '\t' ? '\t' : ' ';
+    s += "^\n";
+  }
+  return s;
+}
+
+void Diagnostics::emit(Diagnostic d) {
+  if (d.severity == Severity::error) ++errors_;
+  if (d.severity == Severity::warning) ++warnings_;
+  if (out_) *out_ << format(d);
+  if (keep_) all_.push_back(std::move(d));
+}
+
+void Diagnostics::report(Severity s, const SourceText& src, std::uint32_t line, std::uint32_t col,
+                         std::string message) {
+  Diagnostic d{s, src.name(), line, col, std::move(message), std::string(src.line_text(line))};
+  emit(std::move(d));
+}
+
+void Diagnostics::report(Severity s, std::string file, std::string message) {
+  emit(Diagnostic{s, std::move(file), 0, 0, std::move(message), {}});
+}
+
+}  // namespace deflex
