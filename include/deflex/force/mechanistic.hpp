@@ -1,0 +1,75 @@
+// Mechanistic milling forces over one spindle revolution.
+//
+// Forces act on the tool, in machine axes (feed +X, spindle axis +Z up), N.
+// Per edge element at immersion phi (see engagement.hpp) and axial immersion kappa
+// (Engin & Altintas 2001; Smaoui 2011 Eq. 5 with beta = phi, eta = kappa):
+//   dFx = -dFr sin(k) sin(phi) - dFt cos(phi) - dFa cos(k) sin(phi)
+//   dFy = -dFr sin(k) cos(phi) + dFt sin(phi) - dFa cos(k) cos(phi)
+//   dFz =  dFr cos(k)                         - dFa sin(k)
+// with dF_q = K_qc h db + K_qe dS and h = f_z sin(phi) sin(k) (no force where h <= 0).
+// Tooth j's edge at height z has phi = theta + j * pitch - psi(z), theta the
+// spindle rotation angle (tooth 0's tip immersion).
+#pragma once
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "deflex/force/coefficients.hpp"
+#include "deflex/force/cutter.hpp"
+#include "deflex/force/engagement.hpp"
+
+namespace deflex::force {
+
+using Vec3 = Eigen::Vector3d;  // machine axes X, Y, Z
+
+// Rotation angles theta_j = j * 2 pi / steps, j = 0..steps-1, with their sines and
+// cosines; build once per step count and share (read-only) between threads.
+struct AngleGrid {
+  int steps = 0;
+  std::vector<double> sin_t, cos_t;
+};
+AngleGrid make_angle_grid(int steps);
+
+// Force on the tool at rotation theta (exact point evaluation, all teeth, all slices).
+Vec3 force_at_angle(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                    const Engagement& eng, double theta);
+
+// Forces at theta_j of `grid` into out_N (size grid.steps). Each sample is the mean
+// over the angular cell [theta_j - dtheta/2, theta_j + dtheta/2], so the mean of
+// the samples is the revolution mean up to O(dtheta^2) even for slot entries and
+// exits. Does not allocate. When steps is a multiple of the flute count it
+// evaluates one tooth pitch and repeats it (forces are periodic in the pitch).
+void revolution_forces(const CutterSlices& cs, const AngleGrid& grid, const Coefficients& k,
+                       double fz_mm, const Engagement& eng, std::span<Vec3> out_N);
+
+struct ForceSummary {
+  Vec3 mean_N = Vec3::Zero();
+  Vec3 peak_abs_N = Vec3::Zero();  // per axis, max |F| over the revolution
+};
+ForceSummary summarize(std::span<const Vec3> forces_N);
+
+// Convenience: allocates the result.
+std::vector<Vec3> revolution_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                                    const Engagement& eng, int steps);
+
+// Surface-generating force (Morelli 2021 §2.3): the machined surface at height z is
+// generated when an edge at z passes the surface-normal immersion angle phi_n (pi
+// for down-milling on a -Y wall, 0 for up-milling on a +Y wall). For each engaged
+// slice, the total force on the tool at that instant.
+struct SurfaceForce {
+  double z_mm = 0;
+  Vec3 force_N = Vec3::Zero();
+};
+std::vector<SurfaceForce> surface_generating_forces(const CutterSlices& cs, const Coefficients& k,
+                                                    double fz_mm, const Engagement& eng,
+                                                    double normal_phi);
+
+// The component along the in-plane unit normal (sin phi_n, cos phi_n, 0) with the
+// largest magnitude among those slices (0 when nothing is engaged).
+struct SurfaceForcePeak {
+  double normal_N = 0;
+  double z_mm = 0;
+};
+SurfaceForcePeak peak_normal(std::span<const SurfaceForce> sf, double normal_phi);
+
+}  // namespace deflex::force
