@@ -1,0 +1,48 @@
+// C(h): the compliance of the tool on its machine for a load on the tool axis at
+// height h above the tip.
+#pragma once
+#include <vector>
+
+#include <Eigen/Dense>
+
+namespace deflex::stiffness {
+
+// 3x3 compliance, machine axes, mm/N: rows = displacement x, y, z of the load
+// point; columns = force x, y, z.
+using Compliance = Eigen::Matrix3d;
+
+struct ComplianceRow {
+  double height_mm = 0;  // above the tip, on the tool axis
+  Compliance matrix_mm_per_N = Compliance::Zero();
+};
+
+// Compliance at stations along the tool, interpolated between them.
+class ComplianceTable {
+ public:
+  ComplianceTable() = default;
+  // Rows in any order; sorted by height. Heights must be distinct.
+  explicit ComplianceTable(std::vector<ComplianceRow> rows);
+
+  // Piecewise-cubic Hermite interpolation (slopes by finite differences), so a
+  // cubic-in-h bending compliance is followed closely; h outside the stations is
+  // clamped to the nearest end (loads only act along the flutes).
+  Compliance at(double height_mm) const;
+
+  const std::vector<ComplianceRow>& rows() const { return rows_; }
+  bool empty() const { return rows_.empty(); }
+  double min_height_mm() const { return rows_.front().height_mm; }
+  double max_height_mm() const { return rows_.back().height_mm; }
+
+ private:
+  std::vector<ComplianceRow> rows_;
+};
+
+// Deflection of the load point, mm, machine axes, under force_N at height h:
+// delta = C(h) F.
+Eigen::Vector3d deflection_mm(const ComplianceTable& c, double height_mm,
+                              const Eigen::Vector3d& force_N);
+
+// Heights of the table stations: n equal steps from 0 to top_mm (n >= 1).
+std::vector<double> station_heights_mm(double top_mm, int steps);
+
+}  // namespace deflex::stiffness

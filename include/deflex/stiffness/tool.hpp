@@ -1,0 +1,67 @@
+// The tool library: end mills described by their parameters (samples/tools.yaml).
+// Frame: the tool axis is +z, the tip at z = 0, the holder face at z = stickout_mm.
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+namespace deflex::stiffness {
+
+enum class ToolType { ball, flat, bull };
+
+// Linear-elastic isotropic material.
+struct Material {
+  std::string name;  // preset name, or "custom"
+  double E_MPa = 0;
+  double poisson = 0;
+};
+
+// Presets for `material: carbide|hss|steel`. Typical handbook values: cemented
+// carbide (WC-Co, 10% Co) 600 GPa, M2 high-speed steel 220 GPa, tool steel 210 GPa.
+std::optional<Material> material_preset(const std::string& name);
+
+// A reduced-diameter neck between the flutes and the shank (long-reach tools).
+struct Neck {
+  double diameter_mm = 0;
+  double length_mm = 0;  // from the end of the flutes towards the shank
+};
+
+struct Tool {
+  std::string id;
+  ToolType type = ToolType::flat;
+  double diameter_mm = 0;
+  double corner_radius_mm = 0;  // bull: corner; ball: diameter/2; flat: 0
+  int flutes = 2;
+  double helix_deg = 30;
+  double flute_length_mm = 0;         // from the tip
+  double stickout_mm = 0;             // holder face to tip
+  double shank_diameter_mm = 0;       // defaults to diameter_mm
+  double flute_diameter_ratio = 0.8;  // equivalent solid diameter of the fluted part / D
+  Material material;
+  std::optional<Neck> neck;
+  std::string step_file;  // vendor model, resolved against the library's folder; empty: none
+  std::string source;     // "file:line:col" of the tool's entry, for messages
+};
+
+struct ToolLibrary {
+  std::string file;
+  std::map<std::string, Tool> tools;
+};
+
+// Reads a tool library. Throws Error(Exit::io) when the file cannot be read and
+// Error(Exit::config, "file:line:col: error: ...") for any YAML or value error.
+ToolLibrary load_tool_library(const std::string& path);
+// The same from YAML text (`file` names it in messages; relative step_file
+// paths are resolved against the folder of `file`).
+ToolLibrary parse_tool_library(const std::string& yaml_text, const std::string& file);
+// One tool entry (a YAML map).
+Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string& file);
+
+// Throws Error(Exit::usage) naming the known tools when `id` is missing.
+const Tool& find_tool(const ToolLibrary& lib, const std::string& id);
+
+std::string to_string(ToolType t);
+
+}  // namespace deflex::stiffness

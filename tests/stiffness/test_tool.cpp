@@ -1,0 +1,134 @@
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stiffness/shape.hpp"
+#include "deflex/stiffness/tool.hpp"
+#include "helpers.hpp"
+
+using namespace deflex;
+using namespace deflex::stiffness;
+using namespace deflex::stiffness::testing;
+
+namespace {
+// The message of the config error `yaml` raises, or "" if none.
+std::string tool_error(const std::string& yaml) {
+  try {
+    parse_tool_library(yaml, "lib.yaml");
+  } catch (const Error& e) {
+    CHECK(e.code() == Exit::config);
+    return e.what();
+  }
+  return "";
+}
+std::string machine_error(const std::string& yaml) {
+  try {
+    parse_machine_stiffness(YAML::Load(yaml), "m.yaml");
+  } catch (const Error& e) {
+    CHECK(e.code() == Exit::config);
+    return e.what();
+  }
+  return "";
+}
+const char* kGood =
+    "tools:\n"
+    "  A:\n"
+    "    type: bull\n"
+    "    diameter_mm: 12\n"
+    "    corner_radius_mm: 1.5\n"
+    "    flute_length_mm: 20\n"
+    "    stickout_mm: 40\n"
+    "    material: carbide\n";
+}  // namespace
+
+TEST_SUITE("stiffness") {
+  TEST_CASE("tools: the sample library has every tool type and the paper-001 tool") {
+    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    bool ball = false, flat = false, bull = false;
+    for (const auto& [id, t] : lib.tools) {
+      ball |= t.type == ToolType::ball;
+      flat |= t.type == ToolType::flat;
+      bull |= t.type == ToolType::bull;
+    }
+    CHECK((ball && flat && bull));
+    const Tool& t5 = find_tool(lib, "T5");
+    CHECK(t5.type == ToolType::ball);
+    CHECK(t5.diameter_mm == 16);
+    CHECK(t5.corner_radius_mm == 8);
+    CHECK(t5.flutes == 2);
+    CHECK(t5.helix_deg == 9);
+    CHECK(t5.stickout_mm == 80);
+    CHECK(t5.material.E_MPa == 207000);
+    CHECK(t5.material.poisson == 0.33);
+    CHECK(find_tool(lib, "T3").neck.has_value());
+    CHECK_THROWS_AS(find_tool(lib, "T99"), Error);
+  }
+
+  TEST_CASE("tools: defaults and presets") {
+    const ToolLibrary lib = parse_tool_library(kGood, "lib.yaml");
+    const Tool& t = find_tool(lib, "A");
+    CHECK(t.shank_diameter_mm == 12);
+    CHECK(t.flute_diameter_ratio == 0.8);
+    CHECK(t.material.name == "carbide");
+    CHECK(t.material.E_MPa > 400000);
+  }
+
+  TEST_CASE("tools: errors carry file:line:col") {
+    CHECK(tool_error(std::string(kGood) + "    diamter_mm: 3\n")
+              .find("lib.yaml:9:5: error: unknown key 'diamter_mm'") == 0);
+    std::string bad = kGood;
+    bad.replace(bad.find("diameter_mm: 12"), 15, "diameter_mm: -2");
+    CHECK(tool_error(bad).find("lib.yaml:4:18: error: diameter_mm must be > 0") == 0);
+    bad = kGood;
+    bad.replace(bad.find("type: bull"), 10, "type: drill");
+    CHECK(tool_error(bad).find("lib.yaml:3:11: error: type must be ball, flat or bull") == 0);
+    bad = kGood;
+    bad.replace(bad.find("corner_radius_mm: 1.5"), 21, "corner_radius_mm: 7");
+    CHECK(tool_error(bad).find("lib.yaml:5:23: error: corner_radius_mm") == 0);
+    bad = kGood;
+    bad.replace(bad.find("carbide"), 7, "{E_MPa: 2e5, poisson: 0.7}");
+    CHECK(tool_error(bad).find("error: poisson must be in (-1, 0.5)") != std::string::npos);
+    bad = kGood;
+    bad.replace(bad.find("    stickout_mm: 40\n"), 20, "");
+    CHECK(tool_error(bad).find("lib.yaml:3:5: error: missing key 'stickout_mm'") == 0);
+    CHECK(tool_error("tools:\n  A: [1, 2\n").find("lib.yaml:") == 0);
+    CHECK(tool_error(kGood).empty());
+  }
+
+  TEST_CASE("machine: the sample profile and its units") {
+    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    REQUIRE(m.holder.has_value());
+    CHECK(m.holder->length_mm == 65);
+    REQUIRE(m.spindle.has_value());
+    CHECK(*m.spindle->radial_N_per_mm == doctest::Approx(200e3));            // 200 N/um
+    CHECK(*m.spindle->rotational_Nmm_per_rad == doctest::Approx(2.0e9));     // 2e6 N m/rad
+    CHECK(m.structure_mm_per_N(0, 0) == doctest::Approx(1.0 / 60e3));        // 60 N/um
+    CHECK(m.structure_mm_per_N(0, 1) == 0);
+  }
+
+  TEST_CASE("machine: errors carry file:line:col") {
+    CHECK(machine_error("stiffness:\n  spindle:\n    radial_N_per_um: 0\n")
+              .find("m.yaml:3:22: error: radial_N_per_um must be > 0") == 0);
+    CHECK(machine_error("stiffness:\n  spindel: {}\n").find("m.yaml:2:3: error: unknown key 'spindel'") == 0);
+    CHECK(machine_error("stiffness:\n  structure:\n    compliance_mm_per_N: [[1, 0, 0], [0, -1, 0], [0, 0, 1]]\n")
+              .find("positive semi-definite") != std::string::npos);
+    CHECK(machine_error("name: x\nholder: {length_mm: 50, nose_diameter_mm: 30}\n").empty());
+  }
+
+  TEST_CASE("shape: equivalent profile of a fluted ball end") {
+    Tool t = cylinder(16, 80);
+    t.type = ToolType::ball;
+    t.corner_radius_mm = 8;
+    t.flute_length_mm = 30;
+    t.flute_diameter_ratio = 0.8;
+    const ToolShape s = tool_shape(t);
+    CHECK(radius_at(s, 0) == doctest::Approx(0));
+    CHECK(radius_at(s, 8) == doctest::Approx(6.4));
+    CHECK(radius_at(s, 20) == doctest::Approx(6.4));
+    CHECK(radius_at(s, 50) == doctest::Approx(8));
+    // A circle (scaled radially) through the corner: r(4) = 0.8 sqrt(4 (16 - 4)).
+    CHECK(radius_at(s, 4) == doctest::Approx(0.8 * std::sqrt(48.0)));
+  }
+}
