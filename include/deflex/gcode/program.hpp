@@ -1,0 +1,32 @@
+// A program file kept as bytes, with its line index; lines are lexed on demand.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/gcode/block.hpp"
+
+namespace deflex::gcode {
+
+class Program {
+ public:
+  explicit Program(SourceText src);
+  const SourceText& source() const { return src_; }
+  const std::string& bytes() const { return src_.bytes(); }
+  std::uint32_t line_count() const { return static_cast<std::uint32_t>(src_.line_count()); }
+  // Line number of the closing `%`; lines after it are ignored text. 0 if none.
+  std::uint32_t closing_percent_line() const { return closing_percent_; }
+  // Lexes line `line` (1-based) into `b` (reusing its storage). Lexical errors
+  // are reported to `diags`; a line with errors comes back with kind `block`
+  // and macro=false but words possibly incomplete — `ok` tells.
+  bool lex(std::uint32_t line, Block& b, Diagnostics& diags) const;
+
+ private:
+  SourceText src_;
+  std::uint32_t closing_percent_ = 0;
+};
+
+// Reads a whole file (or stdin for "-") into a SourceText; throws Error(io).
+SourceText read_source(const std::string& path);
+
+}  // namespace deflex::gcode

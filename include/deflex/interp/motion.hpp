@@ -1,0 +1,49 @@
+// What the interpreter tells the rest of deflex: one call per tool motion, in
+// the spirit of LinuxCNC's canonical machining functions, each carrying its
+// source line and whether deflex may change it.
+#pragma once
+#include <array>
+#include <cstdint>
+
+namespace deflex::interp {
+
+using Vec3 = std::array<double, 3>;  // x, y, z
+
+enum class MotionKind : std::uint8_t { rapid, linear, arc_cw, arc_ccw };
+
+// Why a motion must never be compensated (first reason that applies).
+enum class Fixed : std::uint8_t {
+  no = 0,            // compensable cutting motion
+  rapid,             // G0: not cutting
+  cutter_comp,       // under G41/G42: the control offsets the path itself
+  canned_cycle,      // expanded from a G73..G89 cycle
+  subprogram,        // inside an M98 subprogram (one block, many places)
+  incremental,       // G91: changing one block would shift all that follow
+  machine_frame,     // G53 / G28 / G30 move in machine coordinates
+  block_delete,      // `/` block: executed or not at the operator's switch
+};
+const char* to_string(Fixed f);
+const char* to_string(MotionKind k);  // "G0", "G1", "G2", "G3"
+
+struct Motion {
+  MotionKind kind = MotionKind::rapid;
+  Fixed fixed = Fixed::rapid;
+  std::uint8_t plane = 17;          // 17, 18 or 19 (arcs)
+  std::uint32_t line = 0;           // source line of the commanding block
+  Vec3 start_mm{};                  // tool tip, active work frame, mm
+  Vec3 end_mm{};
+  Vec3 center_mm{};                 // arcs: centre; its normal-axis value equals start's
+  double feed_mm_per_min = 0.0;     // 0 for rapids
+  int tool = 0;                     // active T number
+  // Offset of the active work frame in machine coordinates (work + this = machine), mm.
+  Vec3 work_offset_mm{};
+  bool compensable() const { return fixed == Fixed::no; }
+};
+
+class MotionSink {
+ public:
+  virtual ~MotionSink() = default;
+  virtual void motion(const Motion& m) = 0;
+};
+
+}  // namespace deflex::interp

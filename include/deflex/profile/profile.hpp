@@ -1,0 +1,89 @@
+// Control dialects (postproc/*.yaml), machine profiles (samples/machines/*.yaml)
+// and config.yaml. Every YAML error is a deflex::Error(Exit::config) whose text
+// starts with `file:line:col: error:`.
+#pragma once
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+namespace deflex::profile {
+
+enum class DecimalRule { least_input_increment, calculator };
+enum class CommentStyle { paren, semicolon };
+enum class NPolicy { none, increment };
+enum class ExtendedOffsets { none, g54_1, g154, g59_x };
+
+// How a control reads numbers and how deflex writes blocks for it.
+struct Dialect {
+  std::string name;
+  DecimalRule decimal_rule = DecimalRule::least_input_increment;
+  double lii_mm = 0.001;     // least input increment in G21
+  double lii_inch = 0.0001;  // in G20 (inch)
+  int decimals_mm = 4;
+  int decimals_inch = 5;
+  bool trailing_zeros = false;
+  bool leading_zero = true;
+  int max_line_length = 0;  // 0: no limit
+  NPolicy n_policy = NPolicy::none;
+  CommentStyle comment_style = CommentStyle::paren;
+  double arc_radius_tolerance_mm = 0.01;
+  char cycle_repeat_word = 'K';
+  double peck_retract_mm = 1.0;
+  std::string fine_boring_shift;  // "+X", "-Y", ... or empty: G76/G87 refused
+  bool cycle_positions_before_raise = true;
+  ExtendedOffsets extended_offsets = ExtendedOffsets::g54_1;
+};
+
+// Names of the built-in dialects (postproc/*.yaml compiled in).
+std::vector<std::string> dialect_names();
+// A built-in dialect by name, or a dialect file by path (contains '/' or ends .yaml).
+Dialect load_dialect(const std::string& name_or_path);
+Dialect parse_dialect(const YAML::Node& node, const std::string& file);
+
+// Travel limits of the tool tip in machine coordinates, mm.
+struct Travel {
+  std::array<double, 3> min_mm{-1e300, -1e300, -1e300};
+  std::array<double, 3> max_mm{1e300, 1e300, 1e300};
+  bool set = false;
+};
+
+struct MachineProfile {
+  std::string name;
+  std::string file;  // where it was read from
+  std::string dialect = "fanuc";
+  Travel travel;
+  // Work offsets (machine coordinates of each work zero), mm. Keys: "G54".."G59",
+  // "G54.1P1".. — absent ones are zero.
+  std::map<std::string, std::array<double, 3>> work_offsets_mm;
+  // G28/G30 reference points in machine coordinates, mm; 1 = G28.
+  std::map<int, std::array<double, 3>> reference_points_mm;
+  double max_offset_mm = 0.1;  // largest compensation offset (issue 5)
+  YAML::Node root;             // the whole document (stiffness, holder ... sections)
+};
+
+// A machine profile by path, or by name from samples/machines/NAME.yaml (next
+// to config.yaml, or in the source tree).
+MachineProfile load_machine(const std::string& name_or_path);
+
+struct Config {
+  std::string file;
+  std::string machine;      // default machine profile name
+  std::string dialect;      // overrides the machine's dialect when set
+  int max_errors = 20;
+  YAML::Node root;
+};
+
+// config.yaml from the current directory, else the source tree's, else defaults.
+Config load_config(const std::string& path = "");
+
+// Helpers shared by the YAML loaders of other modules.
+[[noreturn]] void yaml_error(const std::string& file, const YAML::Mark& mark, const std::string& msg);
+YAML::Node load_yaml_file(const std::string& path);
+double get_number(const YAML::Node& n, const std::string& file, const std::string& key);
+std::string get_string(const YAML::Node& n, const std::string& file, const std::string& key);
+
+}  // namespace deflex::profile

@@ -1,0 +1,55 @@
+// Writes a program back: untouched bytes are copied as they are, changed
+// numbers are spliced into their words, new words and blocks are formatted for
+// the target control's dialect. With no edit the output equals the input.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "deflex/gcode/program.hpp"
+#include "deflex/profile/profile.hpp"
+
+namespace deflex::writer {
+
+// `value` in program units (mm in G21, inch in G20), formatted per the dialect:
+// always with a decimal point, so no control reads it as least input increments.
+std::string format_number(double value, bool inch, const profile::Dialect& d);
+
+class Rewriter {
+ public:
+  Rewriter(const gcode::Program& prog, const profile::Dialect& d) : prog_(prog), d_(d) {}
+  // Replaces the number of word `w` by `value` (program units).
+  void set_number(const gcode::Word& w, double value, bool inch);
+  // Inserts ` L<value>` right after byte offset `at` (e.g. after the last axis word).
+  void insert_word(std::uint32_t at, char letter, double value, bool inch);
+  // Inserts a whole new block (text without line end) after line `line`, using
+  // that line's line ending.
+  void insert_block_after(std::uint32_t line, const std::string& text);
+  std::size_t edits() const { return edits_.size(); }
+  // Streams the result. Throws Error(input) if a changed line breaks the
+  // dialect's line-length limit.
+  void write(std::ostream& out);
+  std::string str();
+
+ private:
+  struct Edit {
+    std::uint32_t begin, end;  // bytes replaced: [begin, end)
+    std::uint32_t seq;         // keeps insertions at one offset in call order
+    std::string text;
+    bool new_block = false;
+  };
+  void check_line_lengths() const;
+  const gcode::Program& prog_;
+  const profile::Dialect& d_;
+  std::vector<Edit> edits_;
+};
+
+// Writes `path` atomically: the content goes to a temporary file beside it,
+// which is renamed over `path` only when `fill` returned normally. Refuses to
+// write onto `input_path` (same file, also through links). Throws Error(io).
+void write_file_atomically(const std::string& path, const std::string& input_path,
+                           const std::function<void(std::ostream&)>& fill);
+
+}  // namespace deflex::writer

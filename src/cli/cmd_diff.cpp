@@ -1,0 +1,232 @@
+// deflex diff A B: pairs the blocks of two programs and tells whether they
+// differ only in the coordinates of motion blocks, and by how much.
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "common.hpp"
+
+namespace deflex::cli {
+namespace {
+
+// Per source line: a hash of the block with its coordinate words taken out
+// (its "skeleton"), and where its last motion ends.
+struct LineInfo {
+  std::uint64_t skeleton = 0;
+  interp::Vec3 end{};
+  std::uint32_t motions = 0;
+  std::uint8_t kind = 0;  // MotionKind of the last motion
+};
+
+bool is_coordinate(char l) {
+  return l == 'X' || l == 'Y' || l == 'Z' || l == 'I' || l == 'J' || l == 'K' || l == 'R';
+}
+
+std::uint64_t fnv(std::uint64_t h, const char* p, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) { h ^= static_cast<unsigned char>(p[i]); h *= 1099511628211ull; }
+  return h;
+}
+
+struct Collector : interp::MotionSink {
+  std::vector<LineInfo>* lines;
+  void motion(const interp::Motion& m) override {
+    LineInfo& li = (*lines)[m.line];
+    li.end = m.end_mm;
+    li.kind = static_cast<std::uint8_t>(m.kind);
+    ++li.motions;
+  }
+};
+
+struct Side {
+  gcode::Program prog;
+  std::vector<LineInfo> lines;  // index = line number
+  bool ok = true;
+};
+
+Side read_side(const std::string& file, const Setup& s, Diagnostics& diags) {
+  Side side{gcode::Program(gcode::read_source(file)), {}, true};
+  const gcode::Program& p = side.prog;
+  side.lines.resize(p.line_count() + 1);
+  Collector c;
+  c.lines = &side.lines;
+  interp::Stats st = interp::interpret(p, s.interp(), diags, c);
+  side.ok = !st.stopped;
+  // Skeleton: every byte of the line but the coordinate words (letter and
+  // number), so a changed number, an added or removed coordinate word, or
+  // re-spacing around them, leaves it equal.
+  Diagnostics quiet(nullptr, 0);
+  gcode::Block b;
+  const std::string& bytes = p.bytes();
+  for (std::uint32_t l = 1; l <= p.line_count(); ++l) {
+    p.lex(l, b, quiet);
+    std::uint64_t h = 1469598103934665603ull;
+    std::uint32_t at = b.begin;
+    for (const gcode::Word& w : b.words) {
+      if (!is_coordinate(w.letter)) continue;
+      h = fnv(h, bytes.data() + at, w.begin - at);
+      at = w.end;
+    }
+    h = fnv(h, bytes.data() + at, b.text_end - at);
+    // Spaces next to removed words must not count: hash again without blanks.
+    std::uint64_t g = 1469598103934665603ull;
+    at = b.begin;
+    auto add = [&](std::uint32_t from, std::uint32_t to) {
+      for (std::uint32_t i = from; i < to; ++i)
+        if (bytes[i] != ' ' && bytes[i] != '\t') g = fnv(g, bytes.data() + i, 1);
+    };
+    for (const gcode::Word& w : b.words) {
+      if (!is_coordinate(w.letter)) continue;
+      add(at, w.begin);
+      at = w.end;
+    }
+    add(at, b.text_end);
+    (void)h;
+    side.lines[l].skeleton = g;
+  }
+  return side;
+}
+
+// Myers' O(ND) shortest edit script over skeleton hashes; returns pairs of
+// matched lines (1-based). Gives up (empty, false) past max_d edits.
+bool align(const std::vector<LineInfo>& a, const std::vector<LineInfo>& b,
+           std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, int max_d) {
+  const int n = static_cast<int>(a.size()) - 1, m = static_cast<int>(b.size()) - 1;
+  const int off = max_d + 1;
+  std::vector<int> v(2 * off + 2, 0);
+  std::vector<std::vector<int>> trace;
+  auto eq = [&](int x, int y) { return a[x + 1].skeleton == b[y + 1].skeleton; };
+  for (int d = 0; d <= max_d; ++d) {
+    trace.push_back(v);
+    for (int k = -d; k <= d; k += 2) {
+      int x = (k == -d || (k != d && v[off + k - 1] < v[off + k + 1])) ? v[off + k + 1] : v[off + k - 1] + 1;
+      int y = x - k;
+      while (x < n && y < m && eq(x, y)) { ++x; ++y; }
+      v[off + k] = x;
+      if (x >= n && y >= m) {
+        // Walk back through the trace to recover the matches.
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> rev;
+        for (int dd = d; dd > 0; --dd) {
+          const std::vector<int>& vp = trace[dd];
+          int kk = x - y;
+          int pk = (kk == -dd || (kk != dd && vp[off + kk - 1] < vp[off + kk + 1])) ? kk + 1 : kk - 1;
+          int px = vp[off + pk], py = px - pk;
+          while (x > px && y > py && x > 0 && y > 0 && eq(x - 1, y - 1)) { rev.push_back({x, y}); --x; --y; }
+          x = px;
+          y = py;
+        }
+        while (x > 0 && y > 0) { rev.push_back({x, y}); --x; --y; }
+        pairs.assign(rev.rbegin(), rev.rend());
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+int cmd_diff(const std::vector<std::string>& args, Io& io) {
+  ReadOptions r;
+  std::vector<std::string> files;
+  std::string format = "text";
+  double threshold = 0.0;
+  bool help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")
+    ("format", po::value(&format)->default_value("text"), "text or json")
+    ("min-mm", po::value(&threshold)->default_value(0.0), "list changed blocks that moved at least this far (mm); all are counted");
+  add_read_options(desc, r);
+  po::options_description all;
+  all.add(desc).add_options()("files", po::value(&files));
+  po::positional_options_description pos;
+  pos.add("files", 2);
+  parse(args, all, pos);
+  if (help) {
+    print_help(io.out, "deflex diff A B [--format text|json] [--dialect D]",
+               "Pairs the blocks of program A (the original) with those of B (e.g. the compensated\n"
+               "program): blocks that are the same but for their coordinate words (X Y Z I J K R)\n"
+               "are paired, and their motion end points compared in 3D (mm, work frame). Every\n"
+               "other difference - a G/M/F/S/T word, a comment, an inserted or deleted block, a\n"
+               "different kind of motion - is listed as a change in more than coordinates.\n"
+               "Exit 0 when only coordinates of motion blocks differ, 1 otherwise.\n", desc);
+    return 0;
+  }
+  if (files.size() != 2) throw Error(Exit::usage, "diff: two programs A and B are required");
+  if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
+  Setup s = resolve(r);
+  Diagnostics diags(&io.err, s.max_errors);
+  Side a = read_side(files[0], s, diags);
+  Side b = read_side(files[1], s, diags);
+  if (diags.errors()) {
+    io.err << "deflex: error: the programs have errors; no comparison made\n";
+    return static_cast<int>(Exit::input);
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  int max_d = 20000;
+  if (!align(a.lines, b.lines, pairs, max_d))
+    throw Error(Exit::input, "diff: the programs differ in more than " + std::to_string(max_d) + " blocks; not compared");
+
+  struct Change { std::uint32_t la, lb; double d[3]; double dist; };
+  std::vector<Change> changes;
+  std::vector<std::string> other;
+  double max_mm = 0, sum_mm = 0;
+  std::uint32_t pa = 0, pb = 0;  // last paired lines
+  auto note_unpaired = [&](std::uint32_t from_a, std::uint32_t to_a, std::uint32_t from_b, std::uint32_t to_b) {
+    for (std::uint32_t l = from_a; l < to_a; ++l)
+      other.push_back(files[0] + ":" + std::to_string(l) + ": only in A: " + std::string(a.prog.source().line_text(l)));
+    for (std::uint32_t l = from_b; l < to_b; ++l)
+      other.push_back(files[1] + ":" + std::to_string(l) + ": only in B: " + std::string(b.prog.source().line_text(l)));
+  };
+  for (auto [la, lb] : pairs) {
+    note_unpaired(pa + 1, la, pb + 1, lb);
+    pa = la;
+    pb = lb;
+    const LineInfo &x = a.lines[la], &y = b.lines[lb];
+    std::string_view ta = a.prog.source().line_text(la), tb = b.prog.source().line_text(lb);
+    if (ta == tb && x.motions == y.motions) {
+      if (x.motions && x.end != y.end) {}  // same text, different position: earlier change carried over
+      else continue;
+    }
+    if (x.motions != y.motions || x.kind != y.kind || (!x.motions && ta != tb)) {
+      other.push_back(files[0] + ":" + std::to_string(la) + " / " + files[1] + ":" + std::to_string(lb) +
+                      ": changed in more than coordinates: '" + std::string(ta) + "' -> '" + std::string(tb) + "'");
+      continue;
+    }
+    Change c{la, lb, {y.end[0] - x.end[0], y.end[1] - x.end[1], y.end[2] - x.end[2]}, 0};
+    c.dist = std::sqrt(c.d[0] * c.d[0] + c.d[1] * c.d[1] + c.d[2] * c.d[2]);
+    max_mm = std::max(max_mm, c.dist);
+    sum_mm += c.dist;
+    changes.push_back(c);
+  }
+  note_unpaired(pa + 1, static_cast<std::uint32_t>(a.lines.size()), pb + 1, static_cast<std::uint32_t>(b.lines.size()));
+  double mean_mm = changes.empty() ? 0.0 : sum_mm / static_cast<double>(changes.size());
+  char buf[256];
+  if (format == "json") {
+    io.out << "{\"a\": \"" << files[0] << "\", \"b\": \"" << files[1] << "\", \"blocks_changed\": " << changes.size();
+    std::snprintf(buf, sizeof buf, ", \"max_displacement_mm\": %.6f, \"mean_displacement_mm\": %.6f", max_mm, mean_mm);
+    io.out << buf << ", \"other_changes\": " << other.size() << ", \"changes\": [";
+    bool first = true;
+    for (const Change& c : changes) {
+      if (c.dist < threshold) continue;
+      std::snprintf(buf, sizeof buf, "%s{\"line_a\": %u, \"line_b\": %u, \"d_mm\": [%.6f, %.6f, %.6f], \"distance_mm\": %.6f}",
+                    first ? "" : ", ", c.la, c.lb, c.d[0], c.d[1], c.d[2], c.dist);
+      io.out << buf;
+      first = false;
+    }
+    io.out << "]}\n";
+  } else {
+    for (const Change& c : changes) {
+      if (c.dist < threshold) continue;
+      std::snprintf(buf, sizeof buf, "%u -> %u: dX %+.6f dY %+.6f dZ %+.6f |d| %.6f mm\n", c.la, c.lb, c.d[0], c.d[1],
+                    c.d[2], c.dist);
+      io.out << buf;
+    }
+    for (const std::string& o : other) io.out << o << "\n";
+    std::snprintf(buf, sizeof buf, "%zu blocks changed in coordinates: max %.6f mm, mean %.6f mm; %zu changes in more than coordinates\n",
+                  changes.size(), max_mm, mean_mm, other.size());
+    io.out << buf;
+  }
+  return other.empty() ? 0 : static_cast<int>(Exit::input);
+}
+
+}  // namespace deflex::cli

@@ -1,0 +1,245 @@
+// deflex path | check | rewrite: read a program, interpret it, report.
+#include <charconv>
+#include <cmath>
+#include <iostream>
+
+#include "common.hpp"
+#include "deflex/writer/writer.hpp"
+
+namespace deflex::cli {
+namespace {
+
+// Appends fixed-point text to a buffer and hands it to the stream in large
+// chunks: a million motions print in well under a second.
+class Out {
+ public:
+  explicit Out(std::ostream& o) : o_(o) { buf_.reserve(1 << 20); }
+  ~Out() { flush(); }
+  void num(double v, int decimals) {
+    if (std::fabs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.000000"
+    char b[64];
+    auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::fixed, decimals);
+    buf_.append(b, r.ptr);
+  }
+  void integer(unsigned long v) {
+    char b[24];
+    auto r = std::to_chars(b, b + sizeof b, v);
+    buf_.append(b, r.ptr);
+  }
+  Out& operator<<(std::string_view s) { buf_.append(s); if (buf_.size() > (1 << 20)) flush(); return *this; }
+  Out& operator<<(char c) { buf_.push_back(c); if (buf_.size() > (1 << 20)) flush(); return *this; }
+  void flush() { o_.write(buf_.data(), static_cast<std::streamsize>(buf_.size())); buf_.clear(); }
+
+ private:
+  std::ostream& o_;
+  std::string buf_;
+};
+
+class PathPrinter : public interp::MotionSink {
+ public:
+  PathPrinter(std::ostream& o, bool lines) : out_(o), lines_(lines) {}
+  void motion(const interp::Motion& m) override {
+    if (lines_) { out_.integer(m.line); out_ << ' '; }
+    out_ << interp::to_string(m.kind);
+    for (double v : m.end_mm) { out_ << ' '; out_.num(v, 6); }
+    out_ << '\n';
+  }
+ private:
+  Out out_;
+  bool lines_;
+};
+
+const char* kPathHelp =
+    "Prints one line per tool motion: KIND X Y Z, where KIND is G0, G1, G2 or G3 and\n"
+    "X Y Z is the end point in mm (6 decimals) in the active work coordinate frame\n"
+    "(G54..., as LinuxCNC's rs274 prints it). Canned cycles are expanded into their\n"
+    "G0/G1 moves; G28/G30 print their intermediate and reference moves. Programs in\n"
+    "inch are converted to mm. Points under G41/G42 are the programmed contour, not the\n"
+    "offset one. Numbers without a decimal point follow the dialect's rule: fanuc reads\n"
+    "X1000 as 1.000 mm (least input increment), linuxcnc as 1000 mm.\n";
+
+int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(Exit::input) : 0; }
+
+gcode::Program load(const std::string& file) { return gcode::Program(gcode::read_source(file)); }
+
+}  // namespace
+
+int cmd_path(const std::vector<std::string>& args, Io& io) {
+  ReadOptions r;
+  std::string file;
+  bool lines = false, help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")
+                    ("lines", po::bool_switch(&lines), "put the source line number first");
+  add_read_options(desc, r);
+  po::options_description all;
+  all.add(desc).add_options()("file", po::value(&file));
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  parse(args, all, pos);
+  if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines]", kPathHelp, desc); return 0; }
+  if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
+  Setup s = resolve(r);
+  gcode::Program prog = load(file);
+  Diagnostics diags(&io.err, s.max_errors);
+  {
+    PathPrinter p(io.out, lines);
+    interp::interpret(prog, s.interp(), diags, p);
+  }
+  return finish(diags);
+}
+
+namespace {
+
+// Checks each motion against the machine's travel (tool tip, machine frame).
+class TravelCheck : public interp::MotionSink {
+ public:
+  TravelCheck(const profile::Travel& t, const SourceText& src, Diagnostics& d) : t_(t), src_(src), d_(d) {}
+  void motion(const interp::Motion& m) override {
+    ++count_;
+    if (!t_.set) return;
+    static const char axes[] = {'X', 'Y', 'Z'};
+    interp::Vec3 lo = m.end_mm, hi = m.end_mm;
+    for (int i = 0; i < 3; ++i) { lo[i] = std::min(lo[i], m.start_mm[i]); hi[i] = std::max(hi[i], m.start_mm[i]); }
+    if (m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw) arc_box(m, lo, hi);
+    for (int i = 0; i < 3; ++i) {
+      double mn = lo[i] + m.work_offset_mm[i], mx = hi[i] + m.work_offset_mm[i];
+      const double eps = 1e-9;
+      if (mn < t_.min_mm[i] - eps || mx > t_.max_mm[i] + eps) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%c travels to %.4f mm (machine), outside the limit [%.4f, %.4f] of the machine profile",
+                      axes[i], mn < t_.min_mm[i] - eps ? mn : mx, t_.min_mm[i], t_.max_mm[i]);
+        d_.report(Severity::error, src_, m.line, 1, buf);
+      }
+    }
+  }
+  std::uint64_t count_ = 0;
+
+ private:
+  // Extends the box by the arc's extreme points at the quadrant angles it sweeps.
+  static void arc_box(const interp::Motion& m, interp::Vec3& lo, interp::Vec3& hi) {
+    int a = 0, b = 1;
+    if (m.plane == 18) { a = 2; b = 0; }
+    if (m.plane == 19) { a = 1; b = 2; }
+    double r = std::hypot(m.start_mm[a] - m.center_mm[a], m.start_mm[b] - m.center_mm[b]);
+    double t0 = std::atan2(m.start_mm[b] - m.center_mm[b], m.start_mm[a] - m.center_mm[a]);
+    double t1 = std::atan2(m.end_mm[b] - m.center_mm[b], m.end_mm[a] - m.center_mm[a]);
+    bool ccw = m.kind == interp::MotionKind::arc_ccw;
+    double sweep = ccw ? t1 - t0 : t0 - t1;
+    const double two_pi = 2 * 3.14159265358979323846;
+    while (sweep <= 1e-12) sweep += two_pi;
+    for (int q = 0; q < 4; ++q) {
+      double ang = q * two_pi / 4;
+      double d = ccw ? ang - t0 : t0 - ang;
+      d = std::fmod(std::fmod(d, two_pi) + two_pi, two_pi);
+      if (d <= sweep) {
+        double pa = m.center_mm[a] + r * std::cos(ang), pb = m.center_mm[b] + r * std::sin(ang);
+        lo[a] = std::min(lo[a], pa); hi[a] = std::max(hi[a], pa);
+        lo[b] = std::min(lo[b], pb); hi[b] = std::max(hi[b], pb);
+      }
+    }
+  }
+  const profile::Travel& t_;
+  const SourceText& src_;
+  Diagnostics& d_;
+};
+
+}  // namespace
+
+int cmd_check(const std::vector<std::string>& args, Io& io) {
+  ReadOptions r;
+  std::string file, format = "text";
+  bool help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")
+                    ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json");
+  add_read_options(desc, r);
+  po::options_description all;
+  all.add(desc).add_options()("file", po::value(&file));
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  parse(args, all, pos);
+  if (help) {
+    print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]",
+               "Reads and interprets the program as the control would and reports every problem\n"
+               "as FILE:LINE:COL: error|warning: MESSAGE with the source line, on stderr. With a\n"
+               "machine profile, every motion (arcs by their extent) is checked against the\n"
+               "travel limits of the tool tip in machine coordinates (work offsets from the\n"
+               "profile; tool length not included). A summary goes to stdout. Exit 0 when\n"
+               "there is no error, 1 otherwise.\n", desc);
+    return 0;
+  }
+  if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
+  if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
+  Setup s = resolve(r);
+  gcode::Program prog = load(file);
+  Diagnostics diags(&io.err, s.max_errors);
+  diags.set_keep(false);
+  profile::Travel none;
+  TravelCheck tc(s.machine ? s.machine->travel : none, prog.source(), diags);
+  interp::Stats st = interp::interpret(prog, s.interp(), diags, tc);
+  if (st.cutter_comp_motions)
+    diags.report(Severity::note, prog.source(), st.first_cutter_comp_line, 1,
+                 std::to_string(st.cutter_comp_motions) +
+                     " motions run under G41/G42 cutter compensation (first here); deflex never compensates them");
+  if (format == "json") {
+    io.out << "{\"file\": \"" << prog.source().name() << "\", \"lines\": " << st.lines << ", \"blocks\": " << st.blocks
+           << ", \"motions\": " << st.motions << ", \"compensable_motions\": " << st.compensable
+           << ", \"cutter_comp_motions\": " << st.cutter_comp_motions << ", \"errors\": " << diags.errors()
+           << ", \"warnings\": " << diags.warnings() << ", \"dialect\": \"" << s.dialect.name << "\""
+           << ", \"machine\": \"" << (s.machine ? s.machine->name : "") << "\""
+           << ", \"interpretation_stopped_at_line\": " << st.stopped_line << "}\n";
+  } else {
+    io.out << prog.source().name() << ": " << st.lines << " lines, " << st.blocks << " blocks, " << st.motions
+           << " motions (" << st.compensable << " compensable), " << diags.errors() << " errors, "
+           << diags.warnings() << " warnings [dialect " << s.dialect.name
+           << (s.machine ? ", machine " + s.machine->name : std::string()) << "]\n";
+  }
+  return finish(diags);
+}
+
+namespace {
+class Null : public interp::MotionSink {
+ public:
+  void motion(const interp::Motion&) override {}
+};
+}  // namespace
+
+int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
+  ReadOptions r;
+  std::string file, output;
+  bool help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")
+                    ("output,o", po::value(&output), "write here (atomically) instead of stdout");
+  add_read_options(desc, r);
+  po::options_description all;
+  all.add(desc).add_options()("file", po::value(&file));
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  parse(args, all, pos);
+  if (help) {
+    print_help(io.out, "deflex rewrite FILE [-o OUT] [--dialect D]",
+               "Reads and interprets the program, then writes it back through deflex's writer\n"
+               "with no change: the output is byte for byte the input (CRLF, missing final\n"
+               "newline, '%', comments and all). This is the identity the compensation builds on;\n"
+               "use it to check that deflex reads a program. A program with errors is not written.\n", desc);
+    return 0;
+  }
+  if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
+  Setup s = resolve(r);
+  gcode::Program prog = load(file);
+  Diagnostics diags(&io.err, s.max_errors);
+  Null null;
+  interp::interpret(prog, s.interp(), diags, null);
+  if (diags.errors()) {
+    io.err << prog.source().name() << ": error: not written: the program has errors\n";
+    return static_cast<int>(Exit::input);
+  }
+  writer::Rewriter w(prog, s.dialect);
+  if (output.empty() || output == "-") w.write(io.out);
+  else writer::write_file_atomically(output, file, [&](std::ostream& o) { w.write(o); });
+  return 0;
+}
+
+}  // namespace deflex::cli

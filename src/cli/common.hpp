@@ -1,0 +1,55 @@
+// Shared plumbing of the subcommands: settings resolution, program loading,
+// option descriptions. Only src/cli/ includes Boost.Program_options.
+#pragma once
+#include <boost/program_options.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deflex/cli/command.hpp"
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/gcode/program.hpp"
+#include "deflex/interp/interpreter.hpp"
+#include "deflex/profile/profile.hpp"
+
+namespace deflex::cli {
+namespace po = boost::program_options;
+
+// Options every program-reading command takes.
+struct ReadOptions {
+  std::string dialect;
+  std::string machine;
+  std::string config;
+  int max_errors = -1;
+  std::string block_delete = "off";
+};
+void add_read_options(po::options_description& d, ReadOptions& r, bool with_machine = true);
+
+// What a command needs to interpret a program: config, machine, dialect.
+struct Setup {
+  profile::Config config;
+  std::optional<profile::MachineProfile> machine;
+  profile::Dialect dialect;
+  int max_errors = 20;
+  bool block_delete_switch = false;
+  // Interpreter options pointing into this Setup (do not outlive it).
+  interp::Options interp() const {
+    interp::Options o;
+    o.dialect = dialect;
+    o.machine = machine ? &*machine : nullptr;
+    o.block_delete_switch = block_delete_switch;
+    return o;
+  }
+};
+Setup resolve(const ReadOptions& r);
+
+// Parses args against `desc` with `pos` positionals; throws Error(usage).
+po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
+                        const po::positional_options_description& pos);
+
+// Prints the subcommand's help: usage line, explanation, options.
+void print_help(std::ostream& out, const std::string& usage, const std::string& text,
+                const po::options_description& desc);
+
+}  // namespace deflex::cli

@@ -1,0 +1,82 @@
+// `deflex COMMAND ...`: dispatch, top-level help, and the mapping of failures
+// to exit codes.
+#include <cstring>
+#include <exception>
+#include <iostream>
+
+#include "deflex/cli/command.hpp"
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::cli {
+namespace {
+
+struct Command {
+  const char* name;
+  CommandFn fn;
+  const char* summary;
+};
+
+const Command kCommands[] = {
+  {"path", cmd_path, "print the tool path: one line per motion, end point in mm (work frame)"},
+  {"check", cmd_check, "report every diagnostic of a program and check travel limits"},
+  {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
+  {"rewrite", cmd_rewrite, "read, interpret and write a program back (byte-identical; atomic -o)"},
+  {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
+  {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},
+  {"calibrate", cmd_calibrate, "fit cutting/edge coefficients from slot-test forces"},
+};
+
+void top_help(std::ostream& out) {
+  out << "deflex " DEFLEX_VERSION " - compensates milling-tool deflection in Fanuc/ISO programs\n\n"
+         "usage: deflex COMMAND [OPTIONS] [FILE...]      deflex COMMAND --help\n\n"
+         "commands:\n";
+  for (const Command& c : kCommands) {
+    out << "  " << c.name;
+    for (std::size_t i = std::strlen(c.name); i < 11; ++i) out << ' ';
+    out << c.summary << "\n";
+  }
+  out << "\nA FILE of '-' is standard input; programs go to standard output unless -o is\n"
+         "given, and -o FILE is written atomically, never over the input.\n"
+         "Diagnostics go to standard error as FILE:LINE:COL: error|warning: MESSAGE.\n"
+         "Units: lengths in mm, forces in N, compliance in mm/N, angles in degrees.\n\n"
+         "exit codes:\n"
+         "  0   success (check: clean; diff: only coordinates of motion blocks differ)\n"
+         "  1   input error in a program (diff: the programs differ in more than coordinates)\n"
+         "  2   usage error on the command line\n"
+         "  3   configuration error (config.yaml, machine profile, dialect, tool/material library)\n"
+         "  4   I/O error (a file could not be read or written)\n"
+         "  70  internal error (a bug in deflex: please report it)\n";
+}
+
+}  // namespace
+
+int run(const std::vector<std::string>& argv, Io& io) {
+  try {
+    if (argv.empty() || argv[0] == "--help" || argv[0] == "-h" || argv[0] == "help") {
+      top_help(argv.empty() ? io.err : io.out);
+      return argv.empty() ? static_cast<int>(Exit::usage) : 0;
+    }
+    if (argv[0] == "--version") {
+      io.out << "deflex " DEFLEX_VERSION "\n";
+      return 0;
+    }
+    for (const Command& c : kCommands)
+      if (argv[0] == c.name) return c.fn(std::vector<std::string>(argv.begin() + 1, argv.end()), io);
+    io.err << "deflex: error: unknown command '" << argv[0] << "' (see deflex --help)\n";
+    return static_cast<int>(Exit::usage);
+  } catch (const Error& e) {
+    std::string w = e.what();
+    // Messages that already carry a location keep it; others get the program name.
+    if (w.find(": error: ") == std::string::npos) w = "deflex: error: " + w;
+    io.err << w << (w.ends_with("\n") ? "" : "\n");
+    return static_cast<int>(e.code());
+  } catch (const std::bad_alloc&) {
+    io.err << "deflex: error: out of memory\n";
+    return static_cast<int>(Exit::io);
+  } catch (const std::exception& e) {
+    io.err << "deflex: internal error: " << e.what() << "\n";
+    return static_cast<int>(Exit::internal);
+  }
+}
+
+}  // namespace deflex::cli

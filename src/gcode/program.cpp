@@ -1,0 +1,216 @@
+#include "deflex/gcode/program.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+namespace deflex::gcode {
+
+int Word::code10() const {
+  if (value < 0) return -1;
+  double t = value * 10.0;
+  double r = std::round(t);
+  if (std::fabs(t - r) > 1e-6) return -1;  // G54.15 is no code
+  return static_cast<int>(r);
+}
+
+namespace {
+
+inline bool is_space(char c) { return c == ' ' || c == '\t'; }
+inline bool is_digit(char c) { return c >= '0' && c <= '9'; }
+inline char upper(char c) { return (c >= 'a' && c <= 'z') ? static_cast<char>(c - 32) : c; }
+inline bool is_letter(char c) { c = upper(c); return c >= 'A' && c <= 'Z'; }
+
+// First non-blank character of a line, or 0.
+char first_char(std::string_view s) {
+  for (char c : s)
+    if (!is_space(c)) return c;
+  return 0;
+}
+
+const double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
+                         1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+}  // namespace
+
+Program::Program(SourceText src) : src_(std::move(src)) {
+  // `%` before any block is the tape start; a `%` after blocks is the tape end,
+  // and whatever follows it is kept but never read (Fanuc behaviour).
+  bool seen_block = false;
+  for (std::uint32_t l = 1; l <= line_count(); ++l) {
+    std::string_view t = src_.line_text(l);
+    char c = first_char(t);
+    if (c == '%') {
+      if (seen_block) { closing_percent_ = l; break; }
+    } else if (c != 0 && c != '(' && c != ';') {
+      seen_block = true;
+    }
+  }
+}
+
+bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {
+  const std::string& s = src_.bytes();
+  b.line = line;
+  b.begin = src_.line_begin(line);
+  b.end = src_.line_end_with_eol(line);
+  std::uint32_t e = b.end;
+  if (e > b.begin && s[e - 1] == '\n') --e;
+  if (e > b.begin && s[e - 1] == '\r') --e;
+  b.text_end = e;
+  b.kind = LineKind::blank;
+  b.block_delete = false;
+  b.block_delete_level = 0;
+  b.macro = false;
+  b.macro_col = 0;
+  b.program_number = -1;
+  b.words.clear();
+  b.comments.clear();
+  if (closing_percent_ && line > closing_percent_) { b.kind = LineKind::ignored; return true; }
+
+  auto col = [&](std::uint32_t off) { return off - b.begin + 1; };
+  auto error = [&](std::uint32_t off, std::string msg) {
+    diags.report(Severity::error, src_, line, col(off), std::move(msg));
+    return false;
+  };
+  auto mark_macro = [&](std::uint32_t off) {
+    if (!b.macro) { b.macro = true; b.macro_col = col(off); }
+  };
+
+  std::uint32_t i = b.begin;
+  while (i < e && is_space(s[i])) ++i;
+  if (i < e && s[i] == '%') {
+    b.kind = LineKind::percent;
+    return true;
+  }
+  if (i < e && s[i] == '/') {
+    b.block_delete = true;
+    ++i;
+    if (i < e && is_digit(s[i])) b.block_delete_level = static_cast<std::uint8_t>(s[i++] - '0');
+  }
+  bool ok = true;
+  while (i < e) {
+    char c = s[i];
+    if (is_space(c)) { ++i; continue; }
+    if (c == '(') {
+      std::uint32_t start = i;
+      while (i < e && s[i] != ')') {
+        if (s[i] == '(' && i != start) {
+          // Fanuc comments do not nest: a second `(` is an alarm there.
+          ok = error(i, "nested '(' inside a comment (Fanuc comments do not nest)");
+        }
+        ++i;
+      }
+      if (i == e) { ok = error(start, "comment not closed: missing ')' before end of line"); break; }
+      ++i;
+      b.comments.push_back({start, i, false});
+      continue;
+    }
+    if (c == ';') {
+      b.comments.push_back({i, e, true});
+      break;
+    }
+    if (c == '#' || c == '[' || c == ']' || c == '=') { mark_macro(i); ++i; continue; }
+    bool iso_colon = c == ':' && b.words.empty() && !b.macro;  // `:1234` = O1234 (ISO)
+    if (!is_letter(c) && !iso_colon) {
+      if (b.macro) { ++i; continue; }
+      // One message per line: the rest of a garbled line would only echo it.
+      ok = error(i, std::string("unexpected character '") + c + "'");
+      break;
+    }
+    // A letter: an address followed by a number, or a macro keyword (IF, GOTO,
+    // WHILE, DO, END, SIN ...), recognised by a second letter.
+    std::uint32_t start = i++;
+    char letter = iso_colon ? 'O' : upper(c);
+    std::uint32_t j = i;
+    while (j < e && is_space(s[j])) ++j;
+    if (j < e && (is_letter(s[j]) || s[j] == '#' || s[j] == '[')) {
+      mark_macro(start);
+      i = j;
+      continue;
+    }
+    if (b.macro) {
+      // Inside a macro block keep going without parsing numbers exactly.
+      while (i < e && !is_letter(s[i]) && s[i] != '(' && s[i] != ';') ++i;
+      continue;
+    }
+    Word w;
+    w.letter = letter;
+    w.begin = start;
+    w.num_begin = j;
+    // Number: [+-] digits [. digits], spaces allowed between characters.
+    bool neg = false;
+    if (j < e && (s[j] == '+' || s[j] == '-')) {
+      neg = s[j] == '-';
+      ++j;
+    }
+    std::uint64_t mant = 0;
+    int digits = 0, frac = 0, sig = 0;
+    bool point = false, overflow = false;
+    std::uint32_t last = j;
+    for (; j < e; ++j) {
+      char d = s[j];
+      if (is_digit(d)) {
+        if (mant == 0 && d == '0' && !point) { ++digits; last = j + 1; continue; }
+        if (sig < 18) { mant = mant * 10 + static_cast<unsigned>(d - '0'); ++sig; if (point) ++frac; }
+        else if (!point) overflow = true;  // more than 18 integer digits
+        ++digits;
+        last = j + 1;
+      } else if (d == '.' && !point) {
+        point = true;
+        last = j + 1;
+      } else if (is_space(d)) {
+        continue;
+      } else {
+        break;
+      }
+    }
+    if (digits == 0) {
+      ok = error(start, std::string("address '") + letter + "' has no number");
+      i = std::max(last, start + 1);
+      continue;
+    }
+    if (overflow) ok = error(start, "number too long");
+    double v = static_cast<double>(mant);
+    // mant < 2^63 with at most 18 digits; dividing by an exact power of ten
+    // rounds once, so a literal with up to 15 significant digits is exact.
+    v = frac <= 22 ? v / kPow10[frac] : v * std::pow(10.0, -frac);
+    w.value = neg ? -v : v;
+    w.has_point = point;
+    w.end = last;
+    i = last;
+    if (letter == 'O' && b.words.empty()) {
+      b.kind = LineKind::program_number;
+      b.program_number = static_cast<std::int64_t>(v);
+    }
+    b.words.push_back(w);
+  }
+  if (b.kind != LineKind::program_number && (!b.words.empty() || b.macro)) b.kind = LineKind::block;
+  return ok;
+}
+
+SourceText read_source(const std::string& path) {
+  std::string bytes;
+  if (path == "-") {
+    std::ostringstream ss;
+    ss << std::cin.rdbuf();
+    bytes = ss.str();
+    return SourceText("<stdin>", std::move(bytes));
+  }
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw Error(Exit::io, path + ": error: cannot open: " + std::strerror(errno));
+  char buf[1 << 16];
+  std::size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
+  bool bad = std::ferror(f);
+  std::fclose(f);
+  if (bad) throw Error(Exit::io, path + ": error: read failed");
+  return SourceText(path, std::move(bytes));
+}
+
+}  // namespace deflex::gcode

@@ -1,0 +1,143 @@
+#include "deflex/writer/writer.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::writer {
+namespace fs = std::filesystem;
+
+std::string format_number(double value, bool inch, const profile::Dialect& d) {
+  int decimals = inch ? d.decimals_inch : d.decimals_mm;
+  char buf[64];
+  auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
+  std::string s(buf, r.ptr);
+  if (decimals == 0) s += '.';
+  if (!d.trailing_zeros && s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();  // "12.500" -> "12.5", "12.000" -> "12."
+  }
+  if (s == "-0." || s.starts_with("-0.") && s.find_first_not_of("-0.") == std::string::npos)
+    s = s.substr(1);  // no negative zero
+  if (!d.leading_zero) {
+    if (s.starts_with("0.") && s.size() > 2) s.erase(0, 1);
+    else if (s.starts_with("-0.")) s.erase(1, 1);
+  }
+  return s;
+}
+
+void Rewriter::set_number(const gcode::Word& w, double value, bool inch) {
+  edits_.push_back({w.num_begin, w.end, static_cast<std::uint32_t>(edits_.size()), format_number(value, inch, d_)});
+}
+
+void Rewriter::insert_word(std::uint32_t at, char letter, double value, bool inch) {
+  edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()),
+                    std::string(" ") + letter + format_number(value, inch, d_)});
+}
+
+void Rewriter::insert_block_after(std::uint32_t line, const std::string& text) {
+  const SourceText& src = prog_.source();
+  std::uint32_t at = src.line_end_with_eol(line);
+  std::string_view whole(src.bytes());
+  // The new line takes the line ending of the line it follows; if that line had
+  // none (last line of the file), it gets one and the new line keeps none.
+  std::uint32_t text_end = src.line_begin(line) + static_cast<std::uint32_t>(src.line_text(line).size());
+  std::string eol(whole.substr(text_end, at - text_end));
+  std::string ins = eol.empty() ? "\n" + text : text + eol;
+  edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()), ins, true});
+}
+
+void Rewriter::write(std::ostream& out) {
+  std::stable_sort(edits_.begin(), edits_.end(), [](const Edit& a, const Edit& b) {
+    return a.begin != b.begin ? a.begin < b.begin : a.seq < b.seq;
+  });
+  const std::string& s = prog_.bytes();
+  std::uint32_t pos = 0;
+  for (const Edit& e : edits_) {
+    if (e.begin < pos) throw Error(Exit::internal, "overlapping edits in the writer");
+    out.write(s.data() + pos, e.begin - pos);
+    out << e.text;
+    pos = e.end;
+  }
+  out.write(s.data() + pos, static_cast<std::streamsize>(s.size() - pos));
+  if (d_.max_line_length > 0 && !edits_.empty()) check_line_lengths();
+}
+
+void Rewriter::check_line_lengths() const {
+  // Only changed lines can newly break the limit. Edits are sorted, so one pass
+  // sums the length change of each touched line; a new block is its own line.
+  const SourceText& src = prog_.source();
+  auto fail = [&](std::uint32_t line, long len, const char* what) {
+    throw Error(Exit::input, src.name() + ":" + std::to_string(line) + ":1: error: " + what + " is " +
+                                 std::to_string(len) + " characters, over the " + d_.name + " limit of " +
+                                 std::to_string(d_.max_line_length));
+  };
+  std::uint32_t cur = 0;
+  long delta = 0;
+  auto flush = [&] {
+    long len = static_cast<long>(src.line_text(cur).size()) + delta;
+    if (cur && len > d_.max_line_length) fail(cur, len, "rewritten block");
+  };
+  for (const Edit& e : edits_) {
+    if (e.new_block) {
+      long len = static_cast<long>(std::count_if(e.text.begin(), e.text.end(), [](char c) { return c != '\r' && c != '\n'; }));
+      if (len > d_.max_line_length) fail(src.line_of(e.begin ? e.begin - 1 : 0), len, "inserted block after this line");
+      continue;
+    }
+    std::uint32_t line = src.line_of(e.begin);
+    if (line != cur) { flush(); cur = line; delta = 0; }
+    delta += static_cast<long>(e.text.size()) - static_cast<long>(e.end - e.begin);
+  }
+  flush();
+}
+
+std::string Rewriter::str() {
+  std::ostringstream ss;
+  write(ss);
+  return ss.str();
+}
+
+void write_file_atomically(const std::string& path, const std::string& input_path,
+                           const std::function<void(std::ostream&)>& fill) {
+  std::error_code ec;
+  if (!input_path.empty() && input_path != "-" && fs::exists(path, ec) && fs::equivalent(path, input_path, ec))
+    throw Error(Exit::usage, path + ": error: output would overwrite the input program; choose another -o");
+  fs::path target(path);
+  fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::string tmpl = (dir / ("." + target.filename().string() + ".deflex-XXXXXX")).string();
+  std::vector<char> name(tmpl.begin(), tmpl.end());
+  name.push_back('\0');
+  int fd = mkstemp(name.data());
+  if (fd < 0) throw Error(Exit::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
+  ::close(fd);
+  std::string tmp(name.data());
+  try {
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      if (!out) throw Error(Exit::io, path + ": error: cannot write " + tmp);
+      fill(out);
+      out.flush();
+      if (!out) throw Error(Exit::io, path + ": error: write failed (disk full?)");
+    }
+    // Keep the permissions a new file would get (mkstemp creates 0600).
+    mode_t mask = ::umask(0);
+    ::umask(mask);
+    fs::permissions(tmp, static_cast<fs::perms>(0666 & ~mask), ec);
+    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+      throw Error(Exit::io, path + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+}
+
+}  // namespace deflex::writer
