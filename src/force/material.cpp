@@ -1,0 +1,151 @@
+#include "deflex/force/material.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <sstream>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "yaml_util.hpp"
+
+namespace deflex::force {
+
+namespace {
+
+std::string fold(const std::string& s) {
+  std::string out;
+  for (char c : s)
+    if (c != ' ' && c != '-' && c != '_') out += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+MaterialEntry parse_entry(const YAML::Node& node, const std::string& name, const std::string& file) {
+  yaml::require_map(node, "material '" + name + "'", file);
+  yaml::check_keys(node,
+                   {"aliases", "model", "source", "conditions", "notes", "K_tc_N_per_mm2",
+                    "K_rc_N_per_mm2", "K_ac_N_per_mm2", "K_te_N_per_mm", "K_re_N_per_mm",
+                    "K_ae_N_per_mm", "K_T_N_per_mm2", "K_R_N_per_mm2", "K_A_N_per_mm2"},
+                   file);
+  MaterialEntry m;
+  m.name = name;
+  m.location = yaml::where(file, node.Mark());
+  if (const YAML::Node a = node["aliases"]) {
+    if (!a.IsSequence()) yaml::fail(file, a.Mark(), "aliases must be a list of names");
+    for (const auto& x : a) m.aliases.push_back(x.Scalar());
+  }
+  const std::string model = yaml::text_at(node, "model", file);
+  m.source = yaml::text_at(node, "source", file);
+  if (m.source.empty()) yaml::fail(file, node["source"].Mark(), "source must not be empty");
+  if (node["conditions"]) m.conditions = yaml::text_at(node, "conditions", file);
+  if (node["notes"]) m.notes = yaml::text_at(node, "notes", file);
+
+  const double zero = 0;
+  auto forbid = [&](std::initializer_list<const char*> keys) {
+    for (const char* k : keys)
+      if (node[k]) yaml::fail(file, node[k].Mark(), std::string(k) + " does not belong to model " + model);
+  };
+  if (model == "mechanistic") {
+    forbid({"K_T_N_per_mm2", "K_R_N_per_mm2", "K_A_N_per_mm2"});
+    m.form = ModelForm::mechanistic;
+    m.k.Ktc_N_per_mm2 = yaml::number_at(node, "K_tc_N_per_mm2", file);
+    m.k.Krc_N_per_mm2 = yaml::number_at(node, "K_rc_N_per_mm2", file);
+    m.k.Kac_N_per_mm2 = yaml::number_at(node, "K_ac_N_per_mm2", file, &zero);
+    m.k.Kte_N_per_mm = yaml::number_at(node, "K_te_N_per_mm", file, &zero);
+    m.k.Kre_N_per_mm = yaml::number_at(node, "K_re_N_per_mm", file, &zero);
+    m.k.Kae_N_per_mm = yaml::number_at(node, "K_ae_N_per_mm", file, &zero);
+  } else if (model == "smaoui_krta") {
+    forbid({"K_tc_N_per_mm2", "K_rc_N_per_mm2", "K_ac_N_per_mm2", "K_te_N_per_mm",
+            "K_re_N_per_mm", "K_ae_N_per_mm"});
+    m.form = ModelForm::smaoui_krta;
+    m.k = from_smaoui(yaml::number_at(node, "K_T_N_per_mm2", file),
+                      yaml::number_at(node, "K_R_N_per_mm2", file),
+                      yaml::number_at(node, "K_A_N_per_mm2", file));
+  } else {
+    yaml::fail(file, node["model"].Mark(),
+               "unknown model '" + model + "' (expected mechanistic or smaoui_krta)");
+  }
+  if (m.k.Ktc_N_per_mm2 <= 0)
+    yaml::fail(file, node.Mark(), "the tangential cutting coefficient must be > 0");
+  return m;
+}
+
+}  // namespace
+
+MaterialLibrary parse_material_library(const std::string& yaml_text, const std::string& file) {
+  const YAML::Node root = yaml::load_text(yaml_text, file);
+  if (!root.IsMap() || !root["materials"])
+    yaml::fail(file, root.Mark(), "expected a map with a 'materials:' key");
+  const YAML::Node mats = root["materials"];
+  yaml::require_map(mats, "materials", file);
+  MaterialLibrary lib;
+  lib.file = file;
+  for (const auto& kv : mats) {
+    MaterialEntry m = parse_entry(kv.second, kv.first.Scalar(), file);
+    for (const auto& other : lib.entries) {
+      std::vector<std::string> a = other.aliases, b = m.aliases;
+      a.push_back(other.name);
+      b.push_back(m.name);
+      for (const auto& x : a)
+        for (const auto& y : b)
+          if (fold(x) == fold(y))
+            yaml::fail(file, kv.first.Mark(), "name '" + y + "' is already used by material '" + other.name + "'");
+    }
+    lib.entries.push_back(std::move(m));
+  }
+  return lib;
+}
+
+MaterialLibrary load_material_library(const std::string& path) {
+  return parse_material_library(yaml::read_file(path), path);
+}
+
+const MaterialEntry& find_material(const MaterialLibrary& lib, const std::string& name) {
+  const std::string key = fold(name);
+  for (const auto& m : lib.entries) {
+    if (fold(m.name) == key) return m;
+    for (const auto& a : m.aliases)
+      if (fold(a) == key) return m;
+  }
+  std::string known;
+  for (const auto& m : lib.entries) known += (known.empty() ? "" : ", ") + m.name;
+  throw Error(Exit::usage, "unknown material '" + name + "' in " + lib.file + " (known: " + known + ")");
+}
+
+std::string to_yaml(const MaterialEntry& m) {
+  auto q = [](const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) out += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+    return out + "\"";
+  };
+  auto num = [](double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.6g", v);
+    return std::string(b);
+  };
+  std::ostringstream o;
+  o << "materials:\n  " << q(m.name) << ":\n";
+  if (!m.aliases.empty()) {
+    o << "    aliases: [";
+    for (std::size_t i = 0; i < m.aliases.size(); ++i) o << (i ? ", " : "") << q(m.aliases[i]);
+    o << "]\n";
+  }
+  o << "    model: " << to_string(m.form) << "\n";
+  if (m.form == ModelForm::smaoui_krta) {
+    o << "    K_T_N_per_mm2: " << num(m.k.Ktc_N_per_mm2) << "\n"
+      << "    K_R_N_per_mm2: " << num(m.k.Krc_N_per_mm2) << "\n"
+      << "    K_A_N_per_mm2: " << num(m.k.Kac_N_per_mm2) << "\n";
+  } else {
+    o << "    K_tc_N_per_mm2: " << num(m.k.Ktc_N_per_mm2) << "\n"
+      << "    K_rc_N_per_mm2: " << num(m.k.Krc_N_per_mm2) << "\n"
+      << "    K_ac_N_per_mm2: " << num(m.k.Kac_N_per_mm2) << "\n"
+      << "    K_te_N_per_mm: " << num(m.k.Kte_N_per_mm) << "\n"
+      << "    K_re_N_per_mm: " << num(m.k.Kre_N_per_mm) << "\n"
+      << "    K_ae_N_per_mm: " << num(m.k.Kae_N_per_mm) << "\n";
+  }
+  o << "    source: " << q(m.source) << "\n";
+  if (!m.conditions.empty()) o << "    conditions: " << q(m.conditions) << "\n";
+  if (!m.notes.empty()) o << "    notes: " << q(m.notes) << "\n";
+  return o.str();
+}
+
+}  // namespace deflex::force

@@ -1,0 +1,124 @@
+// Material library and the tolerant tool reader of the force module.
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/force/tool_reader.hpp"
+
+using namespace deflex::force;
+using deflex::Error;
+using deflex::Exit;
+
+namespace {
+const std::string src = DEFLEX_SOURCE_DIR;
+
+// Runs f, expects deflex::Error of class `code`, returns its message.
+template <class F>
+std::string error_of(F f, Exit code) {
+  try {
+    f();
+  } catch (const Error& e) {
+    CHECK(e.code() == code);
+    return e.what();
+  }
+  FAIL("no error thrown");
+  return {};
+}
+}  // namespace
+
+TEST_SUITE("force") {
+
+TEST_CASE("samples/materials.yaml: the paper sets, each entry with its source") {
+  const MaterialLibrary lib = load_material_library(src + "/samples/materials.yaml");
+  const MaterialEntry& c35 = find_material(lib, "xc38");  // alias, any case
+  CHECK(c35.name == "C35");
+  CHECK(c35.form == ModelForm::smaoui_krta);
+  CHECK(c35.k.Ktc_N_per_mm2 == 3600);  // Smaoui 2011 Eq. 7
+  CHECK(c35.k.Krc_N_per_mm2 == 3400);  // Eq. 8
+  CHECK(c35.k.Kac_N_per_mm2 == 500);   // Eq. 6
+  CHECK(c35.k.Kte_N_per_mm == 0);
+  CHECK(c35.source.find("001_") != std::string::npos);
+  const MaterialEntry& al = find_material(lib, "Al 6082-T4");
+  CHECK(al.k.Ktc_N_per_mm2 == 752.9);  // Morelli 2021 §3.1
+  CHECK(al.k.Krc_N_per_mm2 == 200.5);
+  CHECK(al.source.find("003_") != std::string::npos);
+  for (const char* name : {"Al7075-T6", "42CrMo4"}) {
+    const MaterialEntry& m = find_material(lib, name);
+    CHECK(m.k.Ktc_N_per_mm2 > 0);
+    CHECK(!m.source.empty());
+  }
+  for (const auto& m : lib.entries) CHECK(!m.source.empty());
+  CHECK(error_of([&] { find_material(lib, "unobtainium"); }, Exit::usage).find("C35") != std::string::npos);
+}
+
+TEST_CASE("material YAML errors are file:line:col diagnostics of class config") {
+  const std::string bad_syntax = "materials:\n  X:\n    model: [mechanistic\n";
+  const std::string m1 = error_of([&] { parse_material_library(bad_syntax, "m.yaml"); }, Exit::config);
+  CHECK(m1.rfind("m.yaml:", 0) == 0);
+  CHECK(m1.find(": error: ") != std::string::npos);
+
+  const std::string typo =
+      "materials:\n  X:\n    model: mechanistic\n    K_tc_N_per_mm2: 700\n"
+      "    K_rcc_N_per_mm2: 200\n    source: test\n";
+  const std::string m2 = error_of([&] { parse_material_library(typo, "m.yaml"); }, Exit::config);
+  CHECK(m2.rfind("m.yaml:5:5: error: unknown key 'K_rcc_N_per_mm2'", 0) == 0);
+
+  const std::string nan_value =
+      "materials:\n  X:\n    model: mechanistic\n    K_tc_N_per_mm2: lots\n"
+      "    K_rc_N_per_mm2: 200\n    source: test\n";
+  const std::string m3 = error_of([&] { parse_material_library(nan_value, "m.yaml"); }, Exit::config);
+  CHECK(m3.rfind("m.yaml:4:21: error: K_tc_N_per_mm2 must be a number", 0) == 0);
+
+  const std::string no_source = "materials:\n  X:\n    model: smaoui_krta\n    K_T_N_per_mm2: 1\n"
+                                "    K_R_N_per_mm2: 1\n    K_A_N_per_mm2: 1\n";
+  CHECK(error_of([&] { parse_material_library(no_source, "m.yaml"); }, Exit::config)
+            .find("missing key 'source'") != std::string::npos);
+  CHECK(error_of([&] { load_material_library("/nonexistent/m.yaml"); }, Exit::io).size() > 0);
+}
+
+TEST_CASE("a material entry written by to_yaml reads back the same") {
+  MaterialEntry m;
+  m.name = "Fit \"A\"";
+  m.aliases = {"alias one"};
+  m.k.Ktc_N_per_mm2 = 812.5;
+  m.k.Krc_N_per_mm2 = 201.25;
+  m.k.Kac_N_per_mm2 = -33;
+  m.k.Kte_N_per_mm = 24.5;
+  m.k.Kre_N_per_mm = 31;
+  m.k.Kae_N_per_mm = 1.5;
+  m.source = "deflex calibrate slots.csv";
+  m.conditions = "D 12, 4 flutes";
+  const MaterialLibrary lib = parse_material_library(to_yaml(m), "out.yaml");
+  REQUIRE(lib.entries.size() == 1);
+  const MaterialEntry& r = lib.entries[0];
+  CHECK(r.name == m.name);
+  CHECK(&find_material(lib, "alias-one") == &r);
+  CHECK(r.k.Ktc_N_per_mm2 == m.k.Ktc_N_per_mm2);
+  CHECK(r.k.Kac_N_per_mm2 == m.k.Kac_N_per_mm2);
+  CHECK(r.k.Kae_N_per_mm == m.k.Kae_N_per_mm);
+  CHECK(r.source == m.source);
+  CHECK(r.conditions == m.conditions);
+}
+
+TEST_CASE("the tool reader takes the cutting geometry and ignores the rest") {
+  const std::string file = src + "/tests/force/data/tools.yaml";
+  const Cutter f = read_cutter(file, "F12");
+  CHECK(f.type == CutterType::flat);
+  CHECK(f.diameter_mm == 12);
+  CHECK(f.flutes == 4);
+  CHECK(f.helix_deg == 45);
+  CHECK(f.flute_length_mm == 26);
+  const Cutter r = read_cutter(file, "R12");
+  CHECK(r.type == CutterType::bull);
+  CHECK(r.corner_radius_mm == 1.5);
+  CHECK(r.flute_length_mm == 24);  // default 2 D when absent
+  CHECK(read_cutter(file, "B10").type == CutterType::ball);
+  const std::string bad = error_of([&] { read_cutter(file, "BAD"); }, Exit::config);
+  CHECK(bad.find("tools.yaml:") != std::string::npos);
+  CHECK(bad.find("corner_radius_mm") != std::string::npos);
+  CHECK(error_of([&] { read_cutter(file, "T99"); }, Exit::usage).find("B10") != std::string::npos);
+}
+
+}  // TEST_SUITE
