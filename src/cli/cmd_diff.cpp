@@ -43,8 +43,8 @@ struct Side {
   bool ok = true;
 };
 
-Side read_side(const std::string& file, const Setup& s, Diagnostics& diags) {
-  Side side{gcode::Program(gcode::read_source(file)), {}, true};
+Side read_side(const std::string& file, const Setup& s, Diagnostics& diags, Io& io) {
+  Side side{gcode::Program(gcode::read_source(file, &io.in)), {}, true};
   const gcode::Program& p = side.prog;
   side.lines.resize(p.line_count() + 1);
   Collector c;
@@ -123,6 +123,16 @@ bool align(const std::vector<LineInfo>& a, const std::vector<LineInfo>& b,
   return false;
 }
 
+std::string json_string(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') { o += '\\'; o += c; }
+    else if (static_cast<unsigned char>(c) < 0x20) { char b[8]; std::snprintf(b, sizeof b, "\\u%04x", c); o += b; }
+    else o += c;
+  }
+  return o + "\"";
+}
+
 }  // namespace
 
 int cmd_diff(const std::vector<std::string>& args, Io& io) {
@@ -155,8 +165,8 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
   Setup s = resolve(r);
   Diagnostics diags(&io.err, s.max_errors);
-  Side a = read_side(files[0], s, diags);
-  Side b = read_side(files[1], s, diags);
+  Side a = read_side(files[0], s, diags, io);
+  Side b = read_side(files[1], s, diags, io);
   if (diags.errors()) {
     io.err << "deflex: error: the programs have errors; no comparison made\n";
     return static_cast<int>(Exit::input);
@@ -166,10 +176,11 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   if (!align(a.lines, b.lines, pairs, max_d))
     throw Error(Exit::input, "diff: the programs differ in more than " + std::to_string(max_d) + " blocks; not compared");
 
-  struct Change { std::uint32_t la, lb; double d[3]; double dist; };
+  struct Change { std::uint32_t la, lb; double d[3]; double dist; bool edited; };
   std::vector<Change> changes;
   std::vector<std::string> other;
   double max_mm = 0, sum_mm = 0;
+  std::size_t edited = 0;
   std::uint32_t pa = 0, pb = 0;  // last paired lines
   auto note_unpaired = [&](std::uint32_t from_a, std::uint32_t to_a, std::uint32_t from_b, std::uint32_t to_b) {
     for (std::uint32_t l = from_a; l < to_a; ++l)
@@ -183,16 +194,16 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
     pb = lb;
     const LineInfo &x = a.lines[la], &y = b.lines[lb];
     std::string_view ta = a.prog.source().line_text(la), tb = b.prog.source().line_text(lb);
-    if (ta == tb && x.motions == y.motions) {
-      if (x.motions && x.end != y.end) {}  // same text, different position: earlier change carried over
-      else continue;
-    }
+    // Same text but a different end point: an earlier change carried over by a
+    // modal axis word. It moved, so it is listed, but it was not edited.
+    if (ta == tb && x.motions == y.motions && (!x.motions || x.end == y.end)) continue;
     if (x.motions != y.motions || x.kind != y.kind || (!x.motions && ta != tb)) {
       other.push_back(files[0] + ":" + std::to_string(la) + " / " + files[1] + ":" + std::to_string(lb) +
                       ": changed in more than coordinates: '" + std::string(ta) + "' -> '" + std::string(tb) + "'");
       continue;
     }
-    Change c{la, lb, {y.end[0] - x.end[0], y.end[1] - x.end[1], y.end[2] - x.end[2]}, 0};
+    Change c{la, lb, {y.end[0] - x.end[0], y.end[1] - x.end[1], y.end[2] - x.end[2]}, 0, ta != tb};
+    edited += c.edited;
     c.dist = std::sqrt(c.d[0] * c.d[0] + c.d[1] * c.d[1] + c.d[2] * c.d[2]);
     max_mm = std::max(max_mm, c.dist);
     sum_mm += c.dist;
@@ -202,7 +213,8 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   double mean_mm = changes.empty() ? 0.0 : sum_mm / static_cast<double>(changes.size());
   char buf[256];
   if (format == "json") {
-    io.out << "{\"a\": \"" << files[0] << "\", \"b\": \"" << files[1] << "\", \"blocks_changed\": " << changes.size();
+    io.out << "{\"a\": \"" << files[0] << "\", \"b\": \"" << files[1] << "\", \"blocks_changed\": " << changes.size()
+           << ", \"blocks_edited\": " << edited;
     std::snprintf(buf, sizeof buf, ", \"max_displacement_mm\": %.6f, \"mean_displacement_mm\": %.6f", max_mm, mean_mm);
     io.out << buf << ", \"other_changes\": " << other.size() << ", \"changes\": [";
     bool first = true;
@@ -213,17 +225,19 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
       io.out << buf;
       first = false;
     }
+    io.out << "], \"other\": [";
+    for (std::size_t i = 0; i < other.size(); ++i) io.out << (i ? ", " : "") << json_string(other[i]);
     io.out << "]}\n";
   } else {
     for (const Change& c : changes) {
       if (c.dist < threshold) continue;
-      std::snprintf(buf, sizeof buf, "%u -> %u: dX %+.6f dY %+.6f dZ %+.6f |d| %.6f mm\n", c.la, c.lb, c.d[0], c.d[1],
-                    c.d[2], c.dist);
+      std::snprintf(buf, sizeof buf, "%u -> %u: dX %+.6f dY %+.6f dZ %+.6f |d| %.6f mm%s\n", c.la, c.lb, c.d[0], c.d[1],
+                    c.d[2], c.dist, c.edited ? "" : " (not edited: carried over by a modal axis)");
       io.out << buf;
     }
     for (const std::string& o : other) io.out << o << "\n";
-    std::snprintf(buf, sizeof buf, "%zu blocks changed in coordinates: max %.6f mm, mean %.6f mm; %zu changes in more than coordinates\n",
-                  changes.size(), max_mm, mean_mm, other.size());
+    std::snprintf(buf, sizeof buf, "%zu motion blocks moved (%zu edited): max %.6f mm, mean %.6f mm; %zu changes in more than coordinates\n",
+                  changes.size(), edited, max_mm, mean_mm, other.size());
     io.out << buf;
   }
   return other.empty() ? 0 : static_cast<int>(Exit::input);

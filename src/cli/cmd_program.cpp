@@ -60,7 +60,7 @@ const char* kPathHelp =
 
 int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(Exit::input) : 0; }
 
-gcode::Program load(const std::string& file) { return gcode::Program(gcode::read_source(file)); }
+gcode::Program load(const std::string& file, Io& io) { return gcode::Program(gcode::read_source(file, &io.in)); }
 
 }  // namespace
 
@@ -80,7 +80,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines]", kPathHelp, desc); return 0; }
   if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
-  gcode::Program prog = load(file);
+  gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   {
     PathPrinter p(io.out, lines);
@@ -172,7 +172,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
   if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
-  gcode::Program prog = load(file);
+  gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   diags.set_keep(false);
   profile::Travel none;
@@ -228,7 +228,7 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   }
   if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
-  gcode::Program prog = load(file);
+  gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   Null null;
   interp::interpret(prog, s.interp(), diags, null);

@@ -194,11 +194,12 @@ bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {
   return ok;
 }
 
-SourceText read_source(const std::string& path) {
+SourceText read_source(const std::string& path, std::istream* stdin_stream) {
   std::string bytes;
   if (path == "-") {
     std::ostringstream ss;
-    ss << std::cin.rdbuf();
+    std::istream& in = stdin_stream ? *stdin_stream : std::cin;
+    if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
     bytes = ss.str();
     return SourceText("<stdin>", std::move(bytes));
   }

@@ -115,6 +115,12 @@ class Run {
       for (auto& [k, v] : o.machine->reference_points_mm) ref_[k] = {v[0], v[1], v[2]};
     }
     wofs_ = offset_of("G54");
+    // Before its first absolute move an axis is taken to stand at the G28
+    // reference point (where programs start on a homed machine); nothing that
+    // depends on it exactly (G91, arcs, cycles) is allowed until it is known.
+    auto it = ref_.find(1);
+    Vec3 home = it == ref_.end() ? Vec3{0, 0, 0} : it->second;
+    for (int i = 0; i < 3; ++i) pos_[i] = home[i] - wofs_[i];
   }
 
   Stats go() {

@@ -1,6 +1,7 @@
 // A program file kept as bytes, with its line index; lines are lexed on demand.
 #pragma once
 #include <cstdint>
+#include <iosfwd>
 #include <string>
 
 #include "deflex/diag/diagnostics.hpp"
@@ -26,7 +27,7 @@ class Program {
   std::uint32_t closing_percent_ = 0;
 };
 
-// Reads a whole file (or stdin for "-") into a SourceText; throws Error(io).
-SourceText read_source(const std::string& path);
+// Reads a whole file (or `stdin_stream` for "-") into a SourceText; throws Error(io).
+SourceText read_source(const std::string& path, std::istream* stdin_stream = nullptr);
 
 }  // namespace deflex::gcode

@@ -1,0 +1,74 @@
+// Helpers shared by the tests: interpret a program given as text, run the CLI
+// in-process, read files.
+#pragma once
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "deflex/cli/command.hpp"
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/gcode/program.hpp"
+#include "deflex/interp/interpreter.hpp"
+#include "deflex/profile/profile.hpp"
+
+namespace deflex::test {
+
+struct Interpreted {
+  std::vector<interp::Motion> motions;
+  interp::Stats stats;
+  std::string diagnostics;  // as printed
+  int errors = 0;
+  int warnings = 0;
+};
+
+struct Collect : interp::MotionSink {
+  std::vector<interp::Motion>* out;
+  void motion(const interp::Motion& m) override { out->push_back(m); }
+};
+
+inline Interpreted interpret_text(const std::string& text, const std::string& dialect = "fanuc",
+                                  const profile::MachineProfile* machine = nullptr, bool block_delete = false) {
+  gcode::Program prog(SourceText("t.nc", text));
+  std::ostringstream err;
+  Diagnostics d(&err, 0);
+  interp::Options o;
+  o.dialect = profile::load_dialect(dialect);
+  o.machine = machine;
+  o.block_delete_switch = block_delete;
+  Interpreted r;
+  Collect c;
+  c.out = &r.motions;
+  r.stats = interp::interpret(prog, o, d, c);
+  r.diagnostics = err.str();
+  r.errors = d.errors();
+  r.warnings = d.warnings();
+  return r;
+}
+
+struct CliResult {
+  int rc;
+  std::string out, err;
+};
+
+inline CliResult run_cli(const std::vector<std::string>& args, const std::string& stdin_text = "") {
+  std::istringstream in(stdin_text);
+  std::ostringstream out, err;
+  cli::Io io{in, out, err, false};
+  int rc = cli::run(args, io);
+  return {rc, out.str(), err.str()};
+}
+
+inline std::string read_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+inline void write_file(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+}  // namespace deflex::test

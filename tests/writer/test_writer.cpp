@@ -1,0 +1,97 @@
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <unistd.h>
+
+#include "../support.hpp"
+#include "deflex/writer/writer.hpp"
+
+using namespace deflex;
+namespace fs = std::filesystem;
+
+TEST_SUITE("writer") {
+
+TEST_CASE("numbers are formatted per dialect, always with a decimal point") {
+  auto fanuc = profile::load_dialect("fanuc");
+  CHECK(writer::format_number(12.5, false, fanuc) == "12.5");
+  CHECK(writer::format_number(12.0, false, fanuc) == "12.");
+  CHECK(writer::format_number(-0.00001, false, fanuc) == "0.");
+  CHECK(writer::format_number(0.12345, false, fanuc) == "0.1235");  // 4 decimals in mm (rounded)
+  CHECK(writer::format_number(0.123456, true, fanuc) == "0.12346");  // 5 in inch
+  auto heid = profile::load_dialect("heidenhain-iso");
+  CHECK(writer::format_number(12.5, false, heid) == "12.500");
+  profile::Dialect nolead = fanuc;
+  nolead.leading_zero = false;
+  CHECK(writer::format_number(0.5, false, nolead) == ".5");
+  CHECK(writer::format_number(-0.5, false, nolead) == "-.5");
+}
+
+TEST_CASE("no edit: output equals input, whatever its line ends") {
+  for (std::string text : {std::string("%\r\nG0 X1\r\n%\r\n"), std::string("G0 X1\nG1 X2"), std::string(""),
+                           std::string("(only a comment)\n\n\n"), std::string("G0 X1\n%\ntail without newline")}) {
+    gcode::Program p(SourceText("t.nc", text));
+    auto d = profile::load_dialect("fanuc");
+    writer::Rewriter w(p, d);
+    CHECK(w.str() == text);
+  }
+}
+
+TEST_CASE("a changed number is spliced into its word; everything else is copied") {
+  std::string text = "N10 G1 X 10 . 0 Y5.(keep) Z-1.\r\nN20 X20.\r\n";
+  gcode::Program p(SourceText("t.nc", text));
+  auto d = profile::load_dialect("fanuc");
+  gcode::Block b;
+  Diagnostics diags(nullptr, 0);
+  p.lex(1, b, diags);
+  writer::Rewriter w(p, d);
+  w.set_number(*b.find('X'), 10.0123, false);
+  w.set_number(*b.find('Z'), -1.25, false);
+  w.insert_word(b.find('Z')->end, 'F', 300, false);
+  // The number is replaced; the space the programmer put after the letter stays.
+  CHECK(w.str() == "N10 G1 X 10.0123 Y5.(keep) Z-1.25 F300.\r\nN20 X20.\r\n");
+}
+
+TEST_CASE("inserted blocks take the line end of the block before them") {
+  auto d = profile::load_dialect("fanuc");
+  gcode::Program p(SourceText("t.nc", "G1 X1.\r\nG1 X2."));
+  writer::Rewriter w(p, d);
+  w.insert_block_after(1, "G1 X1.5");
+  w.insert_block_after(2, "G1 X3.");
+  CHECK(w.str() == "G1 X1.\r\nG1 X1.5\r\nG1 X2.\nG1 X3.");
+}
+
+TEST_CASE("a rewritten block over the dialect's line-length limit is an error") {
+  auto d = profile::load_dialect("fanuc");
+  d.max_line_length = 12;
+  gcode::Program p(SourceText("t.nc", "G1 X1. Y1.\n"));
+  gcode::Block b;
+  Diagnostics diags(nullptr, 0);
+  p.lex(1, b, diags);
+  writer::Rewriter w(p, d);
+  w.set_number(*b.find('X'), 1.2345, false);
+  CHECK_THROWS_WITH_AS(w.str(), doctest::Contains("t.nc:1:1: error: rewritten block is 14 characters"), Error);
+}
+
+TEST_CASE("atomic write: never onto the input, no file left when writing fails") {
+  fs::path dir = fs::temp_directory_path() / ("deflex-writer-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string in = (dir / "in.nc").string(), out = (dir / "out.nc").string();
+  test::write_file(in, "G0 X1\n");
+  CHECK_THROWS_AS(writer::write_file_atomically(in, in, [](std::ostream& o) { o << "x"; }), Error);
+  fs::create_symlink(in, dir / "link.nc");
+  CHECK_THROWS_AS(writer::write_file_atomically((dir / "link.nc").string(), in, [](std::ostream& o) { o << "x"; }), Error);
+  CHECK(test::read_file(in) == "G0 X1\n");
+  CHECK_THROWS(writer::write_file_atomically(out, in, [](std::ostream& o) {
+    o << "partial";
+    throw Error(Exit::input, "stop");
+  }));
+  CHECK_FALSE(fs::exists(out));
+  std::size_t files = 0;
+  for (auto& e : fs::directory_iterator(dir)) { (void)e; ++files; }
+  CHECK(files == 2);  // in.nc and link.nc: no temporary left behind
+  writer::write_file_atomically(out, in, [](std::ostream& o) { o << "done"; });
+  CHECK(test::read_file(out) == "done");
+  fs::remove_all(dir);
+}
+
+}  // TEST_SUITE
