@@ -1,0 +1,24 @@
+#!/bin/sh
+# gen_program.sh N OUT: writes a Fanuc-style ball-end raster finishing program of
+# about N blocks over a wavy surface (numbers with decimal points, N on every
+# block, modal X/Y/Z words as CAM systems write them). Needs only awk.
+set -eu
+n=${1:-1000000}; out=${2:-bench/data/finish_${n}.nc}
+mkdir -p "$(dirname "$out")"
+awk -v n="$n" 'BEGIN {
+  print "%"; print "O2000 (GENERATED RASTER FINISH)"
+  print "N1 G00 G17 G21 G40 G49 G80 G90"; print "N2 T5 M06"; print "N3 G54 G00 X0. Y0. S8000 M03"
+  print "N4 G43 H5 Z25. M08"; print "N5 G01 Z-1. F2500."
+  ln = 6; per = 500; rows = int((n - 10) / (per + 1)); dx = 200.0 / per
+  for (r = 0; r < rows; r++) {
+    y = r * 0.25
+    printf "N%d Y%.3f\n", ln++, y
+    for (i = 1; i <= per; i++) {
+      x = (r % 2 == 0) ? i * dx : 200.0 - i * dx
+      z = -1.0 - 2.0 * sin(x / 15.0) * cos(y / 20.0)
+      printf "N%d X%.3f Z%.4f\n", ln++, x, z
+    }
+  }
+  printf "N%d G00 Z25.\n", ln++; printf "N%d M05 M09\n", ln++; printf "N%d M30\n", ln++; print "%"
+}' > "$out"
+echo "$out"
