@@ -1,0 +1,318 @@
+// deflex forces: cutting forces over one spindle revolution for one engagement
+// condition; deflex calibrate: cutting/edge coefficients from slot tests.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <optional>
+#include <ostream>
+#include <set>
+#include <sstream>
+
+#include "common.hpp"
+#include "deflex/force/calibration.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/force/mechanistic.hpp"
+#include "deflex/force/morelli.hpp"
+#include "deflex/force/tool_reader.hpp"
+
+namespace deflex::cli {
+namespace {
+
+namespace fo = deflex::force;
+
+const char* kForcesHelp =
+    "Cutting forces on the tool over one spindle revolution, for a straight cut\n"
+    "into a wall: mechanistic model with cutting and edge coefficients\n"
+    "(Altintas 2012 ch. 2; Lee & Altintas 1996 for the ball end; Engin & Altintas\n"
+    "2001 for the bull nose), the helical flutes cut into axial slices.\n"
+    "\n"
+    "Conventions:\n"
+    "  feed along +X; spindle clockwise seen from above (M3); Z up the spindle.\n"
+    "  Immersion angle measured clockwise from +Y (seen from above); the edge\n"
+    "  point of radius r sits at r (sin a, cos a). Output angle_deg is the rotation\n"
+    "  of tooth 1's tip; the other teeth follow at 360/flutes, each edge point\n"
+    "  lagging z tan(helix) / R behind the tip (constant-lead flutes).\n"
+    "  --up: up-milling, cutting on the +Y side, a_e measured from +Y (entry at 0).\n"
+    "  --down: down-milling, cutting on the -Y side, a_e from -Y (exit at 180).\n"
+    "  a_e >= D is a full slot. Forces act on the tool, in machine axes, N.\n"
+    "  Units: lengths mm; cutting coefficients K_tc/K_rc/K_ac (--kt --kr --ka)\n"
+    "  in N/mm^2, edge coefficients (--kte --kre --kae) in N/mm. A positive K_ac\n"
+    "  pulls a right-hand helix cutter down (-Z).\n"
+    "  Coefficients come from --material (samples/materials.yaml, or\n"
+    "  --material-file, e.g. written by `deflex calibrate`) or from --kt/--kr/--ka.\n"
+    "\n"
+    "Output:\n"
+    "  --format csv: one row per angular step, columns angle_deg,Fx_N,Fy_N,Fz_N;\n"
+    "    each row is the mean over its angular step.\n"
+    "  --format json: {\"mean_N\": [x,y,z], \"peak_abs_N\": [x,y,z], \"shape_code\": ...}\n"
+    "    shape_code (flat end mills, --down only): the F_y force-shape code of\n"
+    "    Morelli et al. 2021, e.g. IIML (type I/II/III of one flute, then the overlap\n"
+    "    L/M/H/m/h of each following flute in the cut). Their classification is\n"
+    "    for down-milling; it is left out for up-milling.\n"
+    "\n"
+    "Example: deflex forces --tool-file samples/tools.yaml --tool T1 \\\n"
+    "           --material Al6082-T4 --ae 2.5 --ap 12 --fz 0.1 --down --format json\n";
+
+const char* kCalibrateHelp =
+    "Fits the six coefficients of the mechanistic force model, K_tc, K_rc, K_ac\n"
+    "(N/mm^2) and K_te, K_re, K_ae (N/mm), to the mean forces of full-slot tests\n"
+    "with a flat end mill at several feeds per tooth, by linear regression of\n"
+    "F/(flutes a_p) against f_z (Altintas 2012 ch. 2). Prints the coefficients, the\n"
+    "fit and the residual of every test, then a material entry (YAML) for\n"
+    "--material-file, written to -o FILE when given.\n"
+    "\n"
+    "CSV: '#' lines are comments; '# key: value' lines before the header set\n"
+    "defaults (diameter_mm, flutes, ap_mm, helix_deg, material, tool, forces_on:\n"
+    "tool|workpiece). Header row with columns fz_mm,Fx_N,Fy_N,Fz_N and optionally\n"
+    "ap_mm, flutes, diameter_mm; then one test per row. Forces: means over whole\n"
+    "revolutions, machine axes (feed +X, spindle M3, Z up), acting on the tool\n"
+    "(forces_on: workpiece negates them). See samples/calibration/README.md.\n";
+
+std::string fixed(double v, int decimals) {
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0;  // no "-0.000"
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
+  return b;
+}
+
+std::string shortest(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.10g", v);
+  return b;
+}
+
+std::string default_library(const char* rel) { return std::string(DEFLEX_SOURCE_DIR) + "/" + rel; }
+
+void require_positive(const char* opt, double v, bool allow_zero = false) {
+  if (!std::isfinite(v) || v < 0 || (!allow_zero && v == 0))
+    throw Error(Exit::usage, std::string("--") + opt + " must be " + (allow_zero ? ">= 0" : "> 0"));
+}
+
+struct ForcesArgs {
+  std::string tool_file, tool, material, material_file, format = "csv";
+  std::optional<double> kt, kr, ka, kte, kre, kae;
+  double ae = 0, ap = 0, fz = 0, dz = 0.05;
+  bool up = false, down = false, help = false;
+  int steps = 360;
+};
+
+fo::Coefficients coefficients_of(const ForcesArgs& a, const po::variables_map& vm) {
+  const bool by_k = a.kt || a.kr || a.ka;
+  const bool edge = a.kte || a.kre || a.kae;
+  if (!a.material.empty() && (by_k || edge))
+    throw Error(Exit::usage, "give either --material or --kt/--kr/--ka, not both");
+  if (a.material.empty() && !by_k)
+    throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
+  if (!a.material.empty()) {
+    const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml")
+                                                     : a.material_file;
+    return fo::find_material(fo::load_material_library(file), a.material).k;
+  }
+  if (vm.count("material-file")) throw Error(Exit::usage, "--material-file needs --material");
+  if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
+  fo::Coefficients k;
+  k.Ktc_N_per_mm2 = *a.kt;
+  k.Krc_N_per_mm2 = *a.kr;
+  k.Kac_N_per_mm2 = *a.ka;
+  k.Kte_N_per_mm = a.kte.value_or(0);
+  k.Kre_N_per_mm = a.kre.value_or(0);
+  k.Kae_N_per_mm = a.kae.value_or(0);
+  return k;
+}
+
+std::optional<std::string> shape_code(const fo::Cutter& c, const fo::Coefficients& k, double ae,
+                                      double ap, bool down) {
+  if (c.type != fo::CutterType::flat || !down) return std::nullopt;
+  fo::MorelliInput in;
+  in.diameter_mm = c.diameter_mm;
+  in.helix_deg = c.helix_deg;
+  in.flutes = c.flutes;
+  in.ar_mm = std::min(ae, c.diameter_mm);
+  in.ap_mm = ap;
+  in.Ktc_N_per_mm2 = k.Ktc_N_per_mm2;
+  in.Krc_N_per_mm2 = k.Krc_N_per_mm2;
+  try {
+    return fo::morelli_shape_code(in);
+  } catch (const Error&) {
+    return std::nullopt;  // outside the classification (straight flutes, K_rc <= 0)
+  }
+}
+
+void json_vec(std::ostream& out, const fo::Vec3& v) {
+  out << "[" << fixed(v.x(), 3) << ", " << fixed(v.y(), 3) << ", " << fixed(v.z(), 3) << "]";
+}
+
+}  // namespace
+
+int cmd_forces(const std::vector<std::string>& args, Io& io) {
+  ForcesArgs a;
+  po::options_description desc("options");
+  auto opt_double = [](std::optional<double>& dst) {
+    return po::value<double>()->notifier([&dst](double v) { dst = v; });
+  };
+  desc.add_options()
+      ("help,h", po::bool_switch(&a.help), "show this help")
+      ("tool-file", po::value(&a.tool_file), "tool library (YAML, tools: {ID: {...}})")
+      ("tool", po::value(&a.tool), "tool ID in the library")
+      ("material", po::value(&a.material), "material name or alias in the material library")
+      ("material-file", po::value(&a.material_file), "material library (default samples/materials.yaml)")
+      ("kt", opt_double(a.kt), "K_tc, tangential cutting coefficient, N/mm^2")
+      ("kr", opt_double(a.kr), "K_rc, radial cutting coefficient, N/mm^2")
+      ("ka", opt_double(a.ka), "K_ac, axial cutting coefficient, N/mm^2")
+      ("kte", opt_double(a.kte), "K_te, tangential edge coefficient, N/mm (default 0)")
+      ("kre", opt_double(a.kre), "K_re, radial edge coefficient, N/mm (default 0)")
+      ("kae", opt_double(a.kae), "K_ae, axial edge coefficient, N/mm (default 0)")
+      ("ae", po::value(&a.ae), "radial depth of cut a_e, mm, from the cutting side (>= D: slot)")
+      ("ap", po::value(&a.ap), "axial depth of cut a_p above the tool tip, mm")
+      ("fz", po::value(&a.fz), "feed per tooth f_z, mm")
+      ("up", po::bool_switch(&a.up), "up-milling (cuts on the +Y side)")
+      ("down", po::bool_switch(&a.down), "down-milling (cuts on the -Y side)")
+      ("steps", po::value(&a.steps), "angular steps per revolution (default 360)")
+      ("dz", po::value(&a.dz), "axial slice height, mm (default 0.05; at least 20 slices)")
+      ("format", po::value(&a.format), "csv (default) or json");
+  const po::variables_map vm = parse(args, desc, po::positional_options_description());
+  if (a.help) {
+    print_help(io.out,
+               "deflex forces --tool-file F --tool ID (--material M [--material-file F] | --kt K --kr K "
+               "--ka K [--kte K --kre K --kae K]) --ae A --ap P --fz F (--down | --up) [--steps N] "
+               "[--format csv|json]",
+               kForcesHelp, desc);
+    return 0;
+  }
+  for (const char* req : {"tool-file", "tool", "ae", "ap", "fz"})
+    if (!vm.count(req)) throw Error(Exit::usage, std::string("forces: --") + req + " is required (see --help)");
+  if (a.up == a.down) throw Error(Exit::usage, "forces: give exactly one of --up and --down");
+  if (a.format != "csv" && a.format != "json")
+    throw Error(Exit::usage, "forces: --format must be csv or json");
+  require_positive("ae", a.ae);
+  require_positive("ap", a.ap);
+  require_positive("fz", a.fz, true);
+  require_positive("dz", a.dz);
+  if (a.steps < 4 || a.steps > 1000000) throw Error(Exit::usage, "--steps must be between 4 and 1000000");
+
+  const fo::Coefficients k = coefficients_of(a, vm);
+  const fo::Cutter cutter = fo::read_cutter(a.tool_file, a.tool);
+  if (a.ap > cutter.flute_length_mm)
+    throw Error(Exit::usage, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +
+                                 a.tool + " (" + shortest(cutter.flute_length_mm) + " mm)");
+  const double dz = std::min(a.dz, a.ap / 20);
+  const fo::CutterSlices slices = fo::make_slices(cutter, dz, a.ap);
+  fo::Engagement eng;
+  fo::simple_engagement(slices, a.ae, a.ap, a.up ? fo::MillingMode::up : fo::MillingMode::down, eng);
+  const std::vector<fo::Vec3> F = fo::revolution_forces(slices, k, a.fz, eng, a.steps);
+
+  if (a.format == "csv") {
+    io.out << "angle_deg,Fx_N,Fy_N,Fz_N\n";
+    for (int j = 0; j < a.steps; ++j)
+      io.out << shortest(360.0 * j / a.steps) << "," << fixed(F[j].x(), 3) << "," << fixed(F[j].y(), 3)
+             << "," << fixed(F[j].z(), 3) << "\n";
+    return 0;
+  }
+  const fo::ForceSummary s = fo::summarize(F);
+  io.out << "{\"mean_N\": ";
+  json_vec(io.out, s.mean_N);
+  io.out << ", \"peak_abs_N\": ";
+  json_vec(io.out, s.peak_abs_N);
+  if (const auto code = shape_code(cutter, k, a.ae, a.ap, a.down)) io.out << ", \"shape_code\": \"" << *code << "\"";
+  io.out << "}\n";
+  return 0;
+}
+
+namespace {
+
+std::string calibration_report(const fo::SlotTestData& d, const fo::SlotCalibration& c) {
+  std::ostringstream o;
+  std::set<double> depths;
+  for (const auto& t : d.tests) depths.insert(t.ap_mm);
+  o << "slot tests: " << d.file << " (" << d.tests.size() << " tests, " << depths.size()
+    << (depths.size() == 1 ? " depth" : " depths") << ")\n\n"
+    << "coefficients (Altintas 2012 ch. 2; forces on the tool, feed +X, M3):\n"
+    << "  K_tc " << fixed(c.k.Ktc_N_per_mm2, 2) << " N/mm^2    K_te " << fixed(c.k.Kte_N_per_mm, 3) << " N/mm\n"
+    << "  K_rc " << fixed(c.k.Krc_N_per_mm2, 2) << " N/mm^2    K_re " << fixed(c.k.Kre_N_per_mm, 3) << " N/mm\n"
+    << "  K_ac " << fixed(c.k.Kac_N_per_mm2, 2) << " N/mm^2    K_ae " << fixed(c.k.Kae_N_per_mm, 3) << " N/mm\n\n"
+    << "fit of F / (flutes a_p) = slope f_z + intercept:\n";
+  const char* axis[] = {"Fx", "Fy", "Fz"};
+  for (int a = 0; a < 3; ++a)
+    o << "  " << axis[a] << ": slope " << fixed(c.fit[a].slope, 3) << " N/mm^2, intercept "
+      << fixed(c.fit[a].intercept, 4) << " N/mm, R^2 " << fixed(c.fit[a].r2, 6) << "\n";
+  o << "\nresiduals (measured - fitted), N:\n"
+    << "  line    fz_mm   ap_mm      Fx_N      Fy_N      Fz_N     dFx_N     dFy_N     dFz_N\n";
+  for (std::size_t i = 0; i < d.tests.size(); ++i) {
+    const auto& t = d.tests[i];
+    char b[256];
+    std::snprintf(b, sizeof b, "  %4d %8.4f %7.3f %9.2f %9.2f %9.2f %9.3f %9.3f %9.3f\n", t.line, t.fz_mm,
+                  t.ap_mm, t.mean_N.x(), t.mean_N.y(), t.mean_N.z(), c.residual_N[i].x(),
+                  c.residual_N[i].y(), c.residual_N[i].z());
+    o << b;
+  }
+  o << "  rms residual: Fx " << fixed(c.rms_residual_N.x(), 3) << ", Fy " << fixed(c.rms_residual_N.y(), 3)
+    << ", Fz " << fixed(c.rms_residual_N.z(), 3) << " N\n";
+  return o.str();
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(Exit::io, path + ": error: cannot write the file");
+    out << text;
+    out.close();
+    if (!out) throw Error(Exit::io, path + ": error: write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(Exit::io, path + ": error: cannot write the file");
+  }
+}
+
+}  // namespace
+
+int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
+  std::string file, name, output;
+  bool help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")
+      ("name", po::value(&name), "material name of the entry (default: '# material:' of the CSV, else the file name)")
+      ("output,o", po::value(&output), "write the material entry (YAML) to this file");
+  po::options_description hidden;
+  hidden.add_options()("file", po::value(&file));
+  po::options_description all;
+  all.add(desc).add(hidden);
+  po::positional_options_description pos;
+  pos.add("file", 1);
+  parse(args, all, pos);
+  if (help) {
+    print_help(io.out, "deflex calibrate FILE.csv [--name NAME] [-o OUT.yaml]", kCalibrateHelp, desc);
+    return 0;
+  }
+  if (file.empty()) throw Error(Exit::usage, "calibrate: missing FILE.csv (see --help)");
+
+  const fo::SlotTestData d = fo::load_slot_tests(file);
+  const fo::SlotCalibration c = fo::calibrate_slot_tests(d);
+  io.out << calibration_report(d, c);
+
+  fo::MaterialEntry m;
+  m.name = !name.empty() ? name : !d.material.empty() ? d.material : std::filesystem::path(file).stem().string();
+  m.form = fo::ModelForm::mechanistic;
+  m.k = c.k;
+  m.source = "deflex calibrate " + std::filesystem::path(file).filename().string() + ": " +
+             std::to_string(d.tests.size()) + " slot tests, linear regression (Altintas 2012 ch. 2)";
+  double fmin = d.tests.front().fz_mm, fmax = fmin;
+  for (const auto& t : d.tests) fmin = std::min(fmin, t.fz_mm), fmax = std::max(fmax, t.fz_mm);
+  m.conditions = (d.tool.empty() ? std::string("flat end mill") : d.tool) + "; full slots, f_z " +
+                 shortest(fmin) + " to " + shortest(fmax) + " mm";
+  const std::string yaml = fo::to_yaml(m);
+  if (output.empty()) {
+    io.out << "\nmaterial entry:\n" << yaml;
+  } else {
+    write_file_atomic(output, yaml);
+    io.out << "\nmaterial entry '" << m.name << "' written to " << output << "\n";
+  }
+  return 0;
+}
+
+}  // namespace deflex::cli
