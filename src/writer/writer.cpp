@@ -35,6 +35,38 @@ std::string format_number(double value, bool inch, const profile::Dialect& d) {
   return s;
 }
 
+std::string format_comment(const std::string& text, const profile::Dialect& d) {
+  if (d.comment_style == profile::CommentStyle::semicolon) return "; " + text;
+  std::string t = text;
+  for (char& c : t) {
+    if (c == '(') c = '[';
+    if (c == ')') c = ']';
+  }
+  return "(" + t + ")";
+}
+
+std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words,
+                                   bool inch, const std::string& comment) const {
+  std::string s;
+  if (d_.n_policy == profile::NPolicy::increment) {
+    Diagnostics quiet(nullptr, 0);
+    gcode::Block b;
+    long n = 0;
+    for (std::uint32_t l = after_line; l >= 1 && l + 200 > after_line; --l) {
+      prog_.lex(l, b, quiet);
+      if (const gcode::Word* w = b.find('N')) { n = static_cast<long>(w->value); break; }
+    }
+    s = "N" + std::to_string(n + 1);
+  }
+  for (auto& [letter, value] : words) {
+    if (!s.empty()) s += ' ';
+    s += letter;
+    s += format_number(value, inch, d_);
+  }
+  if (!comment.empty()) s += (s.empty() ? "" : " ") + format_comment(comment, d_);
+  return s;
+}
+
 void Rewriter::set_number(const gcode::Word& w, double value, bool inch) {
   edits_.push_back({w.num_begin, w.end, static_cast<std::uint32_t>(edits_.size()), format_number(value, inch, d_)});
 }

@@ -60,6 +60,18 @@ TEST_CASE("inserted blocks take the line end of the block before them") {
   CHECK(w.str() == "G1 X1.\r\nG1 X1.5\r\nG1 X2.\nG1 X3.");
 }
 
+TEST_CASE("inserted blocks follow the dialect: N numbers and comment style") {
+  gcode::Program p(SourceText("t.nc", "N10 G1 X1. F100.\nX2.\n"));
+  auto fanuc = profile::load_dialect("fanuc");
+  writer::Rewriter wf(p, fanuc);
+  CHECK(wf.format_block(2, {{'X', 1.5}, {'Z', -0.25}}, false, "split (deflex)") == "X1.5 Z-0.25 (split [deflex])");
+  auto heid = profile::load_dialect("heidenhain-iso");
+  writer::Rewriter wh(p, heid);
+  // Line 2 has no N: the nearest numbered block before it is N10.
+  CHECK(wh.format_block(2, {{'X', 1.5}}, false, "split") == "N11 X1.500 ; split");
+  CHECK(writer::format_comment("a", heid) == "; a");
+}
+
 TEST_CASE("a rewritten block over the dialect's line-length limit is an error") {
   auto d = profile::load_dialect("fanuc");
   d.max_line_length = 12;

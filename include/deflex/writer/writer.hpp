@@ -17,6 +17,10 @@ namespace deflex::writer {
 // always with a decimal point, so no control reads it as least input increments.
 std::string format_number(double value, bool inch, const profile::Dialect& d);
 
+// A comment in the dialect's style: `(text)` or `; text`. Parentheses inside a
+// paren comment would end it early (Fanuc comments do not nest): they become [ ].
+std::string format_comment(const std::string& text, const profile::Dialect& d);
+
 class Rewriter {
  public:
   Rewriter(const gcode::Program& prog, const profile::Dialect& d) : prog_(prog), d_(d) {}
@@ -27,6 +31,12 @@ class Rewriter {
   // Inserts a whole new block (text without line end) after line `line`, using
   // that line's line ending.
   void insert_block_after(std::uint32_t line, const std::string& text);
+  // Text of a new block to insert after `after_line`, for the dialect: an N
+  // word first when the dialect numbers inserted blocks (the N of the nearest
+  // numbered block before it, plus one), then the words (program units), then
+  // the comment in the dialect's style.
+  std::string format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words, bool inch,
+                           const std::string& comment = "") const;
   std::size_t edits() const { return edits_.size(); }
   // Streams the result. Throws Error(input) if a changed line breaks the
   // dialect's line-length limit.
