@@ -146,11 +146,7 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
     ("format", po::value(&format)->default_value("text"), "text or json")
     ("min-mm", po::value(&threshold)->default_value(0.0), "list changed blocks that moved at least this far (mm); all are counted");
   add_read_options(desc, r);
-  po::options_description all;
-  all.add(desc).add_options()("files", po::value(&files));
-  po::positional_options_description pos;
-  pos.add("files", 2);
-  parse(args, all, pos);
+  parse_with_files(args, desc, files, 2);
   if (help) {
     print_help(io.out, "deflex diff A B [--format text|json] [--dialect D]",
                "Pairs the blocks of program A (the original) with those of B (e.g. the compensated\n"

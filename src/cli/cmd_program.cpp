@@ -89,11 +89,9 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("lines", po::bool_switch(&lines), "put the source line number first");
   add_read_options(desc, r);
-  po::options_description all;
-  all.add(desc).add_options()("file", po::value(&file));
-  po::positional_options_description pos;
-  pos.add("file", 1);
-  parse(args, all, pos);
+  std::vector<std::string> files;
+  parse_with_files(args, desc, files, 1);
+  if (!files.empty()) file = files[0];
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines]", kPathHelp, desc); return 0; }
   if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
@@ -171,11 +169,9 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json");
   add_read_options(desc, r);
-  po::options_description all;
-  all.add(desc).add_options()("file", po::value(&file));
-  po::positional_options_description pos;
-  pos.add("file", 1);
-  parse(args, all, pos);
+  std::vector<std::string> files;
+  parse_with_files(args, desc, files, 1);
+  if (!files.empty()) file = files[0];
   if (help) {
     print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]",
                "Reads and interprets the program as the control would and reports every problem\n"
@@ -230,11 +226,9 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("output,o", po::value(&output), "write here (atomically) instead of stdout");
   add_read_options(desc, r);
-  po::options_description all;
-  all.add(desc).add_options()("file", po::value(&file));
-  po::positional_options_description pos;
-  pos.add("file", 1);
-  parse(args, all, pos);
+  std::vector<std::string> files;
+  parse_with_files(args, desc, files, 1);
+  if (!files.empty()) file = files[0];
   if (help) {
     print_help(io.out, "deflex rewrite FILE [-o OUT] [--dialect D]",
                "Reads and interprets the program, then writes it back through deflex's writer\n"

@@ -44,6 +44,15 @@ po::variables_map parse(const std::vector<std::string>& args, const po::options_
   return vm;
 }
 
+void parse_with_files(const std::vector<std::string>& args, const po::options_description& desc,
+                      std::vector<std::string>& files, int max_files) {
+  po::options_description all;
+  all.add(desc).add_options()("file", po::value(&files));
+  po::positional_options_description pos;
+  pos.add("file", max_files);
+  parse(args, all, pos);
+}
+
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
                 const po::options_description& desc) {
   out << "usage: " << usage << "\n\n" << text << "\n" << desc << "\n";

@@ -48,6 +48,11 @@ Setup resolve(const ReadOptions& r);
 po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
                         const po::positional_options_description& pos);
 
+// Parses args whose positional words are program files (up to max_files of
+// them) into `files`; the named options go to `desc`. Throws Error(usage).
+void parse_with_files(const std::vector<std::string>& args, const po::options_description& desc,
+                      std::vector<std::string>& files, int max_files);
+
 // Prints the subcommand's help: usage line, explanation, options.
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
                 const po::options_description& desc);
