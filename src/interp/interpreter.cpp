@@ -581,7 +581,8 @@ bool Run::do_cycle() {
   int repeats = 1;
   if (wk) {
     repeats = static_cast<int>(wk->value);
-    if (wk->value < 0 || repeats != wk->value) return refuse(wk, "repeat count must be a whole number >= 0");
+    if (wk->value < 0 || wk->value > 9999 || repeats != wk->value)
+      return refuse(wk, "repeat count must be a whole number from 0 to 9999");
   }
   if (!known_[2]) return refuse(wz, "canned cycle before the Z position is known");
   // R and Z: incremental R is from the initial level, incremental Z from R.
@@ -681,8 +682,9 @@ bool Run::flow(bool m98, bool m99, bool end) {
     int digits = 0;
     for (std::uint32_t i = wp->num_begin; i < wp->end; ++i) digits += std::isdigit(static_cast<unsigned char>(prog_.bytes()[i])) != 0;
     int repeats = 1;
-    if (const Word* wl = blk_.find('L')) repeats = static_cast<int>(wl->value);
+    if (const Word* wl = blk_.find('L')) repeats = static_cast<int>(std::min(wl->value, 1e6));
     else if (digits > 4) { repeats = static_cast<int>(p / 10000); p %= 10000; }  // Fanuc P rrrr nnnn
+    if (repeats > 9999) return refuse(wp, "subprogram repeat count over 9999");
     if (repeats < 1) return true;
     if (!subs_indexed_) {
       Diagnostics quiet(nullptr, 0);

@@ -183,6 +183,8 @@ TEST_CASE("trap 7: M98/M99 subprograms in the file, with L repeats") {
   // Fanuc's 8-digit form P rrrr nnnn: 3 repeats of O2000.
   auto e = interpret_text("G21 G90 G0 X0 Y0 Z0\nM98 P00032000\nM30\nO2000\nG91 G1 X1. F100\nG90\nM99\n");
   CHECK(e.motions.size() == 4);
+  auto huge = interpret_text("G21 G90 G0 X0 Y0 Z0\nM98 P2000 L999999999\nM30\nO2000\nM99\n");
+  CHECK(has(huge.diagnostics, "repeat count over 9999"));
   auto missing = interpret_text("G21 G90 G0 X0 Y0 Z0\nM98 P7777\n");
   CHECK(has(missing.diagnostics, "subprogram O7777 is not in this file"));
 }
