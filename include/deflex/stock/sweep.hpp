@@ -1,0 +1,84 @@
+// Material removal by the swept envelope of a vertical end mill.
+//
+// Lines (G0/G1, including ramps and plunges) are exact: per cell centre the
+// Z-map takes the minimum over the whole segment of the tool's lower surface
+// height. The tool solid is convex and moves along a line, so that height is a
+// convex function of the position along the segment and its minimum has a closed
+// form for a ball (the sphere's centre sweeps a capsule) and a flat end (a
+// linear function on an interval); for a bull nose it is found by bisection on
+// the derivative to 1e-12 of the segment (numerically exact).
+//
+// Arcs and helices are swept as a polyline of chords whose sagitta is at most
+// chord_tol_mm (the chords lie inside the arc, so the cut surface is off the
+// exact one by at most that tolerance, toward the arc centre).
+//
+// Frame: work frame, mm; points are tool-tip positions (the programmed point).
+#pragma once
+#include <array>
+#include <span>
+#include <vector>
+
+#include "deflex/stock/tool.hpp"
+#include "deflex/stock/zmap.hpp"
+
+namespace deflex::stock {
+
+using Point3 = std::array<double, 3>;  // x, y, z mm
+
+// The swept volume of one tool moving on a straight line from tip a to tip b.
+class LineSweep {
+ public:
+  LineSweep(const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm);
+
+  // Lowest height of the tool's lower surface over the segment at (x, y); +inf
+  // where the footprint does not reach. Anything above it is inside the swept tool.
+  double lower_height(double x_mm, double y_mm) const;
+
+  // Footprint (segment (+) disc of radius R0 in XY) bounding box, mm.
+  double x_min() const { return xmin_; }
+  double x_max() const { return xmax_; }
+  double y_min() const { return ymin_; }
+  double y_max() const { return ymax_; }
+  // X range of the footprint on the line y = y_mm; false if it misses.
+  bool row_range(double y_mm, double& x0_mm, double& x1_mm) const;
+
+  const Point3& a() const { return a_; }
+  const Point3& b() const { return b_; }
+  const ToolProfile& tool() const { return tool_; }
+
+ private:
+  ToolProfile tool_;
+  Point3 a_, b_;
+  double ex_ = 1, ey_ = 0;  // unit XY direction (when len_ > 0)
+  double len_ = 0;          // XY length, mm
+  double slope_ = 0;        // dz per mm of XY travel
+  double xmin_, xmax_, ymin_, ymax_;
+};
+
+// Removes the swept volume of a line from the stock; returns the removed volume, mm^3.
+double sweep_line(ZMap& z, const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm);
+double sweep_line(ZMap& z, const LineSweep& s);
+
+// Consecutive points joined by lines.
+double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> pts_mm);
+
+// A circular or helical arc as the interpreter gives it (interp::Motion): plane
+// 17 (XY, helix along Z), 18 (ZX, along Y) or 19 (YZ, along X); cw seen from the
+// positive normal axis; the centre's normal coordinate equals the start's; end ==
+// start (in the plane) is a full circle.
+struct Arc {
+  Point3 start_mm{}, end_mm{}, centre_mm{};
+  int plane = 17;
+  bool cw = true;
+};
+double arc_radius_mm(const Arc& a);
+double arc_angle(const Arc& a);                  // swept angle, rad, in (0, 2 pi]
+double arc_length_mm(const Arc& a);              // including the helical rise
+Point3 arc_point(const Arc& a, double u);        // u in [0, 1]; exact at both ends
+Point3 arc_tangent(const Arc& a, double u);      // unit, direction of travel
+// Chords so that the sagitta r (1 - cos(dtheta / 2)) <= chord_tol_mm.
+int arc_chord_count(const Arc& a, double chord_tol_mm);
+std::vector<Point3> arc_polyline(const Arc& a, int chords);
+double sweep_arc(ZMap& z, const ToolProfile& tool, const Arc& a, double chord_tol_mm);
+
+}  // namespace deflex::stock

@@ -1,0 +1,98 @@
+// Reading a stock solid with OpenCASCADE: STL through RWStl (a triangulation as
+// is), STEP and IGES through their readers, meshed by BRepMesh_IncrementalMesh.
+// OCCT 7.6 headers use std::iterator (deprecated in C++17).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wdeprecated-declarations"
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Tool.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Poly_Triangulation.hxx>
+#include <RWStl.hxx>
+#include <STEPControl_Reader.hxx>
+#include <Standard_Failure.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shape.hxx>
+#pragma GCC diagnostic pop
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/stock/build.hpp"
+
+namespace deflex::stock {
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return e;
+}
+
+void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, std::vector<Triangle>& out) {
+  if (tri.IsNull()) return;
+  out.reserve(out.size() + static_cast<std::size_t>(tri->NbTriangles()));
+  for (Standard_Integer k = 1; k <= tri->NbTriangles(); ++k) {
+    Standard_Integer n[3];
+    tri->Triangle(k).Get(n[0], n[1], n[2]);
+    Triangle t;
+    for (int v = 0; v < 3; ++v) {
+      gp_Pnt p = tri->Node(n[v]);
+      if (trsf) p.Transform(*trsf);
+      t.p[v] = {p.X(), p.Y(), p.Z()};
+    }
+    out.push_back(t);
+  }
+}
+
+TopoDS_Shape read_brep(const std::string& path, const std::string& ext) {
+  if (ext == ".step" || ext == ".stp") {
+    STEPControl_Reader r;
+    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(Exit::io, path + ": cannot read as STEP");
+    r.TransferRoots();
+    return r.OneShape();
+  }
+  IGESControl_Reader r;
+  if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(Exit::io, path + ": cannot read as IGES");
+  r.TransferRoots();
+  return r.OneShape();
+}
+
+}  // namespace
+
+std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm) {
+  if (!std::filesystem::is_regular_file(path)) throw Error(Exit::io, path + ": no such file");
+  const std::string ext = lower_extension(path);
+  std::vector<Triangle> out;
+  try {
+    if (ext == ".stl") {
+      append(RWStl::ReadFile(path.c_str()), nullptr, out);
+      if (out.empty()) throw Error(Exit::io, path + ": cannot read as STL (or it has no triangles)");
+      return out;
+    }
+    if (ext != ".step" && ext != ".stp" && ext != ".iges" && ext != ".igs")
+      throw Error(Exit::usage, path + ": stock file must be .stl, .step/.stp or .iges/.igs (or box:X0,Y0,Z0,X1,Y1,Z1)");
+    if (!(mesh_deflection_mm > 0)) throw Error(Exit::config, "stock: mesh deflection must be > 0");
+    const TopoDS_Shape shape = read_brep(path, ext);
+    if (shape.IsNull()) throw Error(Exit::config, path + ": the file holds no shape");
+    // Relative deflection off; angular deflection 0.2 rad keeps small fillets round.
+    BRepMesh_IncrementalMesh mesh(shape, mesh_deflection_mm, false, 0.2, false);
+    for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
+      TopLoc_Location loc;
+      const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(TopoDS::Face(ex.Current()), loc);
+      const gp_Trsf trsf = loc.Transformation();
+      append(tri, loc.IsIdentity() ? nullptr : &trsf, out);
+    }
+  } catch (const Standard_Failure& e) {
+    throw Error(Exit::io, path + ": OpenCASCADE: " + e.GetMessageString());
+  }
+  if (out.empty()) throw Error(Exit::config, path + ": the solid has no faces to mesh");
+  return out;
+}
+
+}  // namespace deflex::stock

@@ -1,0 +1,158 @@
+#include "deflex/stock/zmap.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::stock {
+
+namespace {
+constexpr int T = ZMap::tile_cells;
+constexpr std::size_t tile_floats = static_cast<std::size_t>(T) * T + T;  // cells + row maxima
+}  // namespace
+
+GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, double cell_mm) {
+  if (!(cell_mm > 0)) throw Error(Exit::config, "stock: cell size must be > 0");
+  if (!(x1_mm > x0_mm) || !(y1_mm > y0_mm)) throw Error(Exit::config, "stock: empty XY extent");
+  GridSpec g;
+  g.x0_mm = x0_mm;
+  g.y0_mm = y0_mm;
+  g.cell_mm = cell_mm;
+  const double nx = std::ceil((x1_mm - x0_mm) / cell_mm - 1e-9);
+  const double ny = std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9);
+  if (nx * ny > 4e9) throw Error(Exit::config, "stock: more than 4e9 cells; use a coarser resolution");
+  g.nx = static_cast<int>(nx);
+  g.ny = static_cast<int>(ny);
+  return g;
+}
+
+ZMap::ZMap(const GridSpec& g, float height, double base_z_mm) : g_(g), base_z_(base_z_mm) {
+  if (g.nx <= 0 || g.ny <= 0 || !(g.cell_mm > 0)) throw Error(Exit::internal, "ZMap: empty grid");
+  inv_cell_ = 1.0 / g.cell_mm;
+  tiles_x_ = static_cast<std::size_t>((g.nx + T - 1) / T);
+  tiles_y_ = static_cast<std::size_t>((g.ny + T - 1) / T);
+  tiles_.resize(tiles_x_ * tiles_y_);
+  for (Tile& t : tiles_) t.uniform = t.max = height;
+}
+
+float* ZMap::materialize(Tile& t) {
+  if (!t.cells) {
+    t.cells.reset(new float[tile_floats]);
+    std::fill(t.cells.get(), t.cells.get() + tile_floats, t.uniform);
+    ++allocated_;
+  }
+  return t.cells.get();
+}
+
+void ZMap::set(int i, int j, float h) {
+  Tile& t = tiles_[tile_index(i, j)];
+  if (!t.cells && t.uniform == h) return;
+  float* c = materialize(t);
+  c[local(i, j)] = h;
+  const int r = j % T;
+  float* row = c + static_cast<std::size_t>(r) * T;
+  c[T * T + r] = *std::max_element(row, row + T);
+  t.max = *std::max_element(c + T * T, c + T * T + T);
+}
+
+double ZMap::lower_row(int j, int i0, int n, const float* h) {
+  if (j < 0 || j >= g_.ny) return 0;
+  // Clip to the grid.
+  if (i0 < 0) {
+    h -= i0;
+    n += i0;
+    i0 = 0;
+  }
+  n = std::min(n, g_.nx - i0);
+  double removed = 0;
+  const float base = static_cast<float>(base_z_);
+  const int r = j % T;
+  while (n > 0) {
+    Tile& t = tiles_[tile_index(i0, j)];
+    const int li = i0 % T;
+    const int m = std::min(n, T - li);
+    float* cells = t.cells ? t.cells.get() : nullptr;
+    const float* cur = cells ? cells + static_cast<std::size_t>(r) * T + li : nullptr;
+    bool changed = false;
+    for (int k = 0; k < m; ++k) {
+      const float old = cur ? cur[k] : t.uniform;
+      if (h[k] < old) {
+        if (!changed) {
+          cells = materialize(t);
+          cur = cells + static_cast<std::size_t>(r) * T + li;
+          changed = true;
+        }
+        const float nw = h[k];
+        if (old > base) removed += static_cast<double>(old) - std::max(static_cast<double>(nw), base_z_);
+        cells[static_cast<std::size_t>(r) * T + li + k] = nw < base ? no_material : nw;
+      }
+    }
+    if (changed) {
+      float* row = cells + static_cast<std::size_t>(r) * T;
+      cells[T * T + r] = *std::max_element(row, row + T);
+      t.max = *std::max_element(cells + T * T, cells + T * T + T);
+    }
+    h += m;
+    i0 += m;
+    n -= m;
+  }
+  return removed * g_.cell_mm * g_.cell_mm;
+}
+
+void ZMap::assign_tile(std::size_t tx, std::size_t ty, const float* src) {
+  Tile& t = tiles_[ty * tiles_x_ + tx];
+  // Cells past the grid edge take the first cell's value so they do not force an allocation.
+  const int wi = std::min(T, g_.nx - static_cast<int>(tx) * T), wj = std::min(T, g_.ny - static_cast<int>(ty) * T);
+  const float v0 = src[0];
+  bool uniform = true;
+  for (int r = 0; r < wj && uniform; ++r)
+    for (int c = 0; c < wi; ++c)
+      if (src[r * T + c] != v0) {
+        uniform = false;
+        break;
+      }
+  if (uniform) {
+    if (t.cells) --allocated_;
+    t.cells.reset();
+    t.uniform = t.max = v0;
+    return;
+  }
+  float* cells = materialize(t);
+  for (int r = 0; r < T; ++r) {
+    float* row = cells + static_cast<std::size_t>(r) * T;
+    for (int c = 0; c < T; ++c) row[c] = (r < wj && c < wi) ? src[r * T + c] : no_material;
+    cells[T * T + r] = *std::max_element(row, row + T);
+  }
+  t.max = *std::max_element(cells + T * T, cells + T * T + T);
+}
+
+float ZMap::max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const {
+  const int i0 = std::max(ix(x0_mm), 0), i1 = std::min(ix(x1_mm), g_.nx - 1);
+  const int j0 = std::max(iy(y0_mm), 0), j1 = std::min(iy(y1_mm), g_.ny - 1);
+  float m = no_material;
+  if (i0 > i1 || j0 > j1) return m;
+  for (int tj = j0 / T; tj <= j1 / T; ++tj)
+    for (int ti = i0 / T; ti <= i1 / T; ++ti) {
+      const Tile& t = tiles_[static_cast<std::size_t>(tj) * tiles_x_ + static_cast<std::size_t>(ti)];
+      if (t.max <= m) continue;
+      if (!t.cells) {
+        m = t.uniform;
+        continue;
+      }
+      // Row maxima of the rows inside the rectangle.
+      const int r0 = std::max(j0 - tj * T, 0), r1 = std::min(j1 - tj * T, T - 1);
+      for (int r = r0; r <= r1; ++r) m = std::max(m, t.cells[static_cast<std::size_t>(T) * T + r]);
+    }
+  return m;
+}
+
+std::size_t ZMap::allocated_bytes() const {
+  return allocated_ * tile_floats * sizeof(float) + tiles_.size() * sizeof(Tile) + sizeof(*this);
+}
+
+std::size_t ZMap::worst_case_bytes() const {
+  return tiles_.size() * (tile_floats * sizeof(float) + sizeof(Tile)) + sizeof(*this);
+}
+
+}  // namespace deflex::stock

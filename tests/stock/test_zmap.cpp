@@ -1,0 +1,222 @@
+// Z-map storage, box parsing, line/arc sweeps against closed-form trenches.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/stock/build.hpp"
+#include "deflex/stock/sweep.hpp"
+
+using namespace deflex;
+using namespace deflex::stock;
+
+namespace {
+
+// XY distance from p to the segment a-b.
+double seg_dist(double x, double y, const Point3& a, const Point3& b) {
+  const double dx = b[0] - a[0], dy = b[1] - a[1], l2 = dx * dx + dy * dy;
+  double t = l2 > 0 ? ((x - a[0]) * dx + (y - a[1]) * dy) / l2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  return std::hypot(x - a[0] - t * dx, y - a[1] - t * dy);
+}
+
+// Brute force: the lowest lower-surface height over n + 1 tool positions.
+double brute_lower(const ToolProfile& tool, const Point3& a, const Point3& b, double x, double y, int n) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    const double px = a[0] + t * (b[0] - a[0]), py = a[1] + t * (b[1] - a[1]), pz = a[2] + t * (b[2] - a[2]);
+    best = std::min(best, pz + profile_height(tool, std::hypot(x - px, y - py)));
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST_SUITE("stock") {
+
+TEST_CASE("box spec parsing") {
+  const BoxSpec b = parse_box("box:10,-5,0,-10,5,-20");
+  CHECK(b.x0_mm == -10);
+  CHECK(b.x1_mm == 10);
+  CHECK(b.y0_mm == -5);
+  CHECK(b.z0_mm == -20);
+  CHECK(b.z1_mm == 0);
+  CHECK(parse_box("box: 1.5 ,2,3,4,5,6e0").x0_mm == 1.5);
+  for (const char* bad : {"box:1,2,3,4,5", "box:1,2,3,4,5,6,7", "box:1,2,x,4,5,6", "cube:0,0,0,1,1,1",
+                          "box:0,0,0,0,1,1", "box:1,2,3,4,5,"}) {
+    CAPTURE(bad);
+    CHECK_THROWS_AS(parse_box(bad), Error);
+  }
+}
+
+TEST_CASE("box z-map: heights, overhanging cells, outside") {
+  const ZMap z = zmap_from_box(parse_box("box:0,0,-10,10.02,5,2"), 0.05);
+  CHECK(z.grid().nx == 201);  // 10.02 / 0.05 = 200.4 -> one overhanging column
+  CHECK(z.height_at(5, 2.5) == doctest::Approx(2));
+  CHECK(z.at(200, 10) == no_material);  // its centre 10.025 is outside the box
+  CHECK(z.height_at(-0.01, 2) == no_material);
+  CHECK(z.base_z_mm() == -10);
+  // Only the tiles holding the empty column (201 cells -> 4 tiles across, 2 down).
+  CHECK(z.allocated_tiles() == z.tiles_y());
+}
+
+TEST_CASE("ball along a line leaves the circular trench, exact at cell centres") {
+  const double c = 0.05, R = 5, top = 0, ap = 2;
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,60,30,0"), c);
+  const ToolProfile ball{ToolKind::ball, R, R};
+  const Point3 a{10, 15.01, top - ap}, b{50, 15.01, top - ap};
+  const double removed = sweep_line(z, ball, a, b);
+  const double half_width = std::sqrt(ap * (2 * R - ap));
+  int checked = 0;
+  for (int j = 0; j < z.grid().ny; ++j)
+    for (int i = 0; i < z.grid().nx; ++i) {
+      const double x = z.cx(i), y = z.cy(j), d = seg_dist(x, y, a, b);
+      const double expect = d >= R ? top : std::min(top, a[2] + R - std::sqrt(R * R - d * d));
+      if (std::fabs(z.at(i, j) - expect) > 1e-5) {
+        CAPTURE(x);
+        CAPTURE(y);
+        REQUIRE(z.at(i, j) == doctest::Approx(expect).epsilon(1e-6));
+      }
+      ++checked;
+    }
+  CHECK(checked == z.grid().nx * z.grid().ny);
+  // Across the middle of the trench: lowered exactly within the analytic half width.
+  const int i = z.ix(30);
+  for (int j = 0; j < z.grid().ny; ++j) {
+    const double dy = std::fabs(z.cy(j) - a[1]);
+    if (dy < half_width - 1e-9) CHECK(z.at(i, j) < top);
+    if (dy > half_width + 1e-9) CHECK(z.at(i, j) == top);
+  }
+  // Removed volume: circular segment area x length + a spherical cap (two half caps).
+  const double h = ap;
+  const double seg = R * R * std::acos((R - h) / R) - (R - h) * std::sqrt(2 * R * h - h * h);
+  const double cap = std::numbers::pi * h * h * (3 * R - h) / 3;
+  CHECK(removed == doctest::Approx(seg * 40 + cap).epsilon(2e-3));
+}
+
+TEST_CASE("flat end along a diagonal line leaves a rectangular trench") {
+  const double c = 0.05, R = 3;
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,40,40,0"), c);
+  const ToolProfile flat{ToolKind::flat, R, 0};
+  const Point3 a{8, 9, -1.5}, b{31, 27, -1.5};
+  sweep_line(z, flat, a, b);
+  for (int j = 0; j < z.grid().ny; j += 3)
+    for (int i = 0; i < z.grid().nx; i += 3) {
+      const double d = seg_dist(z.cx(i), z.cy(j), a, b);
+      if (d < R - 1e-9) CHECK(z.at(i, j) == doctest::Approx(-1.5));
+      if (d > R + 1e-9) CHECK(z.at(i, j) == 0);
+    }
+}
+
+TEST_CASE("bull nose along a line: torus profile across the trench") {
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,40,20,0"), 0.05);
+  const ToolProfile bull{ToolKind::bull, 4, 1};
+  sweep_line(z, bull, {5, 10, -0.8}, {35, 10, -0.8});
+  const int i = z.ix(20);
+  for (int j = 0; j < z.grid().ny; ++j) {
+    const double d = std::fabs(z.cy(j) - 10);
+    CHECK(z.at(i, j) == doctest::Approx(std::min(0.0, -0.8 + profile_height(bull, d))).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("ramps and plunges: closed-form envelope equals the brute-force minimum") {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-9, 9);
+  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 4, 0}, {ToolKind::bull, 4, 1.5}};
+  const Point3 segs[][2] = {
+      {{0, 0, 0}, {6, 2, -3}},    // descending ramp
+      {{0, 0, -3}, {5, -3, 1}},   // ascending ramp
+      {{0, 0, 0}, {0.5, 0, -8}},  // steep ramp
+      {{1, 1, 2}, {1, 1, -4}},    // plunge
+      {{-2, 1, 0}, {4, 1, 0}},    // horizontal
+  };
+  const int n = 40000;
+  for (const ToolProfile& t : tools)
+    for (const auto& s : segs) {
+      const LineSweep sw(t, s[0], s[1]);
+      for (int k = 0; k < 60; ++k) {
+        const double x = u(rng), y = u(rng);
+        const double exact = sw.lower_height(x, y), brute = brute_lower(t, s[0], s[1], x, y, n);
+        CAPTURE(static_cast<int>(t.kind));
+        CAPTURE(x);
+        CAPTURE(y);
+        if (std::isinf(brute)) {
+          // Only a grazing footprint between two brute-force positions may differ.
+          CHECK((std::isinf(exact) || seg_dist(x, y, s[0], s[1]) > t.radius_mm - 1e-3));
+          continue;
+        }
+        REQUIRE(std::isfinite(exact));
+        CHECK(exact <= brute + 1e-9);  // the exact minimum is never above a sampled one
+        CHECK(brute - exact < 2e-3);   // sampling step 2.5e-5 of the segment
+      }
+    }
+}
+
+TEST_CASE("arc and helix: toroidal trench within the chordal tolerance") {
+  const double R = 3, tol = 1e-3;
+  ZMap z = zmap_from_box(parse_box("box:-30,-30,-20,30,30,0"), 0.05);
+  const ToolProfile ball{ToolKind::ball, R, R};
+  // Quarter circle of radius 20 about the origin, ccw from +X to +Y, helix -1 -> -2.
+  Arc arc{{20, 0, -1}, {0, 20, -2}, {0, 0, -1}, 17, false};
+  CHECK(arc_angle(arc) == doctest::Approx(std::numbers::pi / 2));
+  CHECK(arc_length_mm(arc) == doctest::Approx(std::hypot(10 * std::numbers::pi, 1.0)));
+  sweep_arc(z, ball, arc, tol);
+  // Along the path, the depth follows the helix; the profile across is the ball's.
+  for (double th = 0.2; th < 1.4; th += 0.1)
+    for (double off = -2.5; off <= 2.5; off += 0.25) {
+      const double rho = 20 + off;
+      const int i = z.ix(rho * std::cos(th)), j = z.iy(rho * std::sin(th));
+      const double rc = std::hypot(z.cx(i), z.cy(j));  // cell centre radius
+      const double zt = -1 - (std::atan2(z.cy(j), z.cx(i)) / (std::numbers::pi / 2));
+      const double d = rc - 20;
+      // Locally a ramp of slope m: the envelope of a ball along a ramp lies
+      // sqrt(R^2 - d^2) (sqrt(1 + m^2) - 1) below the tip-height profile
+      // (minimum of R + m s - sqrt(R^2 - d^2 - s^2) over s).
+      const double m = 1.0 / (20 * std::numbers::pi / 2);
+      const double expect = std::min(0.0, zt + R - std::sqrt(R * R - d * d) * std::sqrt(1 + m * m));
+      // The chords sit at most tol inside the arc.
+      CHECK(std::fabs(z.at(i, j) - expect) < 2 * tol);
+    }
+  // Full circle (start == end) sweeps 2 pi.
+  Arc full{{5, 0, -1}, {5, 0, -1}, {0, 0, -1}, 17, true};
+  CHECK(arc_angle(full) == doctest::Approx(2 * std::numbers::pi));
+  CHECK(arc_point(full, 0.25)[1] == doctest::Approx(-5));  // clockwise from +X goes to -Y
+  // G18 (ZX) arc: the point moves in X and Z, Y stays.
+  Arc zx{{0, 1, 0}, {5, 1, 5}, {5, 1, 0}, 18, true};
+  const Point3 mid = arc_point(zx, 0.5);
+  CHECK(mid[1] == doctest::Approx(1));
+  CHECK(std::hypot(mid[0] - 5, mid[2]) == doctest::Approx(5));
+}
+
+TEST_CASE("500 x 500 mm stock at the default resolution stays well under 1 GB") {
+  ZMap z = zmap_from_box(parse_box("box:0,0,-50,500,500,0"), default_cell_mm);
+  CHECK(z.grid().nx == 10000);
+  CHECK(z.allocated_tiles() == 0);
+  CHECK(z.allocated_bytes() < 2'000'000);  // tile headers only
+  // Even with every tile allocated (the whole top cut), the map is < 1 GB.
+  CHECK(z.worst_case_bytes() < 500'000'000ull);
+  const ToolProfile ball{ToolKind::ball, 5, 5};
+  for (int k = 0; k < 3; ++k) sweep_line(z, ball, {0, 100.0 + 100 * k, -1}, {500, 100.0 + 100 * k, -1});
+  // A D10 trench is 200 cells wide: at most 5 tile rows of 157 tiles per pass.
+  CHECK(z.allocated_tiles() <= 3 * 5 * 157);
+  CHECK(z.allocated_tiles() >= 3 * 157);
+  CHECK(z.allocated_bytes() < 40'000'000);
+  MESSAGE("500x500 mm at ", default_cell_mm, " mm: worst case ", z.worst_case_bytes() / 1e6,
+          " MB; after 3 passes ", z.allocated_bytes() / 1e6, " MB (", z.allocated_tiles(), " tiles)");
+}
+
+TEST_CASE("max_height_in follows the cuts") {
+  ZMap z = zmap_from_box(parse_box("box:0,0,-10,20,20,0"), 0.05);
+  CHECK(z.max_height_in(5, 5, 8, 8) == 0);
+  const ToolProfile flat{ToolKind::flat, 6, 0};
+  sweep_line(z, flat, {-10, 10, -2}, {30, 10, -2});  // cuts y in [4, 16] to -2
+  CHECK(z.max_height_in(2, 8, 18, 12) == doctest::Approx(-2));
+  CHECK(z.max_height_in(2, 3, 18, 12) == 0);  // touches the uncut row y < 4
+  CHECK(z.max_height_in(30, 30, 40, 40) == no_material);
+}
+
+}  // TEST_SUITE
