@@ -1,0 +1,249 @@
+// Linear-elastic FEM on 10-node tetrahedra: assembly, clamp, patch loads, solve.
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "solid_internal.hpp"
+
+namespace deflex::stiffness::solid {
+
+namespace {
+
+using Grad = Eigen::Matrix<double, 10, 3>;  // dN_a / d(xi, eta, zeta) or d(x, y, z)
+using Vec10 = Eigen::Matrix<double, 10, 1>;
+
+// Reference tet: corners (0,0,0) (1,0,0) (0,1,0) (0,0,1); barycentric
+// L = (1 - xi - eta - zeta, xi, eta, zeta). Corner N = L (2L - 1), edge N = 4 Li Lj.
+Vec10 shape(const Eigen::Vector3d& p) {
+  const std::array<double, 4> L{1 - p.sum(), p(0), p(1), p(2)};
+  Vec10 n;
+  for (int c = 0; c < 4; ++c) n(c) = L[c] * (2 * L[c] - 1);
+  for (int e = 0; e < 6; ++e) n(4 + e) = 4 * L[kEdges[e][0]] * L[kEdges[e][1]];
+  return n;
+}
+
+Grad shape_grad_ref(const Eigen::Vector3d& p) {
+  const std::array<double, 4> L{1 - p.sum(), p(0), p(1), p(2)};
+  // dL_c / dxi_k
+  const double dL[4][3] = {{-1, -1, -1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Grad g = Grad::Zero();
+  for (int c = 0; c < 4; ++c)
+    for (int k = 0; k < 3; ++k) g(c, k) = (4 * L[c] - 1) * dL[c][k];
+  for (int e = 0; e < 6; ++e) {
+    const int i = kEdges[e][0], j = kEdges[e][1];
+    for (int k = 0; k < 3; ++k) g(4 + e, k) = 4 * (L[j] * dL[i][k] + L[i] * dL[j][k]);
+  }
+  return g;
+}
+
+// 4-point Gauss rule, degree 2 (exact for the stiffness of a straight-sided
+// quadratic tet); weights sum to the reference volume 1/6.
+struct QuadPoint {
+  Eigen::Vector3d p;
+  double w;
+};
+const std::array<QuadPoint, 4>& gauss4() {
+  static const std::array<QuadPoint, 4> q = [] {
+    const double a = 0.5854101966249685, b = 0.1381966011250105;
+    return std::array<QuadPoint, 4>{{{{b, b, b}, 1.0 / 24},
+                                     {{a, b, b}, 1.0 / 24},
+                                     {{b, a, b}, 1.0 / 24},
+                                     {{b, b, a}, 1.0 / 24}}};
+  }();
+  return q;
+}
+
+using Coords = Eigen::Matrix<double, 10, 3>;  // node coordinates of one element
+
+Coords element_coords(const TetMesh& m, std::size_t e) {
+  Coords x;
+  for (int a = 0; a < 10; ++a) x.row(a) = m.node_mm[m.tet[e][a]].transpose();
+  return x;
+}
+
+// 30x30 element stiffness, dofs (node a, component i) -> 3a + i. Block
+// K_ab,ij = int lambda g_a,i g_b,j + mu g_a,j g_b,i + mu delta_ij g_a.g_b.
+Eigen::Matrix<double, 30, 30> element_stiffness(const Coords& x, double lambda, double mu) {
+  Eigen::Matrix<double, 30, 30> k = Eigen::Matrix<double, 30, 30>::Zero();
+  for (const auto& q : gauss4()) {
+    const Grad gr = shape_grad_ref(q.p);
+    const Eigen::Matrix3d J = x.transpose() * gr;  // J_ij = d x_i / d xi_j
+    const double det = J.determinant();
+    if (!(det > 0)) throw Error(Exit::internal, "solid mesh has an inverted quadratic tetrahedron");
+    const Grad g = gr * J.inverse();  // rows: grad_x N_a
+    const double w = q.w * det;
+    for (int a = 0; a < 10; ++a)
+      for (int b = 0; b < 10; ++b) {
+        const double dot = g.row(a).dot(g.row(b));
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            k(3 * a + i, 3 * b + j) += w * (lambda * g(a, i) * g(b, j) + mu * g(a, j) * g(b, i) +
+                                             (i == j ? mu * dot : 0.0));
+      }
+  }
+  return k;
+}
+
+// Upper triangle of K in compressed columns, built from the node graph so no
+// triplet list of the whole mesh is needed.
+class UpperAssembler {
+ public:
+  UpperAssembler(const TetMesh& m, const std::vector<int>& free_index, int nfree)
+      : adj_(static_cast<std::size_t>(nfree)) {
+    for (const auto& t : m.tet)
+      for (int a : t)
+        for (int b : t) {
+          const int fa = free_index[a], fb = free_index[b];
+          if (fa >= 0 && fb >= 0 && fa <= fb) adj_[fb].push_back(fa);
+        }
+    for (auto& v : adj_) {
+      std::sort(v.begin(), v.end());
+      v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    const int n = 3 * nfree;
+    K_.resize(n, n);
+    std::vector<int> outer(static_cast<std::size_t>(n) + 1, 0);
+    for (int c = 0; c < nfree; ++c)
+      for (int k = 0; k < 3; ++k)
+        outer[3 * c + k + 1] = outer[3 * c + k] + 3 * static_cast<int>(adj_[c].size() - 1) + k + 1;
+    K_.resizeNonZeros(outer.back());
+    std::copy(outer.begin(), outer.end(), K_.outerIndexPtr());
+    int* inner = K_.innerIndexPtr();
+    for (int c = 0; c < nfree; ++c)
+      for (int k = 0; k < 3; ++k) {
+        int p = outer[3 * c + k];
+        for (int r : adj_[c])
+          for (int i = 0; i < 3 && 3 * r + i <= 3 * c + k; ++i) inner[p++] = 3 * r + i;
+      }
+    std::fill(K_.valuePtr(), K_.valuePtr() + K_.nonZeros(), 0.0);
+  }
+
+  // Adds block (row node fa, column node fb), fa <= fb.
+  void add_block(int fa, int fb, const Eigen::Matrix3d& blk) {
+    const auto& col = adj_[fb];
+    const int pos = static_cast<int>(std::lower_bound(col.begin(), col.end(), fa) - col.begin());
+    for (int k = 0; k < 3; ++k) {
+      double* v = K_.valuePtr() + K_.outerIndexPtr()[3 * fb + k] + 3 * pos;
+      for (int i = 0; i < 3 && (fa < fb || i <= k); ++i) v[i] += blk(i, k);
+    }
+  }
+  Eigen::SparseMatrix<double>& matrix() { return K_; }
+
+ private:
+  std::vector<std::vector<int>> adj_;
+  Eigen::SparseMatrix<double> K_;
+};
+
+// Integrates over a reference (sub-)tet by splitting it into 8 children
+// `levels` times and using the 4-point rule on each: the load patch is smooth
+// but narrower than an element, so the element rule alone would miss it.
+template <class F>
+void integrate_subdivided(const std::array<Eigen::Vector3d, 4>& v, int levels, const F& f) {
+  if (levels == 0) {
+    const double vol = std::abs((v[1] - v[0]).cross(v[2] - v[0]).dot(v[3] - v[0])) / 6;
+    for (const auto& q : gauss4()) {
+      const double l1 = q.p(0), l2 = q.p(1), l3 = q.p(2);
+      f(v[0] * (1 - l1 - l2 - l3) + v[1] * l1 + v[2] * l2 + v[3] * l3, q.w * 6 * vol);
+    }
+    return;
+  }
+  const auto m = [&](int i, int j) { return Eigen::Vector3d(0.5 * (v[i] + v[j])); };
+  const Eigen::Vector3d m01 = m(0, 1), m02 = m(0, 2), m03 = m(0, 3), m12 = m(1, 2),
+                        m13 = m(1, 3), m23 = m(2, 3);
+  const std::array<std::array<Eigen::Vector3d, 4>, 8> kids{{{v[0], m01, m02, m03},
+                                                             {m01, v[1], m12, m13},
+                                                             {m02, m12, v[2], m23},
+                                                             {m03, m13, m23, v[3]},
+                                                             {m01, m02, m03, m13},
+                                                             {m01, m02, m12, m13},
+                                                             {m02, m03, m13, m23},
+                                                             {m02, m12, m13, m23}}};
+  for (const auto& k : kids) integrate_subdivided(k, levels - 1, f);
+}
+
+// Load patch around point c: weight phi = (1 - d^2/r^2)^2 for d < r (smooth, so
+// the patch integral converges with the mesh). Returns the nodal weights
+// w_a = int N_a phi dV / int phi dV (they sum to 1) and the centroid height.
+struct Patch {
+  std::vector<std::pair<int, double>> weight;  // (node, w_a)
+  double centroid_z_mm = 0;
+};
+
+Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
+  std::vector<double> w(m.node_mm.size(), 0.0);
+  double total = 0, zsum = 0;
+  const std::array<Eigen::Vector3d, 4> ref{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                                           Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)};
+  for (std::size_t e = 0; e < m.tet.size(); ++e) {
+    const Coords x = element_coords(m, e);
+    const Eigen::Vector3d lo = x.colwise().minCoeff().transpose(), hi = x.colwise().maxCoeff().transpose();
+    if ((c.cwiseMax(lo).cwiseMin(hi) - c).norm() >= r) continue;
+    integrate_subdivided(ref, 2, [&](const Eigen::Vector3d& p, double wq) {
+      const Vec10 n = shape(p);
+      const Eigen::Vector3d xp = x.transpose() * n;
+      const double d2 = (xp - c).squaredNorm() / (r * r);
+      if (d2 >= 1) return;
+      const double phi = (1 - d2) * (1 - d2);
+      const double dv = wq * (x.transpose() * shape_grad_ref(p)).determinant();
+      for (int a = 0; a < 10; ++a) w[m.tet[e][a]] += n(a) * phi * dv;
+      total += phi * dv;
+      zsum += xp(2) * phi * dv;
+    });
+  }
+  if (!(total > 0)) throw Error(Exit::internal, "load patch lies outside the tool solid");
+  Patch p;
+  p.centroid_z_mm = zsum / total;
+  for (std::size_t a = 0; a < w.size(); ++a)
+    if (w[a] != 0) p.weight.emplace_back(static_cast<int>(a), w[a] / total);
+  return p;
+}
+
+}  // namespace
+
+FemStats solve_stations(const TetMesh& mesh, const Material& mat, double clamp_z_mm,
+                        double patch_radius_mm, std::vector<Station>& stations) {
+  // Rigid clamp: every node at or above the holder face is fixed.
+  std::vector<int> free_index(mesh.node_mm.size(), -1);
+  int nfree = 0;
+  const double tol = 1e-6 * std::max(1.0, clamp_z_mm);
+  for (std::size_t a = 0; a < mesh.node_mm.size(); ++a)
+    if (mesh.node_mm[a](2) < clamp_z_mm - tol) free_index[a] = nfree++;
+
+  const double E = mat.E_MPa, nu = mat.poisson;
+  const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  UpperAssembler asm_(mesh, free_index, nfree);
+  for (std::size_t e = 0; e < mesh.tet.size(); ++e) {
+    const auto ke = element_stiffness(element_coords(mesh, e), lambda, mu);
+    for (int a = 0; a < 10; ++a)
+      for (int b = 0; b < 10; ++b) {
+        const int fa = free_index[mesh.tet[e][a]], fb = free_index[mesh.tet[e][b]];
+        if (fa >= 0 && fb >= 0 && fa <= fb) asm_.add_block(fa, fb, ke.block<3, 3>(3 * a, 3 * b));
+      }
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt(asm_.matrix());
+  if (ldlt.info() != Eigen::Success)
+    throw Error(Exit::internal, "solid stiffness matrix is singular (is the tool clamped?)");
+
+  // One column per station and force direction: the patch weights as a load.
+  const int n = 3 * nfree;
+  std::vector<Patch> patches;
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3 * static_cast<Eigen::Index>(stations.size()));
+  for (std::size_t s = 0; s < stations.size(); ++s) {
+    patches.push_back(patch_weights(mesh, Eigen::Vector3d(0, 0, stations[s].centre_z_mm), patch_radius_mm));
+    for (const auto& [a, w] : patches.back().weight)
+      if (free_index[a] >= 0)
+        for (int d = 0; d < 3; ++d) rhs(3 * free_index[a] + d, 3 * s + d) = w;
+  }
+  const Eigen::MatrixXd u = ldlt.solve(rhs);
+  // Read back the displacement with the same weights: C = W^T K^-1 W, symmetric.
+  for (std::size_t s = 0; s < stations.size(); ++s) {
+    stations[s].height_mm = patches[s].centroid_z_mm;
+    stations[s].c = rhs.middleCols(3 * s, 3).transpose() * u.middleCols(3 * s, 3);
+  }
+  return {static_cast<std::size_t>(n)};
+}
+
+}  // namespace deflex::stiffness::solid
