@@ -13,28 +13,40 @@ namespace {
 constexpr double two_pi = 2 * std::numbers::pi;
 
 // Per-slice constants of the element force, so the inner loop only multiplies.
+// With h db = f sin(phi) sin(k) db, every element force is, per axis,
+//   F = a2 sin^2(phi) + a1 sin(phi) cos(phi) + b1 sin(phi) + b0 cos(phi) (+ c1 sin(phi) + c0 for Z),
+// from the transform of Engin & Altintas 2001 (Smaoui 2011 Eq. 5).
 struct SliceLoad {
-  double s_k, c_k;      // sin, cos kappa
-  double hc;            // f_z sin(kappa) db: cutting term per unit sin(phi)
-  double edge;          // dS
+  double At, Bt;  // tangential force = At sin(phi) + Bt
+  double Ar, Br;  // in-plane push toward the axis = Ar sin(phi) + Br
+  double Az, Bz;  // Fz = Az sin(phi) + Bz
 };
 
-SliceLoad slice_load(const Slice& s, double fz_mm) {
-  return {s.sin_kappa, s.cos_kappa, fz_mm * s.sin_kappa * s.width_mm, s.edge_mm};
+SliceLoad slice_load(const Slice& s, const Coefficients& k, double fz_mm) {
+  const double hc = fz_mm * s.sin_kappa * s.width_mm;  // h db per unit sin(phi)
+  const double e = s.edge_mm;
+  const double sk = s.sin_kappa, ck = s.cos_kappa;
+  SliceLoad L;
+  L.At = k.Ktc_N_per_mm2 * hc;
+  L.Bt = k.Kte_N_per_mm * e;
+  L.Ar = (k.Krc_N_per_mm2 * sk + k.Kac_N_per_mm2 * ck) * hc;
+  L.Br = (k.Kre_N_per_mm * sk + k.Kae_N_per_mm * ck) * e;
+  L.Az = (k.Krc_N_per_mm2 * ck - k.Kac_N_per_mm2 * sk) * hc;
+  L.Bz = (k.Kre_N_per_mm * ck - k.Kae_N_per_mm * sk) * e;
+  return L;
 }
 
-// Element force on the tool (Engin & Altintas 2001; Smaoui 2011 Eq. 4-5), weight w.
-inline void add_element(const SliceLoad& L, const Coefficients& k, double s_phi, double c_phi,
-                        double w, Vec3& acc) {
+// Element force on the tool, weight w:
+//   dFx = -dFr sin(k) sin(phi) - dFt cos(phi) - dFa cos(k) sin(phi)
+//   dFy = -dFr sin(k) cos(phi) + dFt sin(phi) - dFa cos(k) cos(phi)
+//   dFz =  dFr cos(k) - dFa sin(k)
+inline void add_element(const SliceLoad& L, double s_phi, double c_phi, double w, Vec3& acc) {
   if (s_phi <= 0) return;  // h = f sin(phi) sin(kappa) <= 0: the edge is not in the chip
-  const double chip = L.hc * s_phi;  // h db
-  const double ft = k.Ktc_N_per_mm2 * chip + k.Kte_N_per_mm * L.edge;
-  const double fr = k.Krc_N_per_mm2 * chip + k.Kre_N_per_mm * L.edge;
-  const double fa = k.Kac_N_per_mm2 * chip + k.Kae_N_per_mm * L.edge;
-  const double radial = fr * L.s_k + fa * L.c_k;  // in-plane push toward the axis
+  const double ft = L.At * s_phi + L.Bt;
+  const double radial = L.Ar * s_phi + L.Br;
   acc.x() += w * (-radial * s_phi - ft * c_phi);
   acc.y() += w * (-radial * c_phi + ft * s_phi);
-  acc.z() += w * (fr * L.c_k - fa * L.s_k);
+  acc.z() += w * (L.Az * s_phi + L.Bz);
 }
 
 inline bool inside(const std::vector<AngleInterval>& ivs, double phi) {
@@ -73,11 +85,12 @@ Vec3 force_at_angle(const CutterSlices& cs, const Coefficients& k, double fz_mm,
   for (std::size_t i = 0; i < n; ++i) {
     const auto& ivs = eng.slices[i];
     if (ivs.empty()) continue;
-    const SliceLoad L = slice_load(cs.slices[i], fz_mm);
+    const SliceLoad L = slice_load(cs.slices[i], k, fz_mm);
+    const double base = theta - cs.slices[i].lag;
     for (int t = 0; t < cs.cutter.flutes; ++t) {
-      double phi = std::fmod(theta + t * pitch - cs.slices[i].lag, two_pi);
-      if (phi < 0) phi += two_pi;
-      if (inside(ivs, phi)) add_element(L, k, std::sin(phi), std::cos(phi), 1.0, f);
+      const double x = base + t * pitch;
+      const double phi = x - two_pi * std::floor(x / two_pi);
+      if (inside(ivs, phi)) add_element(L, std::sin(phi), std::cos(phi), 1.0, f);
     }
   }
   return f;
@@ -102,7 +115,7 @@ void revolution_forces(const CutterSlices& cs, const AngleGrid& grid, const Coef
   for (std::size_t i = 0; i < n; ++i) {
     const auto& ivs = eng.slices[i];
     if (ivs.empty()) continue;
-    const SliceLoad L = slice_load(cs.slices[i], fz_mm);
+    const SliceLoad L = slice_load(cs.slices[i], k, fz_mm);
     for (int t = 0; t < teeth; ++t) {
       // phi of cell j = j d + c, the cell spanning [phi - d/2, phi + d/2].
       const double c = t * pitch - cs.slices[i].lag;
@@ -110,22 +123,29 @@ void revolution_forces(const CutterSlices& cs, const AngleGrid& grid, const Coef
       for (const AngleInterval& iv : ivs) {
         const long j0 = static_cast<long>(std::ceil((iv.start - c) / d - 0.5));
         const long j1 = static_cast<long>(std::floor((iv.end - c) / d + 0.5));
-        for (long j = j0; j <= j1; ++j) {
+        // A cell touching an interval end counts for the covered part of it, at
+        // the middle of that part; interior cells use the sine table rotated by c.
+        auto partial = [&](long j) {
           const double lo = std::max(j * d + c - d / 2, iv.start);
           const double hi = std::min(j * d + c + d / 2, iv.end);
-          const double w = (hi - lo) / d;
-          if (w <= 0) continue;
+          if (hi <= lo) return;
           const int jj = wrap(j, N);
-          Vec3& acc = out_N[periodic ? jj % M : jj];
-          if (j == j0 || j == j1) {  // partial cell: its covered part at its middle
-            const double m = 0.5 * (lo + hi);
-            add_element(L, k, std::sin(m), std::cos(m), w, acc);
-          } else {
-            const double s = grid.sin_t[jj] * cc + grid.cos_t[jj] * sc;
-            const double co = grid.cos_t[jj] * cc - grid.sin_t[jj] * sc;
-            add_element(L, k, s, co, 1.0, acc);
-          }
+          const double m = 0.5 * (lo + hi);
+          add_element(L, std::sin(m), std::cos(m), (hi - lo) / d, out_N[periodic ? jj % M : jj]);
+        };
+        partial(j0);
+        if (j1 <= j0) continue;
+        // Grid and output indices advance with j; wrapped by compare, not division.
+        int jj = wrap(j0 + 1, N);
+        int jo = periodic ? jj % M : jj;
+        for (long j = j0 + 1; j < j1; ++j) {
+          const double s = grid.sin_t[jj] * cc + grid.cos_t[jj] * sc;
+          const double co = grid.cos_t[jj] * cc - grid.sin_t[jj] * sc;
+          add_element(L, s, co, 1.0, out_N[jo]);
+          if (++jj == N) jj = 0;
+          if (++jo == M) jo = 0;
         }
+        partial(j1);
       }
     }
   }
@@ -152,18 +172,52 @@ ForceSummary summarize(std::span<const Vec3> forces_N) {
   return s;
 }
 
+void surface_generating_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                               const Engagement& eng, double normal_phi,
+                               std::vector<SurfaceForce>& out) {
+  out.clear();
+  // Tooth 0's edge at z_i is at normal_phi when theta_i = normal_phi + psi_i (the
+  // other teeth give the same force: periodic in the pitch). At theta_i, tooth t's
+  // edge at slice m sits at phi = (normal_phi + psi_i) + (t pitch - psi_m); the
+  // sines of both parts are tabled so the double loop needs no trigonometry.
+  struct Part {
+    std::size_t slice;
+    double angle, s, c;
+  };
+  std::vector<Part> a_part, b_part;  // per engaged slice; per engaged slice and tooth
+  const std::size_t n = std::min(cs.slices.size(), eng.slices.size());
+  const int flutes = cs.cutter.flutes;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (eng.slices[i].empty()) continue;
+    const double x = normal_phi + cs.slices[i].lag;
+    a_part.push_back({i, x, std::sin(x), std::cos(x)});
+    for (int t = 0; t < flutes; ++t) {
+      const double y = t * cs.pitch() - cs.slices[i].lag;
+      b_part.push_back({i, y, std::sin(y), std::cos(y)});
+    }
+  }
+  std::vector<SliceLoad> loads;
+  for (const Part& p : a_part) loads.push_back(slice_load(cs.slices[p.slice], k, fz_mm));
+  for (const Part& ai : a_part) {
+    Vec3 f = Vec3::Zero();
+    for (std::size_t m = 0; m < a_part.size(); ++m) {
+      const auto& ivs = eng.slices[a_part[m].slice];
+      for (int t = 0; t < flutes; ++t) {
+        const Part& bm = b_part[m * flutes + t];
+        const double x = ai.angle + bm.angle;
+        if (!inside(ivs, x - two_pi * std::floor(x / two_pi))) continue;
+        add_element(loads[m], ai.s * bm.c + ai.c * bm.s, ai.c * bm.c - ai.s * bm.s, 1.0, f);
+      }
+    }
+    out.push_back({cs.slices[ai.slice].z_mm, f});
+  }
+}
+
 std::vector<SurfaceForce> surface_generating_forces(const CutterSlices& cs, const Coefficients& k,
                                                     double fz_mm, const Engagement& eng,
                                                     double normal_phi) {
   std::vector<SurfaceForce> out;
-  const std::size_t n = std::min(cs.slices.size(), eng.slices.size());
-  for (std::size_t i = 0; i < n; ++i) {
-    if (eng.slices[i].empty()) continue;
-    // Tooth 0's edge at z_i is at normal_phi when theta = normal_phi + psi(z_i);
-    // the other teeth give the same force (periodic in the pitch).
-    const double theta = normal_phi + cs.slices[i].lag;
-    out.push_back({cs.slices[i].z_mm, force_at_angle(cs, k, fz_mm, eng, theta)});
-  }
+  surface_generating_forces(cs, k, fz_mm, eng, normal_phi, out);
   return out;
 }
 

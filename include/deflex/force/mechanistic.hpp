@@ -63,6 +63,10 @@ struct SurfaceForce {
 std::vector<SurfaceForce> surface_generating_forces(const CutterSlices& cs, const Coefficients& k,
                                                     double fz_mm, const Engagement& eng,
                                                     double normal_phi);
+// The same into `out` (cleared first; reuse it so that warm calls do not allocate).
+void surface_generating_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                               const Engagement& eng, double normal_phi,
+                               std::vector<SurfaceForce>& out);
 
 // The component along the in-plane unit normal (sin phi_n, cos phi_n, 0) with the
 // largest magnitude among those slices (0 when nothing is engaged).
