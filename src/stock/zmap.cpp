@@ -45,6 +45,17 @@ float* ZMap::materialize(Tile& t) {
   return t.cells.get();
 }
 
+double ZMap::height_smooth(double x_mm, double y_mm) const {
+  const double u = (x_mm - g_.x0_mm) * inv_cell_ - 0.5, v = (y_mm - g_.y0_mm) * inv_cell_ - 0.5;
+  const int i = fast_floor(u), j = fast_floor(v);
+  if (i < 0 || j < 0 || i + 1 >= g_.nx || j + 1 >= g_.ny) return height_at(x_mm, y_mm);
+  const float h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
+  if (h00 == no_material || h10 == no_material || h01 == no_material || h11 == no_material)
+    return height_at(x_mm, y_mm);
+  const double fu = u - i, fv = v - j;
+  return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
+}
+
 void ZMap::set(int i, int j, float h) {
   Tile& t = tiles_[tile_index(i, j)];
   if (!t.cells && t.uniform == h) return;

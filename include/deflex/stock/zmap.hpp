@@ -63,6 +63,10 @@ class ZMap {
     const int i = ix(x_mm), j = iy(y_mm);
     return inside(i, j) ? at(i, j) : no_material;
   }
+  // Bilinear interpolation between the four nearest cell centres, so smooth cut
+  // surfaces (ball scallops) are resolved to O(c^2) instead of O(c); falls back to
+  // the containing cell next to empty cells (a vertical wall stays a step).
+  double height_smooth(double x_mm, double y_mm) const;
   void set(int i, int j, float h);
 
   // Lowers row j, cells [i0, i0 + n), to min(current, h[k]). Returns the removed
