@@ -8,6 +8,9 @@
 #include <BRep_Tool.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
 #include <Poly_Triangulation.hxx>
 #include <RWStl.hxx>
 #include <STEPControl_Reader.hxx>
@@ -51,6 +54,27 @@ void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, std::ve
   }
 }
 
+// The readers report progress on stdout, which belongs to deflex's output:
+// raise the default printers' trace level to failures while reading.
+class QuietOcct {
+ public:
+  QuietOcct() {
+    for (Message_SequenceOfPrinters::Iterator it(Message::DefaultMessenger()->Printers()); it.More(); it.Next()) {
+      saved_.push_back(it.Value()->GetTraceLevel());
+      it.Value()->SetTraceLevel(Message_Fail);
+    }
+  }
+  ~QuietOcct() {
+    std::size_t k = 0;
+    for (Message_SequenceOfPrinters::Iterator it(Message::DefaultMessenger()->Printers()); it.More() && k < saved_.size();
+         it.Next())
+      it.Value()->SetTraceLevel(saved_[k++]);
+  }
+
+ private:
+  std::vector<Message_Gravity> saved_;
+};
+
 TopoDS_Shape read_brep(const std::string& path, const std::string& ext) {
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader r;
@@ -70,6 +94,7 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
   if (!std::filesystem::is_regular_file(path)) throw Error(Exit::io, path + ": no such file");
   const std::string ext = lower_extension(path);
   std::vector<Triangle> out;
+  const QuietOcct quiet;
   try {
     if (ext == ".stl") {
       append(RWStl::ReadFile(path.c_str()), nullptr, out);
