@@ -23,8 +23,8 @@ inline Tool cylinder(double d_mm, double L_mm, Material m = {"steel", 210000.0, 
   return t;
 }
 
-// The ball end mill of Smaoui 2011 §3 as samples/tools.yaml describes it.
-inline std::string sample(const std::string& rel) { return std::string(DEFLEX_SOURCE_DIR) + "/" + rel; }
+// A file of the source tree (samples/...).
+inline std::string sample_path(const std::string& rel) { return std::string(DEFLEX_SOURCE_DIR) + "/" + rel; }
 
 inline bool symmetric_positive_definite(const Eigen::Matrix3d& c, double rel_tol = 1e-9) {
   if ((c - c.transpose()).norm() > rel_tol * c.norm()) return false;

@@ -66,7 +66,7 @@ TEST_SUITE("stiffness") {
   TEST_CASE("beam: the tool of paper 001 gives C_xx within 5% of its FEM 2.664e-4 mm/N") {
     // Smaoui 2011 Eq. 18: a1 = 2.664e-4 mm/N, tool clamped at 80 mm stick-out,
     // load at the tip. T5 uses ratio 0.8 over the 10 mm ball part (see tools.yaml).
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     const Tool& t = find_tool(lib, "T5");
     const Compliance c = beam_compliance(t, {}, true).at(0);
     CHECK(c(0, 0) == doctest::Approx(2.664e-4).epsilon(0.05));
@@ -76,8 +76,8 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("beam: C(h) is symmetric positive definite and falls towards the holder") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
-    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
+    const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     for (const auto& [id, t] : lib.tools) {
       for (bool tool_only : {true, false}) {
         const ComplianceTable c = beam_compliance(t, m, tool_only);
@@ -93,8 +93,8 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("beam: deflection is linear in the force") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
-    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
+    const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     const ComplianceTable c = beam_compliance(find_tool(lib, "T2"), m, false);
     const Eigen::Vector3d f1(120, -40, 15), f2(-30, 80, 60);
     const double h = 3.3;
@@ -106,8 +106,8 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("beam: a stiffer machine never increases the compliance") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
-    const MachineStiffness soft = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
+    const MachineStiffness soft = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     MachineStiffness stiff = soft;
     stiff.holder->nose_diameter_mm *= 1.2;
     stiff.holder->base_diameter_mm *= 1.2;
@@ -146,7 +146,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("beam: the table interpolates between stations") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     const Tool& t = find_tool(lib, "T4");
     const ComplianceTable coarse = beam_compliance(t, {}, true, BeamOptions{8, 2.0});
     const ComplianceTable fine = beam_compliance(t, {}, true, BeamOptions{380, 2.0});
@@ -155,8 +155,8 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("beam: a full table takes under 10 ms") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
-    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
+    const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     double best_ms = 1e9;
     for (int i = 0; i < 5; ++i) {
       const auto t0 = std::chrono::steady_clock::now();

@@ -41,7 +41,7 @@ Exit usage_code(const std::vector<std::string>& args) {
 
 TEST_SUITE("stiffness") {
   TEST_CASE("cmd: JSON output carries the beam table at the requested heights") {
-    const std::string lib = sample("samples/tools.yaml");
+    const std::string lib = sample_path("samples/tools.yaml");
     const Run r = run({"--tool-file", lib, "--tool", "T2", "--machine", "mill3", "--at", "0", "2.5",
                        "--at", "10", "--format", "json"});
     CHECK(r.code == 0);
@@ -49,7 +49,7 @@ TEST_SUITE("stiffness") {
     REQUIRE(j["compliance"].size() == 3);
     const Tool& t = find_tool(load_tool_library(lib), "T2");
     const ComplianceTable c =
-        beam_compliance(t, load_machine_stiffness(sample("samples/machines/mill3.yaml")), false);
+        beam_compliance(t, load_machine_stiffness(sample_path("samples/machines/mill3.yaml")), false);
     const double hs[3] = {0, 2.5, 10};
     for (int k = 0; k < 3; ++k) {
       const YAML::Node row = j["compliance"][k];
@@ -62,7 +62,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("cmd: --tool-only drops the machine; text output names units") {
-    const std::string lib = sample("samples/tools.yaml");
+    const std::string lib = sample_path("samples/tools.yaml");
     const Run with = run({"--tool-file", lib, "--tool", "T5", "--machine", "mill3", "--at", "0", "--format", "json"});
     const Run without = run({"--tool-file", lib, "--tool", "T5", "--machine", "mill3", "--tool-only",
                              "--at", "0", "--format", "json"});
@@ -76,7 +76,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("cmd: bad usage is Exit::usage, a bad library Exit::io") {
-    const std::string lib = sample("samples/tools.yaml");
+    const std::string lib = sample_path("samples/tools.yaml");
     CHECK(usage_code({"--tool", "T1"}) == Exit::usage);
     CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--method", "fem"}) == Exit::usage);
     CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--at", "99"}) == Exit::usage);

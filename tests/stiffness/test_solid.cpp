@@ -54,7 +54,7 @@ TEST_SUITE("stiffness") {
     // Beam and solid describe the same equivalent body; they must agree to a
     // few percent laterally (the solid also sees the stress concentration at
     // section steps and the clamp restraint the beam ignores).
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     for (const char* id : {"T1", "T2", "T3"}) {
       const Tool& t = find_tool(lib, id);
       const ComplianceTable s = solid_tool_compliance(t, no_cache(1.4 * default_mesh_size_mm(t)));
@@ -71,7 +71,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("solid: the tool of paper 001 gives C_xx within 5% of 2.664e-4 mm/N") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     const Tool& t = find_tool(lib, "T5");
     SolidInfo info;
     const Compliance c = solid_tool_compliance(t, no_cache(4.0), &info).at(0);
@@ -93,8 +93,8 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("solid: holder and machine add in series and never reduce compliance") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
-    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
+    const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     const Tool& t = find_tool(lib, "T2");
     const SolidOptions o = no_cache(1.5 * default_mesh_size_mm(t));
     const ComplianceTable alone = solid_tool_compliance(t, o);
@@ -133,7 +133,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("solid: a STEP model of the tool gives the parametric result") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     Tool t = find_tool(lib, "T5");
     const std::string dir = temp_dir("step");
     std::filesystem::create_directories(dir);

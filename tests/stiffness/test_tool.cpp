@@ -45,7 +45,7 @@ const char* kGood =
 
 TEST_SUITE("stiffness") {
   TEST_CASE("tools: the sample library has every tool type and the paper-001 tool") {
-    const ToolLibrary lib = load_tool_library(sample("samples/tools.yaml"));
+    const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     bool ball = false, flat = false, bull = false;
     for (const auto& [id, t] : lib.tools) {
       ball |= t.type == ToolType::ball;
@@ -98,7 +98,7 @@ TEST_SUITE("stiffness") {
   }
 
   TEST_CASE("machine: the sample profile and its units") {
-    const MachineStiffness m = load_machine_stiffness(sample("samples/machines/mill3.yaml"));
+    const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
     REQUIRE(m.holder.has_value());
     CHECK(m.holder->length_mm == 65);
     REQUIRE(m.spindle.has_value());
