@@ -41,7 +41,11 @@ SliceLoad slice_load(const Slice& s, const Coefficients& k, double fz_mm) {
 //   dFy = -dFr sin(k) cos(phi) + dFt sin(phi) - dFa cos(k) cos(phi)
 //   dFz =  dFr cos(k) - dFa sin(k)
 inline void add_element(const SliceLoad& L, double s_phi, double c_phi, double w, Vec3& acc) {
-  if (s_phi <= 0) return;  // h = f sin(phi) sin(kappa) <= 0: the edge is not in the chip
+  // h = f sin(phi) sin(kappa) <= 0: the edge is not in the chip. An edge exactly at
+  // phi = 0 or pi (where the surface-generating force is sampled) carries no
+  // cutting load and, being a boundary point of the cut, no edge load either; the
+  // tolerance keeps rounding of the angle from switching its edge force on.
+  if (s_phi <= 1e-12) return;
   const double ft = L.At * s_phi + L.Bt;
   const double radial = L.Ar * s_phi + L.Br;
   acc.x() += w * (-radial * s_phi - ft * c_phi);

@@ -295,3 +295,38 @@ TEST_CASE("surface-generating force in down-milling: the force when an edge is a
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("force") {
+
+TEST_CASE("surface-generating forces equal the force at the instant each slice passes the normal") {
+  // The tabled double loop against the direct evaluation, on a helical ball end
+  // and a bull nose in up- and down-milling.
+  const Coefficients k = al_like();
+  Cutter bull = flat(12, 4, 35);
+  bull.type = CutterType::bull;
+  bull.corner_radius_mm = 2;
+  for (const Cutter& c : {ball(10, 2, 30), bull}) {
+    const CutterSlices sl = make_slices(c, 0.1, 8);
+    for (MillingMode m : {MillingMode::up, MillingMode::down}) {
+      Engagement e;
+      simple_engagement(sl, 3, 4, m, e);
+      const double nphi = m == MillingMode::up ? 0.0 : pi;
+      const auto sf = surface_generating_forces(sl, k, 0.07, e, nphi);
+      // The slices below a_p = 4 that reach the wall (r > R - a_e): all of the bull
+      // nose's, the ball's above r(z) = 2 mm, i.e. z > 5 - sqrt(21) = 0.42 mm.
+      std::vector<std::size_t> engaged;
+      for (std::size_t i = 0; i < e.slices.size(); ++i)
+        if (!e.slices[i].empty()) engaged.push_back(i);
+      CHECK(engaged.size() == (c.type == CutterType::ball ? 36u : 40u));
+      REQUIRE(sf.size() == engaged.size());
+      for (std::size_t q = 0; q < sf.size(); ++q) {
+        const std::size_t i = engaged[q];
+        const Vec3 want = force_at_angle(sl, k, 0.07, e, nphi + sl.slices[i].lag);
+        CHECK(sf[q].z_mm == doctest::Approx(sl.slices[i].z_mm));
+        CHECK((sf[q].force_N - want).norm() <= 1e-9 * (1 + want.norm()));
+      }
+    }
+  }
+}
+
+}  // TEST_SUITE
