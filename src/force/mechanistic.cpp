@@ -12,10 +12,8 @@ namespace {
 
 constexpr double two_pi = 2 * std::numbers::pi;
 
-// Per-slice constants of the element force, so the inner loop only multiplies.
-// With h db = f sin(phi) sin(k) db, every element force is, per axis,
-//   F = a2 sin^2(phi) + a1 sin(phi) cos(phi) + b1 sin(phi) + b0 cos(phi) (+ c1 sin(phi) + c0 for Z),
-// from the transform of Engin & Altintas 2001 (Smaoui 2011 Eq. 5).
+// Per-slice constants of the element force, so the inner loop only multiplies:
+// with h db = f_z sin(phi) sin(kappa) db every local force is A sin(phi) + B.
 struct SliceLoad {
   double At, Bt;  // tangential force = At sin(phi) + Bt
   double Ar, Br;  // in-plane push toward the axis = Ar sin(phi) + Br

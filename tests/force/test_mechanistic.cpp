@@ -110,7 +110,7 @@ TEST_CASE("flat end mill mean forces match Altintas' closed form within 0.5%") {
       {12, 30, 4, 6, MillingMode::up},     // half immersion up
       {12, 45, 4, 2.5, MillingMode::down}, // Morelli's radial depth
       {10, 0, 2, 3, MillingMode::up},      // straight flutes
-      {16, 35, 3, 4, MillingMode::down},   // odd flute count: no pitch shortcut at 360 steps? (360 % 3 == 0)
+      {16, 35, 3, 4, MillingMode::down},   // 3 flutes
   };
   for (const Case& cs : cases) {
     const Cutter c = flat(cs.D, cs.N, cs.helix);
