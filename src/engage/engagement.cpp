@@ -15,13 +15,19 @@ namespace {
 constexpr double pi = std::numbers::pi;
 constexpr double two_pi = 2 * pi;
 
+// The Z-map and the pending sweeps whose footprint reaches the tool's, newest first.
+struct LocalStock {
+  const stock::ZMap* zmap;
+  double base;
+  std::vector<const stock::LineSweep*>* near;
+};
+
 // The point (x, y, z) is in material: inside the Z-map column and outside every
-// pending swept volume. `top` receives the material top above (x, y).
-inline bool in_material(const StockView& s, double x, double y, double z) {
-  if (!(z < s.zmap->height_smooth(x, y)) || z < s.zmap->base_z_mm()) return false;
-  // Newest first: the current move is the likeliest to have cut the point.
-  for (auto it = s.pending.rbegin(); it != s.pending.rend(); ++it)
-    if (it->lower_height(x, y) <= z) return false;
+// pending swept volume.
+inline bool in_material(const LocalStock& s, double x, double y, double z) {
+  if (!(z < s.zmap->height_smooth(x, y)) || z < s.base) return false;
+  for (const stock::LineSweep* p : *s.near)
+    if (p->lower_height(x, y) <= z) return false;
   return true;
 }
 
@@ -126,6 +132,15 @@ Metrics Engager::evaluate(const StockView& stock, const CLPoint& p, const Proces
   const double base = stock.zmap->base_z_mm();
   const int N = o_.angle_samples;
   const double dphi = two_pi / N;
+  thread_local std::vector<const stock::LineSweep*> near;
+  near.clear();
+  auto overlaps = [&](const stock::LineSweep& l) {
+    return l.x_min() <= tx + R && l.x_max() >= tx - R && l.y_min() <= ty + R && l.y_max() >= ty - R;
+  };
+  if (stock.current && overlaps(*stock.current)) near.push_back(stock.current);
+  for (auto it = stock.pending.rbegin(); it != stock.pending.rend(); ++it)
+    if (overlaps(*it)) near.push_back(&*it);
+  const LocalStock local{stock.zmap, base, &near};
 
   constexpr std::size_t npos = static_cast<std::size_t>(-1);
   std::size_t top_slice = npos;
@@ -144,7 +159,7 @@ Metrics Engager::evaluate(const StockView& stock, const CLPoint& p, const Proces
     // cutting; 1e-8 mm is far above rounding and far below any tolerance.
     const double r = s.r_mm - 1e-8;
     auto test = [&](double sp, double cp) {
-      return in_material(stock, tx + r * (sp * fx - cp * fy), ty + r * (sp * fy + cp * fx), zq);
+      return in_material(local, tx + r * (sp * fx - cp * fy), ty + r * (sp * fy + cp * fx), zq);
     };
     int count = 0;
     for (int j = 0; j < N; ++j) count += (in[j] = test(sin_[j], cos_[j]));
@@ -195,7 +210,7 @@ Metrics Engager::evaluate(const StockView& stock, const CLPoint& p, const Proces
       for (int k = 0; k < o_.refine_steps + 6; ++k) {
         const double zm = 0.5 * (lo + hi);
         const double r = stock::profile_radius(tool_, zm) - 1e-8;
-        (in_material(stock, tx + r * (sp * fx - cp * fy), ty + r * (sp * fy + cp * fx), tz + zm) ? lo : hi) = zm;
+        (in_material(local, tx + r * (sp * fx - cp * fy), ty + r * (sp * fy + cp * fx), tz + zm) ? lo : hi) = zm;
       }
       ap = std::max(ap, 0.5 * (lo + hi));
     }
@@ -220,7 +235,7 @@ Metrics Engager::evaluate(const StockView& stock, const CLPoint& p, const Proces
       const double rho = (k + 0.5) * dr;
       for (int j = 0; j < N; ++j) {
         const double x = tx + rho * (sin_[j] * fx - cos_[j] * fy), y = ty + rho * (sin_[j] * fy + cos_[j] * fx);
-        if (!in_material(stock, x, y, tz)) continue;
+        if (!in_material(local, x, y, tz)) continue;
         m.bottom_area_mm2 += rho * dr * dphi;  // midpoint rule, exact for the disc
       }
     }

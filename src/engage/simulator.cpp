@@ -1,6 +1,11 @@
 #include "deflex/engage/simulator.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "deflex/diag/diagnostics.hpp"
@@ -9,6 +14,10 @@
 namespace deflex::engage {
 
 namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 double dist(const Point3& a, const Point3& b) {
   return std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
@@ -22,78 +31,123 @@ Point3 trimmed(const Point3& a, const Point3& b, double trim) {
   return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
 }
 
+template <class F>
+void in_arena(int threads, F&& f) {
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+  } else {
+    f();
+  }
+}
+
 }  // namespace
 
-Simulator::Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Process& p, const SimOptions& o)
-    : z_(z), eng_(cs, o.engage), proc_(p), o_(o) {
+Simulator::Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Process& p, const SimOptions& o,
+                     PointSink sink)
+    : z_(z), eng_(cs, o.engage), proc_(p), o_(o), sink_(std::move(sink)) {
   keep_mm_ = o.keep_mm > 0 ? o.keep_mm : 2 * cs.cutter.diameter_mm + 4 * z.grid().cell_mm;
-  if (o.max_pending < 1) throw Error(Exit::config, "simulation: max_pending must be >= 1");
+  batch_mm_ = o.batch_mm > 0 ? o.batch_mm : cs.cutter.diameter_mm;
+  if (o.max_pending < 1 || o.max_batch < 1) throw Error(Exit::config, "simulation: max_pending and max_batch must be >= 1");
   if (!(o.trim_mm > 0)) throw Error(Exit::config, "simulation: trim_mm must be > 0");
+  if (o.threads < 0) throw Error(Exit::config, "simulation: threads must be >= 0");
 }
 
-void Simulator::commit_front() {
-  removed_ += stock::sweep_line(z_, pending_.front());
-  pending_.erase(pending_.begin());
-  pending_end_s_.erase(pending_end_s_.begin());
+void Simulator::evaluate_batch() {
+  const std::size_t n = batch_.size();
+  if (n == 0) return;
+  const double t0 = now_s();
+  if (metrics_.size() < n) {
+    metrics_.resize(n);
+    engs_.resize(n);
+  }
+  auto one = [&](std::size_t i) {
+    const Sample& s = batch_[i];
+    const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), s.pending), &s.current};
+    metrics_[i] = eng_.evaluate(view, s.cl.point, proc_, engs_[i]);
+  };
+  if (o_.threads == 1 || n < 4) {
+    for (std::size_t i = 0; i < n; ++i) one(i);
+  } else {
+    in_arena(o_.threads, [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) one(i);
+      });
+    });
+  }
+  t_engage_ += now_s() - t0;
+  if (sink_)
+    for (std::size_t i = 0; i < n; ++i) sink_(batch_[i].cl, metrics_[i], engs_[i]);
+  samples_ += n;
+  batch_.clear();
 }
 
-void Simulator::commit_old() {
-  while (!pending_.empty() && (s_ - pending_end_s_.front() > keep_mm_ || pending_.size() > o_.max_pending))
-    commit_front();
+void Simulator::commit_old(bool all) {
+  std::size_t c = 0;
+  while (c < pend_.size() &&
+         (all || s_ - pend_end_s_[c] > keep_mm_ || pend_.size() - c > o_.max_pending))
+    ++c;
+  if (c == 0) return;
+  const std::span<const stock::LineSweep> done(pend_.data(), c);
+  const bool start_cut = have_committed_end_ && done[0].a() == committed_end_;
+  const double t0 = now_s();
+  in_arena(o_.threads, [&] { removed_ += stock::sweep_lines(z_, done, start_cut); });
+  t_sweep_ += now_s() - t0;
+  have_committed_end_ = true;
+  committed_end_ = done[c - 1].b();
+  pend_.erase(pend_.begin(), pend_.begin() + static_cast<std::ptrdiff_t>(c));
+  pend_end_s_.erase(pend_end_s_.begin(), pend_end_s_.begin() + static_cast<std::ptrdiff_t>(c));
+}
+
+void Simulator::flush() {
+  evaluate_batch();
+  batch_start_s_ = s_;
+  commit_old(false);
 }
 
 void Simulator::finish() {
-  while (!pending_.empty()) commit_front();
+  evaluate_batch();
+  commit_old(true);
 }
 
-void Simulator::run(const interp::Motion& m, const PointSink& sink) {
+void Simulator::run(const interp::Motion& m) {
   const std::vector<Point3> v = motion_vertices(m, o_.path);
   const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
-  const bool sample = sink && (m.kind != interp::MotionKind::rapid || o_.sample_rapids);
+  const bool sample = sink_ && (m.kind != interp::MotionKind::rapid || o_.sample_rapids);
   const stock::ToolProfile& tool = eng_.tool();
   const std::size_t motion_index = motions_++;
   const int n = static_cast<int>(v.size()) - 1;
   for (int k = 1; k <= n; ++k) {
     const Point3& vk = v[static_cast<std::size_t>(k)];
-    // A line is one pending volume from its start; an arc one per chord.
+    // A line is one sweep from its start; an arc one per chord.
     const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
-    const bool extend = line && k > 1;
     if (sample) {
-      CLSample s;
-      s.point.tip_mm = vk;
-      s.point.dir = motion_direction(m, v, static_cast<std::size_t>(k));
-      const double h = std::hypot(s.point.dir[0], s.point.dir[1]);
-      if (h > 1e-6) feed_ = {s.point.dir[0] / h, s.point.dir[1] / h};
-      s.point.feed_x = feed_[0];
-      s.point.feed_y = feed_[1];
-      s.motion = motion_index;
-      s.line = m.line;
-      s.index = k;
-      s.count = n;
-      s.rapid = m.kind == interp::MotionKind::rapid;
-      // The stock as cut so far: this motion up to just before the sample.
-      const stock::LineSweep cur(tool, from, trimmed(from, vk, o_.trim_mm));
-      if (extend) {
-        pending_.back() = cur;
-      } else {
-        pending_.push_back(cur);
-        pending_end_s_.push_back(s_);
-      }
-      const StockView view{&z_, pending_};
-      const Metrics met = eng_.evaluate(view, s.point, proc_, e_);
-      ++samples_;
-      sink(s, met, e_);
-      pending_.back() = stock::LineSweep(tool, from, vk);
-    } else if (extend) {
-      pending_.back() = stock::LineSweep(tool, from, vk);
-    } else {
-      pending_.emplace_back(tool, from, vk);
-      pending_end_s_.push_back(s_);
+      Sample s{CLSample{}, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()};
+      s.cl.point.tip_mm = vk;
+      s.cl.point.dir = motion_direction(m, v, static_cast<std::size_t>(k));
+      const double h = std::hypot(s.cl.point.dir[0], s.cl.point.dir[1]);
+      if (h > 1e-6) feed_ = {s.cl.point.dir[0] / h, s.cl.point.dir[1] / h};
+      s.cl.point.feed_x = feed_[0];
+      s.cl.point.feed_y = feed_[1];
+      s.cl.motion = motion_index;
+      s.cl.line = m.line;
+      s.cl.index = k;
+      s.cl.count = n;
+      s.cl.rapid = m.kind == interp::MotionKind::rapid;
+      batch_.push_back(std::move(s));
     }
     s_ += dist(v[static_cast<std::size_t>(k - 1)], vk);
-    pending_end_s_.back() = s_;
-    commit_old();
+    if (!line) {
+      pend_.emplace_back(tool, v[static_cast<std::size_t>(k - 1)], vk);
+      pend_end_s_.push_back(s_);
+    }
+    if (batch_.size() >= o_.max_batch) flush();  // mid-line is fine: the line is not pending yet
   }
+  if (line) {
+    pend_.emplace_back(tool, v[0], v.back());
+    pend_end_s_.push_back(s_);
+  }
+  if (s_ - batch_start_s_ >= batch_mm_) flush();
 }
 
 }  // namespace deflex::engage

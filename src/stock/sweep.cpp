@@ -5,6 +5,9 @@
 #include <limits>
 #include <numbers>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
 #include "deflex/diag/diagnostics.hpp"
 
 namespace deflex::stock {
@@ -101,8 +104,9 @@ double LineSweep::lower_height(double x, double y) const {
   return inf;
 }
 
-bool LineSweep::row_range(double y, double& x0, double& x1) const {
+bool LineSweep::row_range(double y, double& x0, double& x1, bool start_cut) const {
   const double R = tool_.radius_mm;
+  if (start_cut && len_ == 0 && b_[2] >= a_[2]) return false;  // a retract removes nothing new
   double lo = inf, hi = -inf;
   auto disc = [&](const Point3& c) {
     const double dy = y - c[1];
@@ -135,21 +139,36 @@ bool LineSweep::row_range(double y, double& x0, double& x1) const {
       hi = std::max(hi, bh);
     }
   }
+  if (start_cut && len_ > 0 && slope_ >= 0) {
+    // Keep par(x) = ex x + c >= 0.
+    const double c = -a_[0] * ex_ + (y - a_[1]) * ey_;
+    if (std::fabs(ex_) < 1e-15) {
+      if (c < 0) return false;
+    } else if (ex_ > 0) {
+      lo = std::max(lo, -c / ex_);
+    } else {
+      hi = std::min(hi, -c / ex_);
+    }
+  }
   if (lo > hi) return false;
   x0 = lo;
   x1 = hi;
   return true;
 }
 
-double sweep_line(ZMap& z, const LineSweep& s) {
+namespace {
+
+// Rows [j0, j1] of one sweep.
+double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut) {
   const GridSpec& g = z.grid();
-  const int j0 = std::max(0, z.iy(s.y_min())), j1 = std::min(g.ny - 1, z.iy(s.y_max()));
+  j0 = std::max({j0, 0, z.iy(s.y_min())});
+  j1 = std::min({j1, g.ny - 1, z.iy(s.y_max())});
   thread_local std::vector<float> buf;
   double removed = 0;
   for (int j = j0; j <= j1; ++j) {
     const double y = z.cy(j);
     double xa, xb;
-    if (!s.row_range(y, xa, xb)) continue;
+    if (!s.row_range(y, xa, xb, start_cut)) continue;
     // Cells whose centre lies in [xa, xb].
     const int i0 = std::max(0, static_cast<int>(std::ceil((xa - g.x0_mm) / g.cell_mm - 0.5)));
     const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor((xb - g.x0_mm) / g.cell_mm - 0.5)));
@@ -165,14 +184,47 @@ double sweep_line(ZMap& z, const LineSweep& s) {
   return removed;
 }
 
+}  // namespace
+
+double sweep_line(ZMap& z, const LineSweep& s, bool start_cut) {
+  return sweep_rows(z, s, 0, z.grid().ny - 1, start_cut);
+}
+
+double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) {
+  if (s.empty()) return 0;
+  double y0 = s[0].y_min(), y1 = s[0].y_max();
+  for (const LineSweep& l : s) {
+    y0 = std::min(y0, l.y_min());
+    y1 = std::max(y1, l.y_max());
+  }
+  const int T = ZMap::tile_cells;
+  const int j0 = std::max(0, z.iy(y0)), j1 = std::min(z.grid().ny - 1, z.iy(y1));
+  if (j1 < j0) return 0;
+  auto chained = [&](std::size_t k) {
+    if (k == 0) return first_start_cut;
+    return s[k].a() == s[k - 1].b();
+  };
+  // One task per tile row: lower_row on different tile rows never shares a tile.
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(j0 / T, j1 / T + 1, 1), 0.0,
+      [&](const tbb::blocked_range<int>& r, double acc) {
+        for (int band = r.begin(); band != r.end(); ++band)
+          for (std::size_t k = 0; k < s.size(); ++k)
+            acc += sweep_rows(z, s[k], band * T, band * T + T - 1, chained(k));
+        return acc;
+      },
+      [](double a, double b) { return a + b; });
+}
+
 double sweep_line(ZMap& z, const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm) {
   return sweep_line(z, LineSweep(tool, a_mm, b_mm));
 }
 
 double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> pts) {
-  double v = 0;
-  for (std::size_t k = 1; k < pts.size(); ++k) v += sweep_line(z, tool, pts[k - 1], pts[k]);
-  return v;
+  std::vector<LineSweep> segs;
+  segs.reserve(pts.size());
+  for (std::size_t k = 1; k < pts.size(); ++k) segs.emplace_back(tool, pts[k - 1], pts[k]);
+  return sweep_lines(z, segs, false);
 }
 
 // ---- arcs ---------------------------------------------------------------------

@@ -40,7 +40,6 @@ float* ZMap::materialize(Tile& t) {
   if (!t.cells) {
     t.cells.reset(new float[tile_floats]);
     std::fill(t.cells.get(), t.cells.get() + tile_floats, t.uniform);
-    ++allocated_;
   }
   return t.cells.get();
 }
@@ -124,7 +123,6 @@ void ZMap::assign_tile(std::size_t tx, std::size_t ty, const float* src) {
         break;
       }
   if (uniform) {
-    if (t.cells) --allocated_;
     t.cells.reset();
     t.uniform = t.max = v0;
     return;
@@ -158,8 +156,12 @@ float ZMap::max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm
   return m;
 }
 
+std::size_t ZMap::allocated_tiles() const {
+  return static_cast<std::size_t>(std::count_if(tiles_.begin(), tiles_.end(), [](const Tile& t) { return t.cells != nullptr; }));
+}
+
 std::size_t ZMap::allocated_bytes() const {
-  return allocated_ * tile_floats * sizeof(float) + tiles_.size() * sizeof(Tile) + sizeof(*this);
+  return allocated_tiles() * tile_floats * sizeof(float) + tiles_.size() * sizeof(Tile) + sizeof(*this);
 }
 
 std::size_t ZMap::worst_case_bytes() const {

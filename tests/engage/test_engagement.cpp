@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <vector>
 
 #include "deflex/engage/path.hpp"
 #include "deflex/engage/simulator.hpp"
@@ -48,14 +49,14 @@ struct Last {
 // Runs the motions and returns the result at the last CL sample.
 Last run(stock::ZMap& z, const force::CutterSlices& cs, std::initializer_list<interp::Motion> ms,
          const Process& proc = {}, const SimOptions& o = {}) {
-  Simulator sim(z, cs, proc, o);
   Last last;
-  for (const interp::Motion& m : ms)
-    sim.run(m, [&](const CLSample& s, const Metrics& met, const force::Engagement& e) {
-      last.cl = s;
-      last.m = met;
-      last.e = e;
-    });
+  Simulator sim(z, cs, proc, o, [&](const CLSample& s, const Metrics& met, const force::Engagement& e) {
+    last.cl = s;
+    last.m = met;
+    last.e = e;
+  });
+  for (const interp::Motion& m : ms) sim.run(m);
+  sim.finish();
   return last;
 }
 
@@ -176,18 +177,21 @@ TEST_CASE("air cut above the stock and over cut ground") {
   // (almost) nothing because the engagement sees the stock as cut so far. While
   // the outward cut is still pending it is exact (pure air); once committed, the
   // trench wall is resolved to a Z-map cell, so grazing slivers remain.
-  Simulator sim(z, cs, {});
   int engaged_out = 0, air_back_pending = 0, n_back = 0;
   double mrr_out = 0, mrr_back_max = 0;
-  sim.run(line({-10, 0, -1}, {60, 0, -1}), [&](const CLSample&, const Metrics& m, const force::Engagement&) {
-    engaged_out += !m.air_cut;
-    mrr_out = m.mrr_mm3_per_s;
-  });
-  sim.run(line({60, 0, -1}, {20, 0, -1}), [&](const CLSample& s, const Metrics& m, const force::Engagement&) {
+  Simulator sim(z, cs, {}, {}, [&](const CLSample& s, const Metrics& m, const force::Engagement&) {
+    if (s.motion == 0) {
+      engaged_out += !m.air_cut;
+      mrr_out = m.mrr_mm3_per_s;
+      return;
+    }
     if (60 - s.point.tip_mm[0] < 20) air_back_pending += m.air_cut;
     mrr_back_max = std::max(mrr_back_max, m.mrr_mm3_per_s);
     ++n_back;
   });
+  sim.run(line({-10, 0, -1}, {60, 0, -1}));
+  sim.run(line({60, 0, -1}, {20, 0, -1}));
+  sim.finish();
   CHECK(engaged_out > 100);
   CHECK(n_back == 80);
   CHECK(air_back_pending == 39);
@@ -250,6 +254,46 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
   }
   // Removal rate of a plunging ball: v times its cross-section pi R^2 (slice sum).
   CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * pi * 25).epsilon(2e-3));
+}
+
+TEST_CASE("batched parallel evaluation gives the same results on 1 thread and on all") {
+  const auto cs = force::make_slices(cutter(force::CutterType::ball), 0.05, 12);
+  std::vector<interp::Motion> path;
+  stock::Point3 p{-6, 3, -0.4};
+  for (int k = 0; k < 4; ++k) {  // zig-zag of short wavy segments, step-over 0.6 mm
+    const double y = 3 + 0.6 * k;
+    if (k > 0) {
+      const stock::Point3 q{p[0], y, p[2]};
+      path.push_back(line(p, q));
+      p = q;
+    }
+    for (int s = 0; s < 60; ++s) {
+      const double x = p[0] + (k % 2 == 0 ? 0.5 : -0.5);
+      const stock::Point3 q{x, y, -0.4 + 0.15 * std::sin(x / 3)};
+      path.push_back(line(p, q));
+      p = q;
+    }
+  }
+  std::vector<Metrics> results[2];
+  for (int run_ = 0; run_ < 2; ++run_) {
+    auto z = stock::zmap_from_box(stock::parse_box("box:0,0,-20,40,20,0"));
+    SimOptions o;
+    o.threads = run_ == 0 ? 1 : 0;
+    o.batch_mm = 3;
+    Simulator sim(z, cs, {}, o, [&](const CLSample&, const Metrics& m, const force::Engagement&) {
+      results[run_].push_back(m);
+    });
+    for (const auto& m : path) sim.run(m);
+    sim.finish();
+  }
+  REQUIRE(results[0].size() == results[1].size());
+  int engaged = 0;
+  for (std::size_t i = 0; i < results[0].size(); ++i) {
+    CHECK(results[0][i].mrr_mm3_per_s == results[1][i].mrr_mm3_per_s);
+    CHECK(results[0][i].ae_mm == results[1][i].ae_mm);
+    engaged += !results[0][i].air_cut;
+  }
+  CHECK(engaged > static_cast<int>(results[0].size()) / 2);
 }
 
 TEST_CASE("CL samples: end points, spacing, arcs on the arc, plunge keeps the feed frame") {

@@ -49,11 +49,12 @@ struct Process {
   double spindle_rpm = 10000;
 };
 
-// The stock as cut so far: the Z-map plus swept volumes not yet committed to it,
-// oldest first (the last one is normally the current move, trimmed before the CL point).
+// The stock as cut so far: the Z-map, minus the swept volumes not yet committed
+// to it (oldest first) and the current move up to just before the CL point.
 struct StockView {
   const stock::ZMap* zmap = nullptr;
   std::span<const stock::LineSweep> pending;
+  const stock::LineSweep* current = nullptr;
 };
 
 struct CLPoint {

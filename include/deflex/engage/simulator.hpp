@@ -27,43 +27,69 @@ struct SimOptions {
   PathOptions path;
   Options engage;
   double keep_mm = 0;             // 0: 2 D + 4 cells
-  std::size_t max_pending = 256;
+  std::size_t max_pending = 256;  // checked when a batch is done
   double trim_mm = 1e-4;          // the current move counts up to this short of the sample
   bool sample_rapids = false;     // rapids are always cut, sampled only on request
+  double batch_mm = 0;            // path length per batch; 0: D
+  std::size_t max_batch = 256;    // CL samples per batch
+  int threads = 0;                // 0: TBB's default (all cores); 1: sequential
 };
 
 using PointSink = std::function<void(const CLSample&, const Metrics&, const force::Engagement&)>;
 
+// Parallelism. The engagement at a CL sample depends on the stock and on the
+// geometry of the path before it, and the path is known in advance: so the CL
+// samples of a batch (batch_mm of path) are evaluated in parallel against the
+// same Z-map, each seeing exactly the sweeps before it as pending volumes; then
+// the sink is called in program order and the batch's old sweeps are committed
+// (bands of tile rows in parallel). Results do not depend on the thread count.
 class Simulator {
  public:
-  // `z` is cut in place; it must outlive the simulator.
-  Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Process& p, const SimOptions& o = {});
+  // `z` is cut in place; it must outlive the simulator. The sink (may be empty)
+  // receives every CL sample in program order, at the latest on finish().
+  Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Process& p, const SimOptions& o = {},
+            PointSink sink = {});
 
-  // Engagement at each CL sample of m (to `sink`, may be empty), then m is cut.
-  void run(const interp::Motion& m, const PointSink& sink);
-  // Commits every pending volume: the Z-map is then the stock as cut so far.
+  void run(const interp::Motion& m);
+  // Evaluates what is left and commits every pending volume: the Z-map is then
+  // the stock as cut by all motions run so far.
   void finish();
 
   double removed_mm3() const { return removed_; }  // committed so far
-  std::size_t pending_count() const { return pending_.size(); }
+  std::size_t pending_count() const { return pend_.size(); }
   std::size_t samples() const { return samples_; }
+  // Wall-clock time spent evaluating engagements and committing sweeps, s.
+  double engage_seconds() const { return t_engage_; }
+  double sweep_seconds() const { return t_sweep_; }
   const Engager& engager() const { return eng_; }
 
  private:
-  void commit_front();
-  void commit_old();
+  struct Sample {
+    CLSample cl;
+    stock::LineSweep current;   // this motion up to just before the sample
+    std::size_t pending = 0;    // sweeps of pend_ before it
+  };
+  void flush();
+  void evaluate_batch();
+  void commit_old(bool all);
 
   stock::ZMap& z_;
   Engager eng_;
   Process proc_;
   SimOptions o_;
-  double keep_mm_ = 0;
-  std::vector<stock::LineSweep> pending_;  // oldest first
-  std::vector<double> pending_end_s_;      // path length at each one's end
-  double s_ = 0;                           // path length so far, mm
+  PointSink sink_;
+  double keep_mm_ = 0, batch_mm_ = 0;
+  std::vector<stock::LineSweep> pend_;  // oldest first
+  std::vector<double> pend_end_s_;      // path length at each one's end
+  std::vector<Sample> batch_;
+  std::vector<Metrics> metrics_;
+  std::vector<force::Engagement> engs_;
+  double s_ = 0, batch_start_s_ = 0;    // path length, mm
   std::array<double, 2> feed_{1, 0};
-  force::Engagement e_;
+  bool have_committed_end_ = false;
+  Point3 committed_end_{};
   double removed_ = 0;
+  double t_engage_ = 0, t_sweep_ = 0;
   std::size_t samples_ = 0;
   std::size_t motions_ = 0;
 };

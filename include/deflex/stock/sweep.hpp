@@ -39,8 +39,11 @@ class LineSweep {
   double x_max() const { return xmax_; }
   double y_min() const { return ymin_; }
   double y_max() const { return ymax_; }
-  // X range of the footprint on the line y = y_mm; false if it misses.
-  bool row_range(double y_mm, double& x0_mm, double& x1_mm) const;
+  // X range of the footprint on the line y = y_mm; false if it misses. With
+  // start_cut (the tool at `a` is already in the Z-map) a horizontal or rising
+  // move cannot lower the cells behind its start (they are nearest to `a` and the
+  // tool only rises from there), so the range starts at the start's normal line.
+  bool row_range(double y_mm, double& x0_mm, double& x1_mm, bool start_cut = false) const;
 
   const Point3& a() const { return a_; }
   const Point3& b() const { return b_; }
@@ -57,7 +60,13 @@ class LineSweep {
 
 // Removes the swept volume of a line from the stock; returns the removed volume, mm^3.
 double sweep_line(ZMap& z, const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm);
-double sweep_line(ZMap& z, const LineSweep& s);
+double sweep_line(ZMap& z, const LineSweep& s, bool start_cut = false);
+
+// Consecutive sweeps in order (each one's start is the previous one's end when
+// chained; the first one's start is cut already when first_start_cut). Bands of
+// tile rows are cut in parallel (TBB), each band applying the sweeps in order, so
+// the result equals sweeping them one by one.
+double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut);
 
 // Consecutive points joined by lines.
 double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> pts_mm);

@@ -71,6 +71,8 @@ class ZMap {
 
   // Lowers row j, cells [i0, i0 + n), to min(current, h[k]). Returns the removed
   // volume, mm^3 (cells at no_material contribute nothing; the base clips).
+  // Touches only the tiles of row j's tile row: calls on different tile rows
+  // (j / tile_cells) may run concurrently.
   double lower_row(int j, int i0, int n, const float* h);
 
   // An upper bound of the heights in the cells overlapping [x0,x1] x [y0,y1]
@@ -85,7 +87,7 @@ class ZMap {
   void assign_tile(std::size_t tx, std::size_t ty, const float* cells);
 
   std::size_t tile_count() const { return tiles_.size(); }
-  std::size_t allocated_tiles() const { return allocated_; }
+  std::size_t allocated_tiles() const;  // counted (no shared counter: bands of tile rows may be cut in parallel)
   std::size_t allocated_bytes() const;   // tiles + bookkeeping, bytes
   std::size_t worst_case_bytes() const;  // every tile allocated
 
@@ -114,7 +116,6 @@ class ZMap {
   double base_z_ = 0;
   std::size_t tiles_x_ = 0, tiles_y_ = 0;
   std::vector<Tile> tiles_;
-  std::size_t allocated_ = 0;
 };
 
 }  // namespace deflex::stock
