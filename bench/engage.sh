@@ -5,4 +5,4 @@ set -eu
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 cmake --build "$BUILD" --target deflex_tests >/dev/null
-exec "$BUILD/deflex_tests" -tc="bench*" --no-skip -s
+exec "$BUILD/deflex_tests" -tc="bench*" --no-skip

@@ -60,7 +60,8 @@ std::vector<interp::Motion> finishing_path(int passes, double seg_mm) {
   return ms;
 }
 
-void measure(const char* name, const std::vector<interp::Motion>& path, SimOptions so) {
+void measure(const char* name, const std::vector<interp::Motion>& path, SimOptions so,
+             double cell_mm = stock::default_cell_mm) {
   force::Cutter c;
   c.type = force::CutterType::ball;
   c.diameter_mm = 10;
@@ -78,7 +79,7 @@ void measure(const char* name, const std::vector<interp::Motion>& path, SimOptio
   std::printf("%s\n", name);
   for (const int threads : {1, 0}) {
     so.threads = threads;
-    stock::ZMap z = stock::zmap_from_box(blank);
+    stock::ZMap z = stock::zmap_from_box(blank, cell_mm);
     std::vector<force::Vec3> F(360);
     std::size_t n = 0, engaged = 0;
     double t_forces = 0, peak = 0;
@@ -121,6 +122,12 @@ TEST_CASE("bench engage: ball D10 finishing, CAM-like 0.5 mm G1 segments on a wa
   SimOptions so;
   so.path.cl_spacing_mm = 0.5;
   measure("CAM-like 0.5 mm G1 segments on a wave", finishing_path(20, 0.5), so);
+}
+
+TEST_CASE("bench engage: the same on a 0.1 mm Z-map (roughing resolution)" * doctest::skip()) {
+  SimOptions so;
+  so.path.cl_spacing_mm = 0.5;
+  measure("CAM-like 0.5 mm G1 segments on a wave, 0.1 mm cells", finishing_path(20, 0.5), so, 0.1);
 }
 
 }  // TEST_SUITE
