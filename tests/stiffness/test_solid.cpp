@@ -121,7 +121,6 @@ TEST_SUITE("stiffness") {
     const ComplianceTable b = solid_tool_compliance(t, o, &second);
     CHECK_FALSE(first.from_cache);
     CHECK(second.from_cache);
-    CHECK(second.seconds < 0.05);
     REQUIRE(a.rows().size() == b.rows().size());
     for (std::size_t i = 0; i < a.rows().size(); ++i)
       CHECK(a.rows()[i].matrix_mm_per_N == b.rows()[i].matrix_mm_per_N);
