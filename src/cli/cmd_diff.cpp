@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/gcode/skeleton.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -17,15 +18,6 @@ struct LineInfo {
   std::uint32_t motions = 0;
   std::uint8_t kind = 0;  // MotionKind of the last motion
 };
-
-bool is_coordinate(char l) {
-  return l == 'X' || l == 'Y' || l == 'Z' || l == 'I' || l == 'J' || l == 'K' || l == 'R';
-}
-
-std::uint64_t fnv(std::uint64_t h, const char* p, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) { h ^= static_cast<unsigned char>(p[i]); h *= 1099511628211ull; }
-  return h;
-}
 
 struct Collector : interp::MotionSink {
   std::vector<LineInfo>* lines;
@@ -51,37 +43,12 @@ Side read_side(const std::string& file, const Setup& s, Diagnostics& diags, Io& 
   c.lines = &side.lines;
   interp::Stats st = interp::interpret(p, s.interp(), diags, c);
   side.ok = !st.stopped;
-  // Skeleton: every byte of the line but the coordinate words (letter and
-  // number), so a changed number, an added or removed coordinate word, or
-  // re-spacing around them, leaves it equal.
+  // Skeleton: the block without its coordinate words (gcode/skeleton.hpp).
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
-  const std::string& bytes = p.bytes();
   for (std::uint32_t l = 1; l <= p.line_count(); ++l) {
     p.lex(l, b, quiet);
-    std::uint64_t h = 1469598103934665603ull;
-    std::uint32_t at = b.begin;
-    for (const gcode::Word& w : b.words) {
-      if (!is_coordinate(w.letter)) continue;
-      h = fnv(h, bytes.data() + at, w.begin - at);
-      at = w.end;
-    }
-    h = fnv(h, bytes.data() + at, b.text_end - at);
-    // Spaces next to removed words must not count: hash again without blanks.
-    std::uint64_t g = 1469598103934665603ull;
-    at = b.begin;
-    auto add = [&](std::uint32_t from, std::uint32_t to) {
-      for (std::uint32_t i = from; i < to; ++i)
-        if (bytes[i] != ' ' && bytes[i] != '\t') g = fnv(g, bytes.data() + i, 1);
-    };
-    for (const gcode::Word& w : b.words) {
-      if (!is_coordinate(w.letter)) continue;
-      add(at, w.begin);
-      at = w.end;
-    }
-    add(at, b.text_end);
-    (void)h;
-    side.lines[l].skeleton = g;
+    side.lines[l].skeleton = gcode::skeleton_hash(p, b);
   }
   return side;
 }

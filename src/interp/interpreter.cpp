@@ -198,6 +198,9 @@ class Run {
     if (center) m.center_mm = *center;
     m.feed_mm_per_min = k == MotionKind::rapid ? 0.0 : feed_;
     m.tool = tool_;
+    m.spindle_rpm = spindle_rpm_;
+    m.inch = inch_;
+    m.plain = plain_ && absolute_ && stack_.empty() && comp_ == 400 && !blk_.block_delete;
     m.work_offset_mm = wofs_;
     ++stats_.motions;
     if (m.fixed == Fixed::no) ++stats_.compensable;
@@ -267,7 +270,7 @@ class Run {
   bool inch_ = false, units_set_ = false, absolute_ = true, ijk_absolute_ = false;
   int plane_ = 17, motion_ = -1, cycle_ = 800, comp_ = 400, length_ = 490, return_ = 980;
   int h_ = 0, tool_ = 0, next_tool_ = 0;
-  double feed_ = 0.0;
+  double feed_ = 0.0, spindle_rpm_ = 0.0;
   // Canned-cycle modal data (work frame, mm).
   double cyc_init_z_ = 0, cyc_r_ = 0, cyc_z_ = 0, cyc_q_ = 0;
   bool cyc_have_z_ = false, cyc_have_r_ = false;
@@ -276,6 +279,7 @@ class Run {
   bool subs_indexed_ = false;
   std::unordered_map<int, Vec3> ref_;
   bool warned_units_ = false, warned_block_delete_ = false;
+  bool plain_ = false;  // the motion being emitted comes from a plain G0-G3 block
 };
 
 bool Run::check_words(int codes[kGroups], const Word* code_word[kGroups]) {
@@ -355,6 +359,7 @@ bool Run::execute() {
     feed_ = to_mm(wF->value);
   }
   if (wT) next_tool_ = static_cast<int>(wT->value);
+  if (const Word* wS = blk_.find('S')) spindle_rpm_ = wS->value;
   if (m6) tool_ = next_tool_;
   if (codes[g_plane] >= 0) plane_ = codes[g_plane] / 10;
   if (codes[g_distance] >= 0) absolute_ = codes[g_distance] == 900;
@@ -460,7 +465,9 @@ bool Run::do_motion(int mode, bool have_axes) {
   bool any;
   if (!axis_target(t, any)) return false;
   if (mode == 10 && feed_ <= 0) return refuse(blk_.find('X'), "G1 move with no feed rate (F) set");
+  plain_ = true;
   emit(mode == 0 ? MotionKind::rapid : MotionKind::linear, t);
+  plain_ = false;
   return true;
 }
 
@@ -522,7 +529,9 @@ bool Run::do_arc(bool cw) {
   Vec3 c = pos_;
   c[p.a] = ca;
   c[p.b] = cb;
+  plain_ = !ijk_absolute_;  // G90.1 centres are absolute: moving the arc would need new I/J
   emit(cw ? MotionKind::arc_cw : MotionKind::arc_ccw, end, Fixed::no, &c);
+  plain_ = false;
   return true;
 }
 

@@ -35,6 +35,12 @@ struct Motion {
   Vec3 center_mm{};                 // arcs: centre; its normal-axis value equals start's
   double feed_mm_per_min = 0.0;     // 0 for rapids
   int tool = 0;                     // active T number
+  double spindle_rpm = 0.0;         // last S word (0: none yet)
+  bool inch = false;                // the block was read in G20
+  // A plain G0/G1/G2/G3 block in G90, outside subprograms, cutter compensation
+  // and block delete: one motion whose end is exactly its X/Y/Z words (or the
+  // modal values), so the writer may re-target it by setting or adding words.
+  bool plain = false;
   // Offset of the active work frame in machine coordinates (work + this = machine), mm.
   Vec3 work_offset_mm{};
   bool compensable() const { return fixed == Fixed::no; }
