@@ -83,7 +83,6 @@ std::string shortest(double v) {
   return b;
 }
 
-std::string default_library(const char* rel) { return std::string(DEFLEX_SOURCE_DIR) + "/" + rel; }
 
 void require_positive(const char* opt, double v, bool allow_zero = false) {
   if (!std::isfinite(v) || v < 0 || (!allow_zero && v == 0))
@@ -91,36 +90,12 @@ void require_positive(const char* opt, double v, bool allow_zero = false) {
 }
 
 struct ForcesArgs {
-  std::string tool_file, tool, material, material_file, format = "csv";
-  std::optional<double> kt, kr, ka, kte, kre, kae;
+  std::string tool_file, tool, format = "csv";
+  MaterialOptions mat;
   double ae = 0, ap = 0, fz = 0, dz = 0.05;
   bool up = false, down = false, help = false;
   int steps = 360;
 };
-
-fo::Coefficients coefficients_of(const ForcesArgs& a, const po::variables_map& vm) {
-  const bool by_k = a.kt || a.kr || a.ka;
-  const bool edge = a.kte || a.kre || a.kae;
-  if (!a.material.empty() && (by_k || edge))
-    throw Error(Exit::usage, "give either --material or --kt/--kr/--ka, not both");
-  if (a.material.empty() && !by_k)
-    throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
-  if (!a.material.empty()) {
-    const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml")
-                                                     : a.material_file;
-    return fo::find_material(fo::load_material_library(file), a.material).k;
-  }
-  if (vm.count("material-file")) throw Error(Exit::usage, "--material-file needs --material");
-  if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
-  fo::Coefficients k;
-  k.Ktc_N_per_mm2 = *a.kt;
-  k.Krc_N_per_mm2 = *a.kr;
-  k.Kac_N_per_mm2 = *a.ka;
-  k.Kte_N_per_mm = a.kte.value_or(0);
-  k.Kre_N_per_mm = a.kre.value_or(0);
-  k.Kae_N_per_mm = a.kae.value_or(0);
-  return k;
-}
 
 std::optional<std::string> shape_code(const fo::Cutter& c, const fo::Coefficients& k, double ae,
                                       double ap, bool down) {
@@ -149,21 +124,13 @@ void json_vec(std::ostream& out, const fo::Vec3& v) {
 int cmd_forces(const std::vector<std::string>& args, Io& io) {
   ForcesArgs a;
   po::options_description desc("options");
-  auto opt_double = [](std::optional<double>& dst) {
-    return po::value<double>()->notifier([&dst](double v) { dst = v; });
-  };
   desc.add_options()
       ("help,h", po::bool_switch(&a.help), "show this help")
       ("tool-file", po::value(&a.tool_file), "tool library (YAML, tools: {ID: {...}})")
       ("tool", po::value(&a.tool), "tool ID in the library")
-      ("material", po::value(&a.material), "material name or alias in the material library")
-      ("material-file", po::value(&a.material_file), "material library (default samples/materials.yaml)")
-      ("kt", opt_double(a.kt), "K_tc, tangential cutting coefficient, N/mm^2")
-      ("kr", opt_double(a.kr), "K_rc, radial cutting coefficient, N/mm^2")
-      ("ka", opt_double(a.ka), "K_ac, axial cutting coefficient, N/mm^2")
-      ("kte", opt_double(a.kte), "K_te, tangential edge coefficient, N/mm (default 0)")
-      ("kre", opt_double(a.kre), "K_re, radial edge coefficient, N/mm (default 0)")
-      ("kae", opt_double(a.kae), "K_ae, axial edge coefficient, N/mm (default 0)")
+      ;
+  add_material_options(desc, a.mat);
+  desc.add_options()
       ("ae", po::value(&a.ae), "radial depth of cut a_e, mm, from the cutting side (>= D: slot)")
       ("ap", po::value(&a.ap), "axial depth of cut a_p above the tool tip, mm")
       ("fz", po::value(&a.fz), "feed per tooth f_z, mm")
@@ -192,7 +159,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   require_positive("dz", a.dz);
   if (a.steps < 4 || a.steps > 1000000) throw Error(Exit::usage, "--steps must be between 4 and 1000000");
 
-  const fo::Coefficients k = coefficients_of(a, vm);
+  const fo::Coefficients k = coefficients_of(a.mat);
   const fo::Cutter cutter = fo::read_cutter(a.tool_file, a.tool);
   if (a.ap > cutter.flute_length_mm)
     throw Error(Exit::usage, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +

@@ -1,6 +1,9 @@
 #include "common.hpp"
 
+#include <filesystem>
 #include <ostream>
+
+#include "deflex/force/material.hpp"
 
 namespace deflex::cli {
 
@@ -51,6 +54,49 @@ void parse_with_files(const std::vector<std::string>& args, const po::options_de
   po::positional_options_description pos;
   pos.add("file", max_files);
   parse(args, all, pos);
+}
+
+void add_material_options(po::options_description& d, MaterialOptions& m) {
+  auto opt = [](std::optional<double>& dst) {
+    return po::value<double>()->notifier([&dst](double v) { dst = v; });
+  };
+  d.add_options()
+      ("material", po::value(&m.material), "material name or alias in the material library")
+      ("material-file", po::value(&m.material_file), "material library (default samples/materials.yaml)")
+      ("kt", opt(m.kt), "K_tc, tangential cutting coefficient, N/mm^2")
+      ("kr", opt(m.kr), "K_rc, radial cutting coefficient, N/mm^2")
+      ("ka", opt(m.ka), "K_ac, axial cutting coefficient, N/mm^2")
+      ("kte", opt(m.kte), "K_te, tangential edge coefficient, N/mm (default 0)")
+      ("kre", opt(m.kre), "K_re, radial edge coefficient, N/mm (default 0)")
+      ("kae", opt(m.kae), "K_ae, axial edge coefficient, N/mm (default 0)");
+}
+
+std::string default_library(const char* rel) {
+  if (std::filesystem::exists(rel)) return rel;
+  return std::string(DEFLEX_SOURCE_DIR) + "/" + rel;
+}
+
+force::Coefficients coefficients_of(const MaterialOptions& a, const std::string& fallback_material) {
+  const bool by_k = a.kt || a.kr || a.ka;
+  const bool edge = a.kte || a.kre || a.kae;
+  if (!a.material.empty() && (by_k || edge))
+    throw Error(Exit::usage, "give either --material or --kt/--kr/--ka, not both");
+  const std::string material = !a.material.empty() ? a.material : by_k ? std::string() : fallback_material;
+  if (material.empty() && !by_k) throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
+  if (!material.empty()) {
+    const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml") : a.material_file;
+    return force::find_material(force::load_material_library(file), material).k;
+  }
+  if (!a.material_file.empty()) throw Error(Exit::usage, "--material-file needs --material");
+  if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
+  force::Coefficients k;
+  k.Ktc_N_per_mm2 = *a.kt;
+  k.Krc_N_per_mm2 = *a.kr;
+  k.Kac_N_per_mm2 = *a.ka;
+  k.Kte_N_per_mm = a.kte.value_or(0);
+  k.Kre_N_per_mm = a.kre.value_or(0);
+  k.Kae_N_per_mm = a.kae.value_or(0);
+  return k;
 }
 
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,

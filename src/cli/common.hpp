@@ -9,6 +9,7 @@
 
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/force/coefficients.hpp"
 #include "deflex/gcode/program.hpp"
 #include "deflex/interp/interpreter.hpp"
 #include "deflex/profile/profile.hpp"
@@ -47,6 +48,19 @@ Setup resolve(const ReadOptions& r);
 // Parses args against `desc` with `pos` positionals; throws Error(usage).
 po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
                         const po::positional_options_description& pos);
+
+// Work-material options shared by forces, compensate and simulate:
+// --material M [--material-file F] or --kt --kr --ka [--kte --kre --kae].
+struct MaterialOptions {
+  std::string material, material_file;
+  std::optional<double> kt, kr, ka, kte, kre, kae;
+};
+void add_material_options(po::options_description& d, MaterialOptions& m);
+// The coefficients the options name; `fallback_material` (e.g. from config.yaml)
+// is used when neither a material nor coefficients are given. Throws Error(usage/config).
+force::Coefficients coefficients_of(const MaterialOptions& m, const std::string& fallback_material = "");
+// A library file given relative to the source tree (samples/...), for defaults.
+std::string default_library(const char* rel);
 
 // Parses args whose positional words are program files (up to max_files of
 // them) into `files`; the named options go to `desc`. Throws Error(usage).

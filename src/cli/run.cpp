@@ -17,6 +17,8 @@ struct Command {
 };
 
 const Command kCommands[] = {
+  {"compensate", cmd_compensate, "move cutting points so the deflected tool lands on the programmed surface"},
+  {"simulate", cmd_simulate, "predict the surface error of a program (optionally against a reference)"},
   {"path", cmd_path, "print the tool path: one line per motion, end point in mm (work frame)"},
   {"check", cmd_check, "report every diagnostic of a program and check travel limits"},
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
@@ -32,7 +34,7 @@ void top_help(std::ostream& out) {
          "commands:\n";
   for (const Command& c : kCommands) {
     out << "  " << c.name;
-    for (std::size_t i = std::strlen(c.name); i < 11; ++i) out << ' ';
+    for (std::size_t i = std::strlen(c.name); i < 12; ++i) out << ' ';
     out << c.summary << "\n";
   }
   out << "\nA FILE of '-' is standard input; programs go to standard output unless -o is\n"

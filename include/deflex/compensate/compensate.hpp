@@ -1,0 +1,106 @@
+// Deflection simulation and mirror compensation over a whole program.
+//
+// Per cutting CL point (engage::Simulator: the stock as cut so far):
+//   engagement -> mean cutting force over a revolution (force::revolution_forces,
+//   feed frame -> machine axes) -> deflection delta = C(h) F of tool + holder +
+//   spindle + machine (stiffness::ComplianceTable), h the height along the
+//   flutes where the engaged edge length is centred -> surface error
+//   e = delta . n, n the outward normal of the surface being generated.
+//
+// Surface normal, from the tool geometry and the local path (no part model):
+//   - flat or bull-nose end cutting with its flank (a_p above the corner, a_e
+//     below D): the wall, horizontal, on the side the engaged edge cuts
+//     (Morelli 2021: down-milling leaves the wall on the -Y' side);
+//   - otherwise (ball ends, floors): perpendicular to the direction of travel in
+//     its vertical plane, upward. The slope across the feed direction is not
+//     seen from the path alone: a documented limit.
+// e > 0: the tool stands off the surface (material left); e < 0: it digs in.
+//
+// Mirror method (Smaoui 2011 §4): P_comp = P_nom - gain e(P_comp) n, a fixed
+// point found by simulating the whole program again at the compensated points
+// (the engagement, and so the force, changes with the path) until no offset
+// changes by more than 1% of the tolerance, or max_iterations.
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deflex/force/coefficients.hpp"
+#include "deflex/interp/motion.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stiffness/tool.hpp"
+#include "deflex/stock/zmap.hpp"
+
+namespace deflex::compensate {
+
+using V3 = Eigen::Vector3d;
+
+struct Settings {
+  double tolerance_mm = 0.01;   // |e| within it: the point stays as programmed
+  double gain = 1.0;            // mirror gain
+  int max_iterations = 8;
+  double max_offset_mm = 0.1;   // cap of |offset| (machine profile)
+  double max_step_mm = 0.02;    // largest change of offset from one point to the next
+  double cl_spacing_mm = 0.5;   // CL samples along long moves and arcs
+  double slice_mm = 0.2;        // axial slice height of the force model
+  int force_steps = 90;         // angular steps per revolution
+  int threads = 0;              // 0: all cores
+  std::string tool_override;    // use this tool whatever the T words say
+};
+
+// What does not change with the path: tools, machine, material, stock.
+struct Physics {
+  stiffness::ToolLibrary tools;
+  stiffness::MachineStiffness machine;
+  bool tool_only = false;       // no holder/spindle/structure in C(h)
+  force::Coefficients k;
+  const stock::ZMap* stock = nullptr;  // initial stock; copied per simulation
+};
+
+// One CL sample of one simulation.
+struct Point {
+  std::uint32_t line = 0;
+  std::uint32_t motion = 0;     // index into the motion list
+  int index = 0, count = 0;     // sample index within the motion (count: its end)
+  V3 tip_mm = V3::Zero();       // commanded tool tip (with the offsets applied)
+  double ap_mm = 0, ae_mm = 0;
+  bool air = true, plunge = false;
+  V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
+  double height_mm = 0;         // where along the flutes the force acts
+  V3 delta_mm = V3::Zero();     // deflection of the tool at that height
+  V3 normal = V3::UnitZ();      // outward normal of the surface being generated
+  double error_mm = 0;          // delta . normal
+};
+
+using Progress = std::function<void(const std::string& stage, double fraction)>;
+
+// Runs the motions through the stock, each motion end displaced by offsets[i]
+// (empty: none), and returns every CL sample of the cutting moves (rapids are
+// cut into the stock but not reported).
+std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
+                            const Physics& ph, const Settings& s, const Progress& progress = {});
+
+struct Result {
+  std::vector<V3> offsets;            // per motion, mm (zero where not compensated)
+  std::vector<Point> nominal;         // the program as written
+  std::vector<Point> final;           // at the compensated points (last iteration)
+  int iterations = 0;
+  double last_change_mm = 0;          // largest offset change in the last iteration
+  bool converged = false;
+  std::vector<std::uint32_t> capped_lines;    // lines where max_offset_mm bit
+  std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs
+  std::size_t compensated_points = 0;
+};
+
+Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
+                  const Progress& progress = {});
+
+// Which motions may be moved: compensable, and followed by a block the writer
+// can re-target (a plain G90 G0-G3 block) or by nothing.
+std::vector<bool> movable(const std::vector<interp::Motion>& motions);
+
+}  // namespace deflex::compensate

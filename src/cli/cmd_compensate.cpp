@@ -1,0 +1,343 @@
+// deflex compensate | simulate: the product. Read a program, simulate the cut
+// on the stock, predict where the deflected tool lands, and (compensate) move
+// the cutting points by the mirror method and write the program back.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "common.hpp"
+#include "deflex/compensate/apply.hpp"
+#include "deflex/compensate/compensate.hpp"
+#include "deflex/engage/path.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stock/build.hpp"
+#include "deflex/writer/writer.hpp"
+
+namespace deflex::cli {
+namespace {
+namespace fs = std::filesystem;
+using compensate::V3;
+
+struct Args {
+  ReadOptions read;
+  MaterialOptions mat;
+  std::string file, output, reference, tool_file, tool, stock, report;
+  std::optional<double> tolerance, gain;
+  double cell_mm = 0.05, cl_spacing_mm = 0.5;
+  int max_iterations = 8, threads = 0;
+  bool tool_only = false, help = false;
+};
+
+void describe(po::options_description& d, Args& a, bool compensating) {
+  auto opt = [](std::optional<double>& dst) { return po::value<double>()->notifier([&dst](double v) { dst = v; }); };
+  d.add_options()("help,h", po::bool_switch(&a.help), "show this help");
+  if (compensating) d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout");
+  else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
+  d.add_options()
+      ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else samples/tools.yaml)")
+      ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
+      ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
+      ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
+      ("report", po::value(&a.report), "write points.csv (one row per CL point) and summary.json into this folder")
+      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
+      ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
+      ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror fixed-point iterations at most")
+      ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
+      ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
+  add_material_options(d, a.mat);
+  add_read_options(d, a.read);
+}
+
+std::string config_string(const profile::Config& c, const char* key) {
+  if (c.root && c.root[key] && c.root[key].IsScalar()) return c.root[key].as<std::string>();
+  return {};
+}
+double config_number(const profile::Config& c, const char* key, double dflt) {
+  if (c.root && c.root[key]) return profile::get_number(c.root, c.file, key);
+  return dflt;
+}
+
+struct Job {
+  Setup setup;
+  gcode::Program prog;
+  std::vector<interp::Motion> motions;
+  compensate::Physics physics;
+  compensate::Settings settings;
+  std::unique_ptr<stock::ZMap> stock;
+};
+
+struct Collect : interp::MotionSink {
+  std::vector<interp::Motion>* out;
+  void motion(const interp::Motion& m) override { out->push_back(m); }
+};
+
+// Reads the program and everything the physics needs; throws on any error.
+Job prepare(Args& a, Io& io, bool compensating) {
+  Setup s = resolve(a.read);
+  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}};
+  const profile::Config& cfg = j.setup.config;
+  Diagnostics diags(&io.err, j.setup.max_errors);
+  Collect c;
+  c.out = &j.motions;
+  interp::interpret(j.prog, j.setup.interp(), diags, c);
+  if (diags.errors())
+    throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
+                                 (compensating ? "nothing compensated, nothing written" : "not simulated"));
+  std::string tool_file = !a.tool_file.empty() ? a.tool_file : config_string(cfg, "tool_file");
+  if (tool_file.empty()) tool_file = default_library("samples/tools.yaml");
+  j.physics.tools = stiffness::load_tool_library(tool_file);
+  j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
+  j.physics.tool_only = a.tool_only;
+  MaterialOptions mat = a.mat;
+  if (mat.material_file.empty()) mat.material_file = config_string(cfg, "material_file");
+  j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
+  std::string stock = !a.stock.empty() ? a.stock : config_string(cfg, "stock");
+  if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
+  stock::SolidOptions so;
+  so.cell_mm = a.cell_mm;
+  j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
+  j.physics.stock = j.stock.get();
+  compensate::Settings& st = j.settings;
+  st.tolerance_mm = a.tolerance ? *a.tolerance : config_number(cfg, "tolerance_mm", 0.01);
+  st.gain = a.gain ? *a.gain : config_number(cfg, "gain", 1.0);
+  st.max_offset_mm = j.setup.machine->max_offset_mm;
+  st.cl_spacing_mm = a.cl_spacing_mm;
+  st.max_iterations = a.max_iterations;
+  st.threads = a.threads;
+  st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
+  if (!(st.tolerance_mm > 0)) throw Error(Exit::usage, "--tolerance must be > 0 mm");
+  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
+  if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
+  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
+  return j;
+}
+
+compensate::Progress progress_for(Io& io) {
+  if (!io.err_is_terminal) return {};
+  return [&io](const std::string& stage, double f) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "\r\033[Kdeflex: %s %3.0f%%", stage.c_str(), 100.0 * f);
+    io.err << buf << std::flush;
+  };
+}
+
+// Offset commanded at a CL sample: between the offsets of the motion's start
+// (the motion before) and its end, by the sample's position along it.
+V3 offset_at(const compensate::Point& p, const std::vector<V3>& offsets) {
+  if (offsets.empty()) return V3::Zero();
+  const V3 end = offsets[p.motion], start = p.motion ? offsets[p.motion - 1] : V3(V3::Zero());
+  const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
+  return start + u * (end - start);
+}
+
+struct Stats {
+  double max_abs = 0, rms = 0, share_out = 0, max_under = 0, max_over = 0;
+  std::size_t points = 0, cutting = 0;
+};
+Stats stats_of(const std::vector<double>& e, double tol) {
+  Stats s;
+  double sq = 0;
+  std::size_t out = 0;
+  for (double v : e) {
+    s.max_abs = std::max(s.max_abs, std::fabs(v));
+    s.max_under = std::max(s.max_under, v);
+    s.max_over = std::min(s.max_over, v);
+    sq += v * v;
+    out += std::fabs(v) > tol;
+  }
+  s.points = e.size();
+  s.rms = e.empty() ? 0 : std::sqrt(sq / static_cast<double>(e.size()));
+  s.share_out = e.empty() ? 0 : static_cast<double>(out) / static_cast<double>(e.size());
+  return s;
+}
+
+std::string stats_json(const Stats& s) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "{\"max\": %.6f, \"rms\": %.6f, \"out_of_tolerance_share\": %.6f, \"max_undercut\": %.6f, \"max_overcut\": %.6f}",
+                s.max_abs, s.rms, s.share_out, s.max_under, s.max_over);
+  return buf;
+}
+
+// Per CL point: the surface error relative to the path the programmer meant.
+// `landing` = commanded tip + deflection; `intent` = the reference point.
+std::vector<double> errors_against(const std::vector<compensate::Point>& pts, const std::vector<V3>& intent_offsets) {
+  std::vector<double> e;
+  e.reserve(pts.size());
+  for (const auto& p : pts) {
+    if (p.air || p.plunge) continue;
+    // Landing point minus the intended point = offset + delta (the intended
+    // point is the commanded one minus the offset deflex applied).
+    e.push_back((offset_at(p, intent_offsets) + p.delta_mm).dot(p.normal));
+  }
+  return e;
+}
+
+void write_report(const std::string& dir, const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets,
+                  const std::string& summary_json) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+  writer::write_file_atomically((fs::path(dir) / "points.csv").string(), "", [&](std::ostream& o) {
+    o << "line,x_mm,y_mm,z_mm,ap_mm,ae_mm,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,dz_mm,surface_error_mm,offset_mm\n";
+    char buf[400];
+    for (const auto& p : pts) {
+      if (p.air) continue;
+      const V3 off = offset_at(p, offsets);
+      const double err = (off + p.delta_mm).dot(p.normal);
+      std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.line,
+                    p.tip_mm.x(), p.tip_mm.y(), p.tip_mm.z(), p.ap_mm, p.ae_mm, p.force_N.x(), p.force_N.y(),
+                    p.force_N.z(), p.delta_mm.x(), p.delta_mm.y(), p.delta_mm.z(), err, off.dot(p.normal));
+      o << buf;
+    }
+  });
+  writer::write_file_atomically((fs::path(dir) / "summary.json").string(), "",
+                                [&](std::ostream& o) { o << summary_json << "\n"; });
+}
+
+const char* kCompensateHelp =
+    "Simulates the cut of the program on the stock - engagement of the cutter in the\n"
+    "material as cut so far, mean cutting force over a revolution, deflection of tool,\n"
+    "holder, spindle and machine C(h)F - and moves each cutting point by the mirror\n"
+    "method (P_comp = P_nom - gain e n, iterated to a fixed point) so that the deflected\n"
+    "tool lands on the programmed surface. Only the X/Y/Z numbers of cutting blocks\n"
+    "change (an axis word is added where a modal value would carry an offset into the\n"
+    "next block); rapids, canned cycles, subprograms, G91 and G41/G42 moves, and points\n"
+    "predicted inside +-tolerance stay as programmed. Offsets are capped at the machine\n"
+    "profile's max_offset_mm. The written program is read back and checked against the\n"
+    "original before anything is written; with --gain 0 the output is the input.\n"
+    "The surface normal comes from the tool and the local path: the wall for a flat\n"
+    "or bull-nose flank, else the normal to the travel in its vertical plane.\n";
+
+void summary_line(Io& io, const char* what, const Stats& s, double tol) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "  %-28s max %.4f mm, rms %.4f mm, %.1f%% of %zu points outside +-%.4f mm\n", what,
+                s.max_abs, s.rms, 100.0 * s.share_out, s.points, tol);
+  io.err << buf;
+}
+
+}  // namespace
+
+int cmd_compensate(const std::vector<std::string>& args, Io& io) {
+  Args a;
+  po::options_description desc("options");
+  describe(desc, a, true);
+  std::vector<std::string> files;
+  parse_with_files(args, desc, files, 1);
+  if (a.help) {
+    print_help(io.out,
+               "deflex compensate IN [-o OUT] [--machine M] [--tool-file F] [--tool ID] [--material M | --kt K --kr K "
+               "--ka K [--kte K --kre K --kae K]] [--stock box:X0,Y0,Z0,X1,Y1,Z1 | --stock FILE] [--tolerance MM] "
+               "[--gain G] [--report DIR]",
+               kCompensateHelp, desc);
+    return 0;
+  }
+  if (files.empty()) throw Error(Exit::usage, "compensate: a program IN (or - for stdin) is required");
+  a.file = files[0];
+  Job j = prepare(a, io, true);
+  auto progress = progress_for(io);
+  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress);
+  if (progress) io.err << "\r\033[K";
+  std::vector<bool> can = compensate::movable(j.motions);
+  compensate::WriteStats ws;
+  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, j.motions, r.offsets, &ws);
+  compensate::safety_check(j.prog, j.motions, text, j.setup.interp(), can, j.settings.max_offset_mm);
+  if (!r.capped_lines.empty()) {
+    std::string lines;
+    for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
+    if (r.capped_lines.size() > 12) lines += ", ...";
+    io.err << j.prog.source().name() << ": warning: the offset was capped at max_offset_mm = " << j.settings.max_offset_mm
+           << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
+  }
+  for (std::uint32_t l : r.nonuniform_arcs)
+    io.err << j.prog.source().name() << ":" << l
+           << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
+  if (!r.converged)
+    io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
+           << " iterations (last change " << r.last_change_mm << " mm)\n";
+  const double tol = j.settings.tolerance_mm;
+  Stats before = stats_of(errors_against(r.nominal, {}), tol);
+  Stats after = stats_of(errors_against(r.final, r.offsets), tol);
+  io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
+         << " numbers changed, " << ws.words_inserted << " axis words added; " << r.iterations << " iterations"
+         << (r.converged ? "" : " (not converged)") << "\n";
+  summary_line(io, "predicted error, as written:", before, tol);
+  summary_line(io, "predicted error, compensated:", after, tol);
+  if (!a.report.empty()) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"converged\": %s, \"compensated_points\": %zu",
+                  tol, r.iterations, r.converged ? "true" : "false", r.compensated_points);
+    std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
+                     stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
+    write_report(a.report, r.final, r.offsets, js);
+  }
+  if (a.output.empty() || a.output == "-") io.out << text;
+  else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });
+  return 0;
+}
+
+int cmd_simulate(const std::vector<std::string>& args, Io& io) {
+  Args a;
+  po::options_description desc("options");
+  describe(desc, a, false);
+  std::vector<std::string> files;
+  parse_with_files(args, desc, files, 1);
+  if (a.help) {
+    print_help(io.out,
+               "deflex simulate IN [--reference ORIGINAL] [--report DIR] (options as deflex compensate)",
+               "Predicts the surface error of a program without changing it: where the deflected\n"
+               "tool lands against the programmed path, or with --reference, against the path of\n"
+               "another program with the same blocks (the design intent): that is how a\n"
+               "compensated program is judged. A summary goes to stdout; --report DIR writes\n"
+               "points.csv and summary.json.\n",
+               desc);
+    return 0;
+  }
+  if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
+  a.file = files[0];
+  Job j = prepare(a, io, false);
+  // With a reference, the offset of each motion is how far this program's
+  // end point lies from the reference's: the design intent is the reference.
+  std::vector<V3> intent;
+  if (!a.reference.empty()) {
+    gcode::Program ref(gcode::read_source(a.reference, &io.in));
+    Diagnostics diags(&io.err, j.setup.max_errors);
+    std::vector<interp::Motion> rm;
+    Collect c;
+    c.out = &rm;
+    interp::interpret(ref, j.setup.interp(), diags, c);
+    if (diags.errors()) throw Error(Exit::input, a.reference + ": error: the reference program has errors");
+    if (rm.size() != j.motions.size())
+      throw Error(Exit::input, a.reference + ": error: the reference has " + std::to_string(rm.size()) +
+                                   " motions, the program " + std::to_string(j.motions.size()) + ": not the same blocks");
+    intent.resize(rm.size());
+    for (std::size_t i = 0; i < rm.size(); ++i)
+      for (int k = 0; k < 3; ++k) intent[i][k] = j.motions[i].end_mm[k] - rm[i].end_mm[k];
+  }
+  auto progress = progress_for(io);
+  std::vector<compensate::Point> pts = compensate::simulate(j.motions, {}, j.physics, j.settings, progress);
+  if (progress) io.err << "\r\033[K";
+  const double tol = j.settings.tolerance_mm;
+  Stats st = stats_of(errors_against(pts, intent), tol);
+  char buf[300];
+  std::snprintf(buf, sizeof buf,
+                "%s: %zu CL points%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "
+                "(undercut up to %.4f, overcut up to %.4f mm)\n",
+                j.prog.source().name().c_str(), st.points, a.reference.empty() ? "" : " against the reference",
+                st.max_abs, st.rms, 100.0 * st.share_out, tol, st.max_under, -st.max_over);
+  io.out << buf;
+  if (!a.report.empty()) {
+    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"reference\": %s", tol,
+                  a.reference.empty() ? "null" : ("\"" + a.reference + "\"").c_str());
+    std::string js = "{\"surface_error_mm\": " + stats_json(st) + ", \"cl_points\": " + std::to_string(st.points) + buf + "}";
+    write_report(a.report, pts, intent, js);
+  }
+  return 0;
+}
+
+}  // namespace deflex::cli

@@ -1,0 +1,294 @@
+#include "deflex/compensate/compensate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/engage/engagement.hpp"
+#include "deflex/engage/simulator.hpp"
+#include "deflex/force/cutter.hpp"
+#include "deflex/force/mechanistic.hpp"
+#include "deflex/stiffness/beam.hpp"
+
+namespace deflex::compensate {
+namespace {
+
+// A copy of a Z-map through its public tile interface (a simulation cuts its
+// own copy of the initial stock).
+stock::ZMap clone(const stock::ZMap& z) {
+  stock::ZMap c(z.grid(), stock::no_material, z.base_z_mm());
+  const int T = stock::ZMap::tile_cells;
+  std::vector<float> cells(static_cast<std::size_t>(T) * T);
+  for (std::size_t ty = 0; ty < z.tiles_y(); ++ty)
+    for (std::size_t tx = 0; tx < z.tiles_x(); ++tx) {
+      for (int j = 0; j < T; ++j)
+        for (int i = 0; i < T; ++i) {
+          const int gi = static_cast<int>(tx) * T + i, gj = static_cast<int>(ty) * T + j;
+          cells[static_cast<std::size_t>(j) * T + i] = z.inside(gi, gj) ? z.at(gi, gj) : stock::no_material;
+        }
+      c.assign_tile(tx, ty, cells.data());
+    }
+  return c;
+}
+
+force::Cutter cutter_of(const stiffness::Tool& t) {
+  force::Cutter c;
+  c.type = t.type == stiffness::ToolType::ball ? force::CutterType::ball
+           : t.type == stiffness::ToolType::bull ? force::CutterType::bull
+                                                 : force::CutterType::flat;
+  c.diameter_mm = t.diameter_mm;
+  c.corner_radius_mm = c.type == force::CutterType::bull ? t.corner_radius_mm : 0.0;
+  c.flutes = t.flutes;
+  c.helix_deg = t.helix_deg;
+  c.flute_length_mm = t.flute_length_mm;
+  return c;
+}
+
+// Everything about one tool that the simulation needs, built once.
+struct ToolModel {
+  stiffness::Tool tool;
+  force::CutterSlices slices;
+  stiffness::ComplianceTable compliance;
+  force::AngleGrid grid;
+};
+
+const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::string& id, const Physics& ph,
+                           const Settings& s) {
+  auto it = cache.find(id);
+  if (it != cache.end()) return it->second;
+  ToolModel m;
+  m.tool = stiffness::find_tool(ph.tools, id);
+  force::Cutter c = cutter_of(m.tool);
+  force::validate(c);
+  m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
+  m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
+  // Steps a multiple of the flute count: the force model then computes one
+  // tooth pitch and repeats it.
+  int steps = std::max(s.force_steps / c.flutes, 4) * c.flutes;
+  m.grid = force::make_angle_grid(steps);
+  return cache.emplace(id, std::move(m)).first->second;
+}
+
+std::string tool_id(const interp::Motion& m, const Settings& s) {
+  return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(m.tool);
+}
+
+// The outward normal of the surface generated at a CL point (see compensate.hpp).
+V3 surface_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t) {
+  const auto& p = cl.point;
+  const V3 xf(p.feed_x, p.feed_y, 0.0), yf(-p.feed_y, p.feed_x, 0.0);
+  const bool flank = t.type != stiffness::ToolType::ball &&
+                     mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) && mt.ae_mm < 0.95 * t.diameter_mm;
+  if (flank) return mt.up_share > 0.5 ? V3(-yf) : yf;  // wall on the side that cuts
+  V3 dir(p.dir[0], p.dir[1], p.dir[2]);
+  V3 n = V3::UnitZ() - dir.dot(V3::UnitZ()) * dir;
+  double len = n.norm();
+  (void)xf;
+  return len > 1e-9 ? V3(n / len) : V3::UnitZ();
+}
+
+}  // namespace
+
+std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
+                            const Physics& ph, const Settings& s, const Progress& progress) {
+  if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
+  stock::ZMap z = clone(*ph.stock);
+  std::map<std::string, ToolModel> models;
+  std::vector<Point> out;
+  out.reserve(motions.size() * 2);
+
+  const ToolModel* cur = nullptr;
+  std::unique_ptr<engage::Simulator> sim;
+  std::vector<force::Vec3> rev;
+  // The motions as the control will run them: each end moved by its offset,
+  // each start by the offset of the motion before (arcs are moved whole).
+  std::vector<interp::Motion> moved;
+  auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
+
+  // CLSample::motion counts the motions one Simulator has run; ran[] maps it
+  // back to the index in `motions` (rapids before the first cut are not run,
+  // and a tool change starts a new Simulator).
+  std::vector<std::size_t> ran;
+  auto sink = [&](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
+    if (cl.rapid) return;
+    const std::size_t gi = ran.at(cl.motion);
+    const interp::Motion& m = motions[gi];
+    Point p;
+    p.line = cl.line;
+    p.motion = static_cast<std::uint32_t>(gi);
+    p.index = cl.index;
+    p.count = cl.count;
+    p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
+    p.ap_mm = mt.ap_mm;
+    p.ae_mm = mt.ae_mm;
+    p.air = mt.air_cut || eng.empty();
+    p.plunge = mt.plunge;
+    p.normal = surface_normal(cl, mt, cur->tool);
+    if (!p.air && !p.plunge) {
+      const int flutes = cur->slices.cutter.flutes;
+      const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
+      if (rpm <= 0) throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no spindle speed (S) set");
+      const double fz = m.feed_mm_per_min / (rpm * flutes);
+      rev.resize(static_cast<std::size_t>(cur->grid.steps));
+      force::revolution_forces(cur->slices, cur->grid, ph.k, fz, eng, rev);
+      force::Vec3 f = force::summarize(rev).mean_N;
+      // Feed frame X' = feed, Y' = Z x X' -> machine axes.
+      const double fx = cl.point.feed_x, fy = cl.point.feed_y;
+      p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
+      // Height of the resultant: centre of the engaged edge length along the flutes.
+      double wz = 0, w = 0;
+      for (std::size_t i = 0; i < eng.slices.size(); ++i) {
+        double ang = 0;
+        for (const auto& iv : eng.slices[i]) ang += iv.end - iv.start;
+        const double wi = ang * cur->slices.slices[i].width_mm;
+        wz += wi * cur->slices.slices[i].z_mm;
+        w += wi;
+      }
+      p.height_mm = w > 0 ? wz / w : 0.0;
+      p.delta_mm = cur->compliance.at(p.height_mm) * p.force_N;
+      p.error_mm = p.delta_mm.dot(p.normal);
+    }
+    out.push_back(p);
+  };
+
+  engage::SimOptions so;
+  so.path.cl_spacing_mm = s.cl_spacing_mm;
+  so.threads = s.threads;
+  std::string cur_id;
+  const std::size_t n = motions.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    interp::Motion m = motions[i];
+    const V3 o = offset(i), o_prev = i ? offset(i - 1) : V3(V3::Zero());
+    for (int a = 0; a < 3; ++a) {
+      m.start_mm[a] += o_prev[a];
+      m.end_mm[a] += o[a];
+      m.center_mm[a] += o[a];
+    }
+    if (m.kind != interp::MotionKind::rapid || sim) {
+      const std::string id = tool_id(m, s);
+      if (m.kind != interp::MotionKind::rapid && id != cur_id) {
+        if (sim) sim->finish();
+        if (m.tool == 0 && s.tool_override.empty())
+          throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give --tool");
+        cur = &model_for(models, id, ph, s);
+        engage::Process proc;
+        proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;
+        proc.fz_mm = m.feed_mm_per_min / (proc.spindle_rpm * cur->slices.cutter.flutes);
+        sim = std::make_unique<engage::Simulator>(z, cur->slices, proc, so, sink);
+        ran.clear();
+        cur_id = id;
+      }
+      ran.push_back(i);
+      sim->run(m);
+    }
+    if (progress && (i % 4096 == 0)) progress("simulating", static_cast<double>(i) / static_cast<double>(n));
+  }
+  if (sim) sim->finish();
+  return out;
+}
+
+std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
+  const std::size_t n = motions.size();
+  std::vector<bool> ok(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    const interp::Motion& m = motions[i];
+    if (!m.compensable() || !m.plain) continue;
+    // The block after a moved point starts from it: the writer re-targets a
+    // plain block by its words, but a canned cycle, G28/G30/G53, an M98 call or
+    // a G91 move would carry the offset along. Such a point stays as programmed.
+    if (i + 1 < n && !motions[i + 1].plain) continue;
+    ok[i] = true;
+  }
+  return ok;
+}
+
+Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
+                  const Progress& progress) {
+  const std::size_t n = motions.size();
+  Result r;
+  r.offsets.assign(n, V3::Zero());
+  std::vector<bool> can = movable(motions);
+  if (s.gain == 0.0) {
+    r.nominal = simulate(motions, {}, ph, s, progress);
+    r.final = r.nominal;
+    r.converged = true;
+    return r;
+  }
+  r.nominal = simulate(motions, {}, ph, s, progress);
+  // End-point error per motion (the CL sample that is the motion's end).
+  auto end_errors = [&](const std::vector<Point>& pts, std::vector<V3>& err_vec, std::vector<bool>& has) {
+    err_vec.assign(n, V3::Zero());
+    has.assign(n, false);
+    for (const Point& p : pts)
+      if (p.index == p.count && !p.air && !p.plunge) {
+        err_vec[p.motion] = p.error_mm * p.normal;
+        has[p.motion] = true;
+      }
+  };
+  std::vector<V3> e0;
+  std::vector<bool> has0;
+  end_errors(r.nominal, e0, has0);
+  // Points inside the tolerance band stay as programmed (decided on the program as written).
+  std::vector<bool> active(n, false);
+  for (std::size_t i = 0; i < n; ++i) active[i] = can[i] && has0[i] && e0[i].norm() > s.tolerance_mm;
+
+  std::vector<V3> e = e0;
+  std::vector<bool> has = has0;
+  std::vector<bool> capped(n, false);
+  for (int it = 1; it <= s.max_iterations; ++it) {
+    std::vector<V3> next(n, V3::Zero());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!active[i] || !has[i]) continue;
+      // Mirror (Smaoui 2011 §4): reflect the deflected point through the nominal one.
+      next[i] = -s.gain * e[i];
+    }
+    // Arcs move whole: their end takes the offset of their start (the motion
+    // before), so the centre, given from the start, moves with them.
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto k = motions[i].kind;
+      if (k != interp::MotionKind::arc_cw && k != interp::MotionKind::arc_ccw) continue;
+      V3 start = i ? next[i - 1] : V3(V3::Zero());
+      if (!can[i]) continue;
+      if ((next[i] - start).norm() > s.tolerance_mm && it == s.max_iterations)
+        r.nonuniform_arcs.push_back(motions[i].line);
+      next[i] = start;
+    }
+    // Cap, then bound the change between neighbouring points (no jerk).
+    for (std::size_t i = 0; i < n; ++i) {
+      double len = next[i].norm();
+      if (len > s.max_offset_mm) {
+        next[i] *= s.max_offset_mm / len;
+        capped[i] = true;
+      }
+    }
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t k = 1; k < n; ++k) {
+        std::size_t i = pass == 0 ? k : n - 1 - k, j = pass == 0 ? k - 1 : n - k;
+        if (!can[i] || !can[j]) continue;
+        V3 d = next[i] - next[j];
+        double len = d.norm();
+        if (len > s.max_step_mm) next[i] = next[j] + d * (s.max_step_mm / len);
+      }
+    double change = 0;
+    for (std::size_t i = 0; i < n; ++i) change = std::max(change, (next[i] - r.offsets[i]).norm());
+    r.offsets = next;
+    r.iterations = it;
+    r.last_change_mm = change;
+    if (progress) progress("iteration " + std::to_string(it), 0.0);
+    r.final = simulate(motions, r.offsets, ph, s, progress);
+    if (change <= 0.01 * s.tolerance_mm) {
+      r.converged = true;
+      break;
+    }
+    // The deflection at the compensated points drives the next reflection.
+    end_errors(r.final, e, has);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (capped[i]) r.capped_lines.push_back(motions[i].line);
+    if (r.offsets[i].norm() > 0) ++r.compensated_points;
+  }
+  return r;
+}
+
+}  // namespace deflex::compensate
