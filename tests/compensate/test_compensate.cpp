@@ -1,0 +1,187 @@
+// Compensation: which points may move, how the program text changes, the
+// read-back safety check, and the physics of the mirror loop checked against
+// the force and stiffness modules used directly (an independent path through
+// the textbook engagement instead of the Z-map).
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "../support.hpp"
+#include "deflex/compensate/apply.hpp"
+#include "deflex/compensate/compensate.hpp"
+#include "deflex/force/engagement.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/force/mechanistic.hpp"
+#include "deflex/stiffness/beam.hpp"
+#include "deflex/stock/build.hpp"
+
+using namespace deflex;
+using compensate::V3;
+
+namespace {
+
+// Side milling of a wall along +X with the D10 flat end T1 of the sample
+// library: tool centre at Y = -3, stock from Y = 0: a_e = 2 mm, a_p = 10 mm,
+// material on the +Y side (up-milling with M3).
+const char* kWall =
+    "%\nO0001\nN1 G21 G90 G17 G40 G49 G80 G54\nN2 T1 M06\nN3 S8000 M03\nN4 G00 X-10. Y-3. Z5.\n"
+    "N5 G01 Z-10. F800.\nN6 X20.\nN7 X50.\nN8 X80.\nN9 X110.\nN10 G00 Z5.\nN11 M30\n%\n";
+const char* kWallStock = "box:0,0,-20,100,20,0";
+
+struct Fixture {
+  gcode::Program prog{SourceText("wall.nc", kWall)};
+  std::vector<interp::Motion> motions;
+  stock::ZMap stock = stock::make_stock(kWallStock, {});
+  compensate::Physics ph;
+  compensate::Settings s;
+  interp::Options opt;
+  Fixture() {
+    opt.dialect = profile::load_dialect("fanuc");
+    Diagnostics d(nullptr, 0);
+    test::Collect c;
+    c.out = &motions;
+    interp::interpret(prog, opt, d, c);
+    REQUIRE(d.errors() == 0);
+    ph.tools = stiffness::load_tool_library("samples/tools.yaml");
+    ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
+    ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "C35").k;
+    ph.stock = &stock;
+    s.tolerance_mm = 0.002;
+    s.threads = 1;
+  }
+};
+
+}  // namespace
+
+TEST_SUITE("compensate") {
+
+TEST_CASE("movable: cutting points only, and never before a block that cannot be re-targeted") {
+  auto r = test::interpret_text(
+      "G21 G90 G0 X0 Y0 Z5.\nG1 Z-1. F100 S1000\nX10.\nX20.\nG81 X30. Z-5. R1.\nG80\nG1 X40.\nG0 Z5.\n");
+  REQUIRE(r.errors == 0);
+  auto can = compensate::movable(r.motions);
+  REQUIRE(can.size() == r.motions.size());
+  CHECK_FALSE(can[0]);  // rapid
+  CHECK(can[1]);        // plunge end, followed by a plain G1
+  CHECK(can[2]);
+  CHECK_FALSE(can[3]);  // followed by a canned cycle: its XY and initial level would move
+  for (std::size_t i = 4; i < r.motions.size(); ++i)
+    if (r.motions[i].fixed == interp::Fixed::canned_cycle) CHECK_FALSE(can[i]);
+  CHECK(can[r.motions.size() - 2]);  // G1 X40 before a plain G0
+}
+
+TEST_CASE("apply_offsets: zero offsets give the input; a modal axis carries no offset into the next block") {
+  Fixture f;
+  std::vector<V3> zero(f.motions.size(), V3::Zero());
+  CHECK(compensate::apply_offsets(f.prog, f.opt.dialect, f.motions, zero) == kWall);
+  // Move the end of N6 (motion index 2) by +0.0123 in Y: N6 gets a Y word, and
+  // N7, which relies on the modal Y, gets its programmed Y back.
+  std::vector<V3> off = zero;
+  std::size_t i6 = 0;
+  while (f.motions[i6].line != 8) ++i6;
+  off[i6] = V3(0, 0.0123, 0);
+  compensate::WriteStats ws;
+  std::string out = compensate::apply_offsets(f.prog, f.opt.dialect, f.motions, off, &ws);
+  CHECK(out.find("N6 X20. Y-2.9877\n") != std::string::npos);
+  CHECK(out.find("N7 X50. Y-3.\n") != std::string::npos);
+  CHECK(ws.words_inserted == 2);
+  std::vector<bool> can(f.motions.size(), false);
+  can[i6] = true;
+  CHECK_NOTHROW(compensate::safety_check(f.prog, f.motions, out, f.opt, can, 0.1));
+  // The same text fails when that motion was not allowed to move, or beyond the cap.
+  std::vector<bool> none(f.motions.size(), false);
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, f.motions, out, f.opt, none, 0.1), Error);
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, f.motions, out, f.opt, can, 0.01), Error);
+}
+
+TEST_CASE("safety check: a change in anything but coordinates aborts") {
+  Fixture f;
+  std::vector<bool> can = compensate::movable(f.motions);
+  std::string t = kWall;
+  t.replace(t.find("F800."), 5, "F900.");
+  CHECK_THROWS_WITH_AS(compensate::safety_check(f.prog, f.motions, t, f.opt, can, 0.1),
+                       doctest::Contains("changed in more than its coordinate words"), Error);
+  std::string r = kWall;
+  r.replace(r.find("N10 G00 Z5."), 11, "N10 G00 Z6.");  // a rapid moved
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, f.motions, r, f.opt, can, 0.1), Error);
+}
+
+TEST_CASE("the deflection at a steady wall point equals C(h) F from the force and stiffness modules") {
+  Fixture f;
+  auto pts = compensate::simulate(f.motions, {}, f.ph, f.s);
+  // A point well inside the wall, on N7.
+  const compensate::Point* p = nullptr;
+  for (const auto& q : pts)
+    if (q.line == 9 && q.index == q.count / 2) p = &q;
+  REQUIRE(p != nullptr);
+  CHECK(p->ap_mm == doctest::Approx(10.0).epsilon(0.01));
+  CHECK(p->ae_mm == doctest::Approx(2.0).epsilon(0.01));
+  // Independent: the textbook engagement (a_e 2 on the +Y side, up-milling),
+  // the same slices and coefficients, f_z = 800 / (8000 * 4).
+  const auto& tool = stiffness::find_tool(f.ph.tools, "T1");
+  force::Cutter c;
+  c.type = force::CutterType::flat;
+  c.diameter_mm = tool.diameter_mm;
+  c.flutes = tool.flutes;
+  c.helix_deg = tool.helix_deg;
+  c.flute_length_mm = tool.flute_length_mm;
+  auto cs = force::make_slices(c, f.s.slice_mm, tool.flute_length_mm);
+  force::Engagement e;
+  force::simple_engagement(cs, 2.0, 10.0, force::MillingMode::up, e);
+  auto rev = force::revolution_forces(cs, f.ph.k, 800.0 / (8000.0 * 4), e, 360);
+  force::Vec3 F = force::summarize(rev).mean_N;
+  CHECK(p->force_N.x() == doctest::Approx(F.x()).epsilon(0.02));
+  CHECK(p->force_N.y() == doctest::Approx(F.y()).epsilon(0.02));
+  CHECK(p->force_N.z() == doctest::Approx(F.z()).epsilon(0.05));
+  // The force acts at mid depth of the engaged flank.
+  CHECK(p->height_mm == doctest::Approx(5.0).epsilon(0.02));
+  auto C = stiffness::beam_compliance(tool, f.ph.machine, false);
+  V3 delta = C.at(5.0) * V3(F.x(), F.y(), F.z());
+  CHECK((p->delta_mm - delta).norm() < 0.02 * delta.norm());
+  // Up-milling: the radial force pushes the tool off the wall (-Y) and the
+  // wall's normal points to -Y, so the error is an undercut (> 0).
+  CHECK(p->normal.y() == doctest::Approx(-1.0));
+  CHECK(p->error_mm > 0.0);
+  CHECK(p->error_mm == doctest::Approx(-delta.y()).epsilon(0.02));
+}
+
+TEST_CASE("gain 0 changes nothing: offsets zero, the program byte-identical") {
+  Fixture f;
+  f.s.gain = 0.0;
+  auto r = compensate::compensate(f.motions, f.ph, f.s);
+  for (const V3& o : r.offsets) CHECK(o.norm() == 0.0);
+  CHECK(compensate::apply_offsets(f.prog, f.opt.dialect, f.motions, r.offsets) == kWall);
+}
+
+TEST_CASE("mirror fixed point: the deflected tool lands on the programmed wall") {
+  Fixture f;
+  auto r = compensate::compensate(f.motions, f.ph, f.s);
+  CHECK(r.converged);
+  CHECK(r.compensated_points >= 2);
+  std::size_t checked = 0;
+  for (const auto& p : r.final) {
+    // End points of fully engaged moves: commanded offset + deflection at the
+    // compensated position is (nearly) zero along the normal.
+    if (p.index != p.count || p.air || p.ap_mm < 9.9 || r.offsets[p.motion].norm() == 0) continue;
+    const double residual = (r.offsets[p.motion] + p.delta_mm).dot(p.normal);
+    CHECK(std::fabs(residual) <= 0.01 * f.s.tolerance_mm + 1e-9);
+    // ...and the as-written error there was outside the tolerance.
+    ++checked;
+  }
+  CHECK(checked >= 2);
+  // Offsets point into the wall (+Y) and stay under the cap.
+  for (const V3& o : r.offsets) {
+    CHECK(o.norm() <= f.s.max_offset_mm + 1e-12);
+    CHECK(o.y() >= 0.0);
+  }
+  // A stiffer setup (tool only: no holder, spindle or machine) deflects less.
+  Fixture g;
+  g.ph.tool_only = true;
+  auto rg = compensate::compensate(g.motions, g.ph, g.s);
+  double a = 0, b = 0;
+  for (const V3& o : r.offsets) a = std::max(a, o.norm());
+  for (const V3& o : rg.offsets) b = std::max(b, o.norm());
+  CHECK(b < a);
+}
+
+}  // TEST_SUITE
