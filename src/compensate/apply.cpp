@@ -64,7 +64,9 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       if (!lexed) { prog.lex(m.line, b, quiet); lexed = true; }
       const gcode::Word* word = b.find(axes[a]);
       if (word) {
-        if (o[a] != 0.0) {
+        // Splice only when the number written changes (an offset below the
+        // last written digit leaves the programmer's text alone).
+        if (o[a] != 0.0 && written_mm(want, m.inch, d) != written_mm(m.end_mm[a], m.inch, d)) {
           w.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
           carried[a] = written_mm(want, m.inch, d);
           ++st.numbers_changed;
