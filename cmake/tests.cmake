@@ -1,5 +1,5 @@
 # CTest registration: the doctest suites one by one, so a failure names its module.
-set(DEFLEX_SUITES gcode interp writer profile cli diag stiffness force stock engage compensate)
+set(DEFLEX_SUITES gcode interp writer profile cli diag stiffness force stock engage compensate samples)
 foreach(suite ${DEFLEX_SUITES})
   add_test(NAME ${suite} COMMAND deflex_tests --test-suite=${suite} --no-version)
 endforeach()

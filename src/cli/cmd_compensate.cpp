@@ -1,6 +1,7 @@
 // deflex compensate | simulate: the product. Read a program, simulate the cut
 // on the stock, predict where the deflected tool lands, and (compensate) move
 // the cutting points by the mirror method and write the program back.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -55,6 +56,12 @@ std::string config_string(const profile::Config& c, const char* key) {
   if (c.root && c.root[key] && c.root[key].IsScalar()) return c.root[key].as<std::string>();
   return {};
 }
+// A file named in config.yaml is relative to the folder of config.yaml.
+std::string config_path(const profile::Config& c, const char* key) {
+  std::string v = config_string(c, key);
+  if (v.empty() || fs::path(v).is_absolute() || v.starts_with("box:")) return v;
+  return (fs::path(c.file).parent_path() / v).lexically_normal().string();
+}
 double config_number(const profile::Config& c, const char* key, double dflt) {
   if (c.root && c.root[key]) return profile::get_number(c.root, c.file, key);
   return dflt;
@@ -87,15 +94,16 @@ Job prepare(Args& a, Io& io, bool compensating) {
   if (diags.errors())
     throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
-  std::string tool_file = !a.tool_file.empty() ? a.tool_file : config_string(cfg, "tool_file");
+  std::string tool_file = !a.tool_file.empty() ? a.tool_file : config_path(cfg, "tool_file");
   if (tool_file.empty()) tool_file = default_library("samples/tools.yaml");
   j.physics.tools = stiffness::load_tool_library(tool_file);
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = a.tool_only;
   MaterialOptions mat = a.mat;
-  if (mat.material_file.empty()) mat.material_file = config_string(cfg, "material_file");
+  if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
+  else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
   j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
-  std::string stock = !a.stock.empty() ? a.stock : config_string(cfg, "stock");
+  std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
   if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
   if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
   stock::SolidOptions so;
@@ -241,12 +249,13 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   a.file = files[0];
   Job j = prepare(a, io, true);
   auto progress = progress_for(io);
-  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress);
+  const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
+  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok);
   if (progress) io.err << "\r\033[K";
-  std::vector<bool> can = compensate::movable(j.motions);
+  std::vector<bool> can = compensate::movable(r.motions);
   compensate::WriteStats ws;
-  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, j.motions, r.offsets, &ws);
-  compensate::safety_check(j.prog, j.motions, text, j.setup.interp(), can, j.settings.max_offset_mm);
+  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted);
+  compensate::safety_check(j.prog, r.motions, text, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted);
   if (!r.capped_lines.empty()) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
@@ -264,14 +273,15 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   Stats before = stats_of(errors_against(r.nominal, {}), tol);
   Stats after = stats_of(errors_against(r.final, r.offsets), tol);
   io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
-         << " numbers changed, " << ws.words_inserted << " axis words added; " << r.iterations << " iterations"
+         << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
+         << " blocks inserted to split moves; " << r.iterations << " iterations"
          << (r.converged ? "" : " (not converged)") << "\n";
   summary_line(io, "predicted error, as written:", before, tol);
   summary_line(io, "predicted error, compensated:", after, tol);
   if (!a.report.empty()) {
     char buf[200];
-    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"converged\": %s, \"compensated_points\": %zu",
-                  tol, r.iterations, r.converged ? "true" : "false", r.compensated_points);
+    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"converged\": %s, \"compensated_points\": %zu, \"inserted_blocks\": %zu",
+                  tol, r.iterations, r.converged ? "true" : "false", r.compensated_points, ws.blocks_inserted);
     std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
                      stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
     write_report(a.report, r.final, r.offsets, js);
@@ -312,12 +322,38 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     c.out = &rm;
     interp::interpret(ref, j.setup.interp(), diags, c);
     if (diags.errors()) throw Error(Exit::input, a.reference + ": error: the reference program has errors");
-    if (rm.size() != j.motions.size())
-      throw Error(Exit::input, a.reference + ": error: the reference has " + std::to_string(rm.size()) +
-                                   " motions, the program " + std::to_string(j.motions.size()) + ": not the same blocks");
-    intent.resize(rm.size());
-    for (std::size_t i = 0; i < rm.size(); ++i)
-      for (int k = 0; k < 3; ++k) intent[i][k] = j.motions[i].end_mm[k] - rm[i].end_mm[k];
+    // Pair the motions: the same motion within `near` mm, or a piece of a
+    // reference move that deflex split (its end projects onto that move).
+    const double near = std::max(1.0, 10 * j.setup.machine->max_offset_mm);
+    intent.assign(j.motions.size(), V3::Zero());
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < j.motions.size(); ++i) {
+      const interp::Motion& m = j.motions[i];
+      const V3 pe(m.end_mm[0], m.end_mm[1], m.end_mm[2]);
+      bool paired = false;
+      if (k < rm.size()) {
+        const V3 re(rm[k].end_mm[0], rm[k].end_mm[1], rm[k].end_mm[2]);
+        if (m.kind == rm[k].kind && (pe - re).norm() <= near) {
+          intent[i] = pe - re;
+          ++k;
+          paired = true;
+        } else if (m.kind == interp::MotionKind::linear && rm[k].kind == interp::MotionKind::linear) {
+          const V3 rs(rm[k].start_mm[0], rm[k].start_mm[1], rm[k].start_mm[2]);
+          const V3 ab = re - rs;
+          const double t = ab.squaredNorm() > 0 ? std::clamp((pe - rs).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+          const V3 q = rs + t * ab;
+          if ((pe - q).norm() <= near) {
+            intent[i] = pe - q;
+            paired = true;
+          }
+        }
+      }
+      if (!paired)
+        throw Error(Exit::input, a.file + ":" + std::to_string(m.line) + ":1: error: this motion has no counterpart in " +
+                                     a.reference + ": not the same program");
+    }
+    if (k != rm.size())
+      throw Error(Exit::input, a.reference + ": error: motions of the reference have no counterpart in " + a.file);
   }
   auto progress = progress_for(io);
   std::vector<compensate::Point> pts = compensate::simulate(j.motions, {}, j.physics, j.settings, progress);

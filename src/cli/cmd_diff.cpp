@@ -1,6 +1,8 @@
 // deflex diff A B: pairs the blocks of two programs and tells whether they
 // differ only in the coordinates of motion blocks, and by how much.
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <cstdio>
 #include <iostream>
 
@@ -14,6 +16,7 @@ namespace {
 // (its "skeleton"), and where its last motion ends.
 struct LineInfo {
   std::uint64_t skeleton = 0;
+  interp::Vec3 start{};  // where the line's first motion starts
   interp::Vec3 end{};
   std::uint32_t motions = 0;
   std::uint8_t kind = 0;  // MotionKind of the last motion
@@ -23,6 +26,7 @@ struct Collector : interp::MotionSink {
   std::vector<LineInfo>* lines;
   void motion(const interp::Motion& m) override {
     LineInfo& li = (*lines)[m.line];
+    if (!li.motions) li.start = m.start_mm;
     li.end = m.end_mm;
     li.kind = static_cast<std::uint8_t>(m.kind);
     ++li.motions;
@@ -145,14 +149,50 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   double max_mm = 0, sum_mm = 0;
   std::size_t edited = 0;
   std::uint32_t pa = 0, pb = 0;  // last paired lines
-  auto note_unpaired = [&](std::uint32_t from_a, std::uint32_t to_a, std::uint32_t from_b, std::uint32_t to_b) {
+  // A block only in B that splits the next paired move (deflex compensate
+  // inserts them: N, G1, X, Y, Z, F only, its point on that move within 1 mm)
+  // is a coordinate change: its displacement is its distance from the move.
+  std::size_t splits = 0;
+  Diagnostics quiet(nullptr, 0);
+  gcode::Block blk;
+  auto split_distance = [&](std::uint32_t lb, std::uint32_t next_la) -> double {
+    if (!next_la || next_la >= a.lines.size() || !b.lines[lb].motions || b.lines[lb].kind != 1 ||
+        a.lines[next_la].kind != 1 || a.lines[next_la].motions != 1)
+      return -1;
+    b.prog.lex(lb, blk, quiet);
+    for (const gcode::Word& w : blk.words)
+      if (!(w.letter == 'N' || w.letter == 'X' || w.letter == 'Y' || w.letter == 'Z' || w.letter == 'F' ||
+            (w.letter == 'G' && w.code10() == 10)))
+        return -1;
+    if (!blk.comments.empty()) return -1;
+    const interp::Vec3 &s0 = a.lines[next_la].start, &s1 = a.lines[next_la].end, &p = b.lines[lb].end;
+    double ab[3], ap[3], ab2 = 0, t = 0, d2 = 0;
+    for (int k = 0; k < 3; ++k) { ab[k] = s1[k] - s0[k]; ap[k] = p[k] - s0[k]; ab2 += ab[k] * ab[k]; t += ap[k] * ab[k]; }
+    t = ab2 > 0 ? std::clamp(t / ab2, 0.0, 1.0) : 0.0;
+    for (int k = 0; k < 3; ++k) d2 += (ap[k] - t * ab[k]) * (ap[k] - t * ab[k]);
+    const double d = std::sqrt(d2);
+    return d <= 1.0 ? d : -1;
+  };
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, double>> split_list;
+  auto note_unpaired = [&](std::uint32_t from_a, std::uint32_t to_a, std::uint32_t from_b, std::uint32_t to_b,
+                           std::uint32_t next_la) {
     for (std::uint32_t l = from_a; l < to_a; ++l)
       other.push_back(files[0] + ":" + std::to_string(l) + ": only in A: " + std::string(a.prog.source().line_text(l)));
-    for (std::uint32_t l = from_b; l < to_b; ++l)
+    for (std::uint32_t l = from_b; l < to_b; ++l) {
+      if (from_a == to_a) {
+        const double d = split_distance(l, next_la);
+        if (d >= 0) {
+          ++splits;
+          split_list.emplace_back(l, next_la, d);
+          max_mm = std::max(max_mm, d);
+          continue;
+        }
+      }
       other.push_back(files[1] + ":" + std::to_string(l) + ": only in B: " + std::string(b.prog.source().line_text(l)));
+    }
   };
   for (auto [la, lb] : pairs) {
-    note_unpaired(pa + 1, la, pb + 1, lb);
+    note_unpaired(pa + 1, la, pb + 1, lb, la);
     pa = la;
     pb = lb;
     const LineInfo &x = a.lines[la], &y = b.lines[lb];
@@ -172,12 +212,12 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
     sum_mm += c.dist;
     changes.push_back(c);
   }
-  note_unpaired(pa + 1, static_cast<std::uint32_t>(a.lines.size()), pb + 1, static_cast<std::uint32_t>(b.lines.size()));
+  note_unpaired(pa + 1, static_cast<std::uint32_t>(a.lines.size()), pb + 1, static_cast<std::uint32_t>(b.lines.size()), 0);
   double mean_mm = changes.empty() ? 0.0 : sum_mm / static_cast<double>(changes.size());
   char buf[256];
   if (format == "json") {
     io.out << "{\"a\": \"" << files[0] << "\", \"b\": \"" << files[1] << "\", \"blocks_changed\": " << changes.size()
-           << ", \"blocks_edited\": " << edited;
+           << ", \"blocks_edited\": " << edited << ", \"blocks_inserted_splitting_moves\": " << splits;
     std::snprintf(buf, sizeof buf, ", \"max_displacement_mm\": %.6f, \"mean_displacement_mm\": %.6f", max_mm, mean_mm);
     io.out << buf << ", \"other_changes\": " << other.size() << ", \"changes\": [";
     bool first = true;
@@ -198,9 +238,15 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
                     c.d[2], c.dist, c.edited ? "" : " (not edited: carried over by a modal axis)");
       io.out << buf;
     }
+    for (auto& [lb, la, d] : split_list) {
+      std::snprintf(buf, sizeof buf, "+%u: inserted, splits the move of line %u; %.6f mm off it\n", lb, la, d);
+      io.out << buf;
+    }
     for (const std::string& o : other) io.out << o << "\n";
-    std::snprintf(buf, sizeof buf, "%zu motion blocks moved (%zu edited): max %.6f mm, mean %.6f mm; %zu changes in more than coordinates\n",
-                  changes.size(), edited, max_mm, mean_mm, other.size());
+    std::snprintf(buf, sizeof buf,
+                  "%zu motion blocks moved (%zu edited), %zu blocks inserted splitting moves: max %.6f mm, mean %.6f mm; "
+                  "%zu changes in more than coordinates\n",
+                  changes.size(), edited, splits, max_mm, mean_mm, other.size());
     io.out << buf;
   }
   return other.empty() ? 0 : static_cast<int>(Exit::input);

@@ -1,5 +1,6 @@
 #include "deflex/compensate/apply.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -40,9 +41,32 @@ struct Collect : interp::MotionSink {
 
 }  // namespace
 
+// A block deflex may split: words only N, G1/G01, X, Y, Z, F.
+bool split_form(const gcode::Block& b) {
+  if (b.macro || b.block_delete || !b.comments.empty()) return false;
+  for (const gcode::Word& w : b.words) {
+    if (w.letter == 'G' && w.code10() == 10) continue;
+    if (w.letter != 'N' && w.letter != 'X' && w.letter != 'Y' && w.letter != 'Z' && w.letter != 'F') return false;
+  }
+  return true;
+}
+
+std::vector<bool> splittable(const gcode::Program& prog, const std::vector<interp::Motion>& motions) {
+  std::vector<bool> ok(motions.size(), false);
+  Diagnostics quiet(nullptr, 0);
+  gcode::Block b;
+  for (std::size_t i = 0; i < motions.size(); ++i) {
+    const interp::Motion& m = motions[i];
+    if (!m.plain || !m.compensable() || m.kind != interp::MotionKind::linear) continue;
+    prog.lex(m.line, b, quiet);
+    ok[i] = split_form(b);
+  }
+  return ok;
+}
+
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
-                          WriteStats* stats) {
+                          WriteStats* stats, const std::vector<bool>* inserted) {
   writer::Rewriter w(prog, d);
   WriteStats st;
   Diagnostics quiet(nullptr, 0);
@@ -52,6 +76,21 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
   for (std::size_t i = 0; i < motions.size(); ++i) {
     const interp::Motion& m = motions[i];
     const V3 o = offsets.empty() ? V3(V3::Zero()) : offsets[i];
+    if (inserted && (*inserted)[i]) {
+      // A new G1 block before its parent's block, with all three axes (and the
+      // parent's F, so the split piece runs at the programmed feed).
+      std::vector<std::pair<char, double>> words;
+      for (int a = 0; a < 3; ++a) {
+        const double want = m.end_mm[a] + o[a];
+        words.push_back({axes[a], m.inch ? want / 25.4 : want});
+        carried[a] = written_mm(want, m.inch, d);
+      }
+      prog.lex(m.line, b, quiet);
+      if (const gcode::Word* f = b.find('F')) words.push_back({'F', f->value});
+      w.insert_block_before(m.line, w.format_block(m.line - 1, words, m.inch, "", "G1"));
+      ++st.blocks_inserted;
+      continue;
+    }
     if (!m.plain) {
       // Cycles, G28/G30/G53, subprograms, G91: never moved, and never preceded
       // by a moved point (compensate::movable), so they end where they did.
@@ -89,19 +128,33 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
 }
 
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const std::string& text,
-                  const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm) {
+                  const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
+                  const std::vector<bool>* inserted) {
   gcode::Program out(SourceText(original.source().name() + " (compensated)", text));
   auto fail = [&](std::uint32_t line, const std::string& what) {
     throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line) +
                                     ":1: error: safety check failed: " + what +
                                     "; nothing was written (this is a bug in deflex, please report it)");
   };
-  if (out.line_count() != original.line_count()) fail(1, "the written program has a different number of lines");
+  // Blocks inserted before each original line.
+  std::vector<std::uint32_t> before(original.line_count() + 2, 0);
+  std::size_t n_inserted = 0;
+  if (inserted)
+    for (std::size_t i = 0; i < om.size(); ++i)
+      if ((*inserted)[i]) { ++before[om[i].line]; ++n_inserted; }
+  if (out.line_count() != original.line_count() + n_inserted)
+    fail(1, "the written program has an unexpected number of lines");
   Diagnostics quiet(nullptr, 0);
   gcode::Block a, b;
+  std::uint32_t ol = 0;
   for (std::uint32_t l = 1; l <= original.line_count(); ++l) {
+    for (std::uint32_t k = 0; k < before[l]; ++k) {
+      out.lex(++ol, b, quiet);
+      if (!split_form(b) || !b.find('X') || !b.find('Y') || !b.find('Z'))
+        fail(l, "an inserted block is not a plain G1 X Y Z [F] block");
+    }
     original.lex(l, a, quiet);
-    out.lex(l, b, quiet);
+    out.lex(++ol, b, quiet);
     if (gcode::skeleton_hash(original, a) != gcode::skeleton_hash(out, b))
       fail(l, "the block changed in more than its coordinate words");
   }
@@ -116,15 +169,30 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   const double round_in = 0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001;
   for (std::size_t i = 0; i < om.size(); ++i) {
     const interp::Motion &x = om[i], &y = c.motions[i];
-    if (x.kind != y.kind || x.line != y.line) fail(x.line, "a motion changed its kind or its block");
-    const double r = x.inch ? round_in : round_mm;
-    const double allowed = movable[i] ? max_offset_mm + r : r;
-    double d = 0;
-    for (int k = 0; k < 3; ++k) d = std::max(d, std::fabs(y.end_mm[k] - x.end_mm[k]));
-    if (d > allowed) {
+    const bool ins = inserted && (*inserted)[i];
+    if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
+    const double r = (x.inch ? round_in : round_mm) * std::sqrt(3.0);
+    const double allowed = movable[i] || ins ? max_offset_mm + r : r;
+    double dist = 0;
+    if (ins) {
+      // Against the move it splits: the next motion that is not inserted,
+      // from its original start.
+      std::size_t k = i;
+      while (k < om.size() && (*inserted)[k]) ++k;
+      if (k == om.size()) fail(x.line, "an inserted block with no move after it");
+      std::size_t s0 = i;
+      while (s0 > 0 && (*inserted)[s0 - 1]) --s0;
+      const interp::Vec3 A = om[s0].start_mm, B = om[k].end_mm;
+      V3 ab(B[0] - A[0], B[1] - A[1], B[2] - A[2]), ap(y.end_mm[0] - A[0], y.end_mm[1] - A[1], y.end_mm[2] - A[2]);
+      const double t = ab.squaredNorm() > 0 ? std::clamp(ap.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+      dist = (ap - t * ab).norm();
+    } else {
+      for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.end_mm[k] - x.end_mm[k]));
+    }
+    if (dist > allowed) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a %s motion moved by %.6f mm (allowed %.6f mm)",
-                    movable[i] ? "compensated" : "fixed", d, allowed);
+                    ins ? "inserted" : movable[i] ? "compensated" : "fixed", dist, allowed);
       fail(x.line, buf);
     }
   }

@@ -203,89 +203,190 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
   return ok;
 }
 
+namespace {
+
+// End-point error vector e n per motion (the CL sample that is its end).
+void end_errors(const std::vector<Point>& pts, std::size_t n, std::vector<V3>& e, std::vector<bool>& has) {
+  e.assign(n, V3::Zero());
+  has.assign(n, false);
+  for (const Point& p : pts)
+    if (p.index == p.count && !p.air && !p.plunge) {
+      e[p.motion] = p.error_mm * p.normal;
+      has[p.motion] = true;
+    }
+}
+
+struct Loop {
+  const Physics& ph;
+  const Settings& s;
+  const Progress& progress;
+  Result& r;
+  std::vector<bool> can, active, capped;
+
+  // Mirror iterations from the current offsets (r.final must hold the
+  // simulation at them) to the fixed point.
+  void run(int max_iterations) {
+    const std::size_t n = r.motions.size();
+    std::vector<V3> e;
+    std::vector<bool> has;
+    end_errors(r.final, n, e, has);
+    for (int it = 1; it <= max_iterations; ++it) {
+      std::vector<V3> next(n, V3::Zero());
+      for (std::size_t i = 0; i < n; ++i)
+        if (active[i] && has[i]) next[i] = -s.gain * e[i];  // Smaoui 2011 §4: the mirror image
+      for (std::size_t i = 0; i < n; ++i) {
+        const double len = next[i].norm();
+        if (len > s.max_offset_mm) {
+          next[i] *= s.max_offset_mm / len;
+          capped[i] = true;
+        }
+      }
+      // No jerk: bound the change of offset from one point to the next.
+      for (int pass = 0; pass < 2; ++pass)
+        for (std::size_t k = 1; k < n; ++k) {
+          const std::size_t i = pass == 0 ? k : n - 1 - k, j = pass == 0 ? k - 1 : n - k;
+          if (!can[i] || !can[j]) continue;
+          const V3 d = next[i] - next[j];
+          const double len = d.norm();
+          if (len > s.max_step_mm) next[i] = next[j] + d * (s.max_step_mm / len);
+        }
+      // Arcs move whole: their end takes the offset of their start.
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto k = r.motions[i].kind;
+        if (!can[i] || (k != interp::MotionKind::arc_cw && k != interp::MotionKind::arc_ccw)) continue;
+        const V3 start = i ? next[i - 1] : V3(V3::Zero());
+        if ((next[i] - start).norm() > s.tolerance_mm && it == max_iterations) r.nonuniform_arcs.push_back(r.motions[i].line);
+        next[i] = start;
+      }
+      double change = 0;
+      for (std::size_t i = 0; i < n; ++i) change = std::max(change, (next[i] - r.offsets[i]).norm());
+      r.offsets = next;
+      ++r.iterations;
+      r.last_change_mm = change;
+      if (progress) progress("iteration " + std::to_string(r.iterations), 0.0);
+      r.final = simulate(r.motions, r.offsets, ph, s, progress);
+      if (change <= 0.01 * s.tolerance_mm) { r.converged = true; return; }
+      r.converged = false;
+      end_errors(r.final, n, e, has);
+    }
+  }
+
+  // Inserts vertices into moves whose samples, under the straight ramp of the
+  // offsets of their ends, land outside the tolerance. Returns how many.
+  std::size_t split(const std::vector<bool>& splittable_by_motion) {
+    const std::size_t n = r.motions.size();
+    std::vector<std::vector<const Point*>> by_motion(n);
+    for (const Point& p : r.final)
+      if (!p.air && !p.plunge && p.index < p.count) by_motion[p.motion].push_back(&p);
+    struct Vertex { double u; V3 offset; };
+    std::vector<std::vector<Vertex>> add(n);
+    std::size_t total = 0;
+    for (std::size_t i = 1; i < n; ++i) {
+      if (!can[i] || !splittable_by_motion[i] || r.motions[i].kind != interp::MotionKind::linear) continue;
+      const auto& pts = by_motion[i];
+      if (pts.empty()) continue;
+      // Knots of the ramp: (u, offset), starting with the two ends.
+      std::vector<Vertex> knots{{0.0, r.offsets[i - 1]}, {1.0, r.offsets[i]}};
+      auto ramp = [&](double u) {
+        std::size_t k = 1;
+        while (k + 1 < knots.size() && knots[k].u < u) ++k;
+        const double t = (u - knots[k - 1].u) / (knots[k].u - knots[k - 1].u);
+        return V3(knots[k - 1].offset + t * (knots[k].offset - knots[k - 1].offset));
+      };
+      // The sample was simulated under the old ramp (its commanded offset is
+      // the straight ramp of the ends); its deflection is kept for the estimate.
+      for (int sp = 0; sp < s.max_splits_per_move; ++sp) {
+        double worst = s.tolerance_mm;
+        const Point* at = nullptr;
+        for (const Point* p : pts) {
+          const double u = static_cast<double>(p->index) / p->count;
+          const double res = std::fabs((ramp(u) + p->delta_mm).dot(p->normal));
+          if (res > worst) { worst = res; at = p; }
+        }
+        if (!at) break;
+        const double u = static_cast<double>(at->index) / at->count;
+        V3 want = -s.gain * at->error_mm * at->normal;
+        if (want.norm() > s.max_offset_mm) want *= s.max_offset_mm / want.norm();
+        knots.insert(std::upper_bound(knots.begin(), knots.end(), u, [](double v, const Vertex& k) { return v < k.u; }),
+                     Vertex{u, want});
+        add[i].push_back({u, want});
+      }
+      std::sort(add[i].begin(), add[i].end(), [](const Vertex& a, const Vertex& b) { return a.u < b.u; });
+      total += add[i].size();
+    }
+    if (!total) return 0;
+    // Rebuild the motion list with the new vertices.
+    std::vector<interp::Motion> m2;
+    std::vector<bool> ins2, can2, act2, cap2;
+    std::vector<V3> off2;
+    for (std::size_t i = 0; i < n; ++i) {
+      const interp::Motion& m = r.motions[i];
+      interp::Vec3 prev = m.start_mm;
+      for (const Vertex& v : add[i]) {
+        interp::Motion piece = m;
+        for (int a = 0; a < 3; ++a) piece.end_mm[a] = m.start_mm[a] + v.u * (m.end_mm[a] - m.start_mm[a]);
+        piece.start_mm = prev;
+        prev = piece.end_mm;
+        m2.push_back(piece);
+        ins2.push_back(true);
+        can2.push_back(true);
+        act2.push_back(true);
+        cap2.push_back(false);
+        off2.push_back(v.offset);
+      }
+      interp::Motion rest = m;
+      rest.start_mm = prev;
+      m2.push_back(rest);
+      ins2.push_back(r.inserted[i]);
+      can2.push_back(can[i]);
+      act2.push_back(active[i]);
+      cap2.push_back(capped[i]);
+      off2.push_back(r.offsets[i]);
+    }
+    r.motions = std::move(m2);
+    r.inserted = std::move(ins2);
+    can = std::move(can2);
+    active = std::move(act2);
+    capped = std::move(cap2);
+    r.offsets = std::move(off2);
+    return total;
+  }
+};
+
+}  // namespace
+
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
-                  const Progress& progress) {
+                  const Progress& progress, const std::vector<bool>* splittable) {
   const std::size_t n = motions.size();
   Result r;
+  r.motions = motions;
+  r.inserted.assign(n, false);
   r.offsets.assign(n, V3::Zero());
-  std::vector<bool> can = movable(motions);
+  r.nominal = simulate(motions, {}, ph, s, progress);
+  r.final = r.nominal;
   if (s.gain == 0.0) {
-    r.nominal = simulate(motions, {}, ph, s, progress);
-    r.final = r.nominal;
     r.converged = true;
     return r;
   }
-  r.nominal = simulate(motions, {}, ph, s, progress);
-  // End-point error per motion (the CL sample that is the motion's end).
-  auto end_errors = [&](const std::vector<Point>& pts, std::vector<V3>& err_vec, std::vector<bool>& has) {
-    err_vec.assign(n, V3::Zero());
-    has.assign(n, false);
-    for (const Point& p : pts)
-      if (p.index == p.count && !p.air && !p.plunge) {
-        err_vec[p.motion] = p.error_mm * p.normal;
-        has[p.motion] = true;
-      }
-  };
+  Loop loop{ph, s, progress, r, movable(motions), std::vector<bool>(n, false), std::vector<bool>(n, false)};
+  // Points inside the tolerance band stay as programmed (decided on the program as written).
   std::vector<V3> e0;
   std::vector<bool> has0;
-  end_errors(r.nominal, e0, has0);
-  // Points inside the tolerance band stay as programmed (decided on the program as written).
-  std::vector<bool> active(n, false);
-  for (std::size_t i = 0; i < n; ++i) active[i] = can[i] && has0[i] && e0[i].norm() > s.tolerance_mm;
-
-  std::vector<V3> e = e0;
-  std::vector<bool> has = has0;
-  std::vector<bool> capped(n, false);
-  for (int it = 1; it <= s.max_iterations; ++it) {
-    std::vector<V3> next(n, V3::Zero());
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!active[i] || !has[i]) continue;
-      // Mirror (Smaoui 2011 §4): reflect the deflected point through the nominal one.
-      next[i] = -s.gain * e[i];
+  end_errors(r.nominal, n, e0, has0);
+  for (std::size_t i = 0; i < n; ++i) loop.active[i] = loop.can[i] && has0[i] && e0[i].norm() > s.tolerance_mm;
+  loop.run(s.max_iterations);
+  if (splittable) {
+    // Moves whose error changes along them: split them, then find the fixed point again.
+    std::vector<bool> split_ok(n, false);
+    for (std::size_t i = 0; i < n; ++i) split_ok[i] = (*splittable)[i];
+    r.split_points = loop.split(split_ok);
+    if (r.split_points) {
+      r.final = simulate(r.motions, r.offsets, ph, s, progress);
+      loop.run(s.max_iterations);
     }
-    // Arcs move whole: their end takes the offset of their start (the motion
-    // before), so the centre, given from the start, moves with them.
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto k = motions[i].kind;
-      if (k != interp::MotionKind::arc_cw && k != interp::MotionKind::arc_ccw) continue;
-      V3 start = i ? next[i - 1] : V3(V3::Zero());
-      if (!can[i]) continue;
-      if ((next[i] - start).norm() > s.tolerance_mm && it == s.max_iterations)
-        r.nonuniform_arcs.push_back(motions[i].line);
-      next[i] = start;
-    }
-    // Cap, then bound the change between neighbouring points (no jerk).
-    for (std::size_t i = 0; i < n; ++i) {
-      double len = next[i].norm();
-      if (len > s.max_offset_mm) {
-        next[i] *= s.max_offset_mm / len;
-        capped[i] = true;
-      }
-    }
-    for (int pass = 0; pass < 2; ++pass)
-      for (std::size_t k = 1; k < n; ++k) {
-        std::size_t i = pass == 0 ? k : n - 1 - k, j = pass == 0 ? k - 1 : n - k;
-        if (!can[i] || !can[j]) continue;
-        V3 d = next[i] - next[j];
-        double len = d.norm();
-        if (len > s.max_step_mm) next[i] = next[j] + d * (s.max_step_mm / len);
-      }
-    double change = 0;
-    for (std::size_t i = 0; i < n; ++i) change = std::max(change, (next[i] - r.offsets[i]).norm());
-    r.offsets = next;
-    r.iterations = it;
-    r.last_change_mm = change;
-    if (progress) progress("iteration " + std::to_string(it), 0.0);
-    r.final = simulate(motions, r.offsets, ph, s, progress);
-    if (change <= 0.01 * s.tolerance_mm) {
-      r.converged = true;
-      break;
-    }
-    // The deflection at the compensated points drives the next reflection.
-    end_errors(r.final, e, has);
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    if (capped[i]) r.capped_lines.push_back(motions[i].line);
+  for (std::size_t i = 0; i < r.motions.size(); ++i) {
+    if (loop.capped[i]) r.capped_lines.push_back(r.motions[i].line);
     if (r.offsets[i].norm() > 0) ++r.compensated_points;
   }
   return r;

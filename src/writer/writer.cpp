@@ -46,7 +46,7 @@ std::string format_comment(const std::string& text, const profile::Dialect& d) {
 }
 
 std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words,
-                                   bool inch, const std::string& comment) const {
+                                   bool inch, const std::string& comment, const std::string& lead) const {
   std::string s;
   if (d_.n_policy == profile::NPolicy::increment) {
     Diagnostics quiet(nullptr, 0);
@@ -58,6 +58,7 @@ std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<s
     }
     s = "N" + std::to_string(n + 1);
   }
+  if (!lead.empty()) s += (s.empty() ? "" : " ") + lead;
   for (auto& [letter, value] : words) {
     if (!s.empty()) s += ' ';
     s += letter;
@@ -86,6 +87,20 @@ void Rewriter::insert_block_after(std::uint32_t line, const std::string& text) {
   std::string eol(whole.substr(text_end, at - text_end));
   std::string ins = eol.empty() ? "\n" + text : text + eol;
   edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()), ins, true});
+}
+
+void Rewriter::insert_block_before(std::uint32_t line, const std::string& text) {
+  const SourceText& src = prog_.source();
+  auto eol_of = [&](std::uint32_t l) {
+    std::uint32_t end = src.line_end_with_eol(l);
+    std::uint32_t text_end = src.line_begin(l) + static_cast<std::uint32_t>(src.line_text(l).size());
+    return std::string(std::string_view(src.bytes()).substr(text_end, end - text_end));
+  };
+  std::string eol = eol_of(line);
+  if (eol.empty() && line > 1) eol = eol_of(line - 1);
+  if (eol.empty()) eol = "\n";
+  std::uint32_t at = src.line_begin(line);
+  edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()), text + eol, true});
 }
 
 void Rewriter::write(std::ostream& out) {

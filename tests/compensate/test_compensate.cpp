@@ -184,4 +184,39 @@ TEST_CASE("mirror fixed point: the deflected tool lands on the programmed wall")
   CHECK(b < a);
 }
 
+TEST_CASE("split moves: the entry and exit of a long wall pass land inside the tolerance") {
+  Fixture f;
+  const std::vector<bool> split_ok = compensate::splittable(f.prog, f.motions);
+  auto plain = compensate::compensate(f.motions, f.ph, f.s);
+  auto r = compensate::compensate(f.motions, f.ph, f.s, {}, &split_ok);
+  REQUIRE(r.split_points > 0);
+  REQUIRE(r.motions.size() == f.motions.size() + r.split_points);
+  // Landing error against the design intent at every engaged sample:
+  // commanded offset (ramped along the move) + deflection, along the normal.
+  auto worst = [](const compensate::Result& res) {
+    double w = 0;
+    for (const auto& p : res.final) {
+      if (p.air || p.plunge) continue;
+      const V3 end = res.offsets[p.motion], start = p.motion ? res.offsets[p.motion - 1] : V3(V3::Zero());
+      const double u = static_cast<double>(p.index) / p.count;
+      w = std::max(w, std::fabs((start + u * (end - start) + p.delta_mm).dot(p.normal)));
+    }
+    return w;
+  };
+  CHECK(worst(plain) > f.s.tolerance_mm);  // without splitting the entry ramp leaves it
+  CHECK(worst(r) <= f.s.tolerance_mm);
+  // Written, read back and checked: inserted blocks are plain G1 X Y Z lines on the move.
+  compensate::WriteStats ws;
+  std::string out = compensate::apply_offsets(f.prog, f.opt.dialect, r.motions, r.offsets, &ws, &r.inserted);
+  CHECK(ws.blocks_inserted == r.split_points);
+  CHECK_NOTHROW(compensate::safety_check(f.prog, r.motions, out, f.opt, compensate::movable(r.motions), 0.1, &r.inserted));
+  // An inserted block pushed off its move is caught.
+  std::string bad = out;
+  std::size_t at = bad.find("G1 X");
+  REQUIRE(at != std::string::npos);
+  bad.replace(bad.find("Y", at), 2, "Y5");
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, r.motions, bad, f.opt, compensate::movable(r.motions), 0.1, &r.inserted),
+                  Error);
+}
+
 }  // TEST_SUITE

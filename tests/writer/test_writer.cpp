@@ -70,6 +70,16 @@ TEST_CASE("inserted blocks follow the dialect: N numbers and comment style") {
   // Line 2 has no N: the nearest numbered block before it is N10.
   CHECK(wh.format_block(2, {{'X', 1.5}}, false, "split") == "N11 X1.500 ; split");
   CHECK(writer::format_comment("a", heid) == "; a");
+  CHECK(wh.format_block(1, {{'X', 2}}, false, "", "G1") == "N11 G1 X2.000");
+}
+
+TEST_CASE("blocks inserted before a line take that line's ending") {
+  auto d = profile::load_dialect("fanuc");
+  gcode::Program p(SourceText("t.nc", "G1 X1.\r\nG1 X2."));
+  writer::Rewriter w(p, d);
+  w.insert_block_before(2, "G1 X1.5");
+  w.insert_block_before(1, "G0 X0.");
+  CHECK(w.str() == "G0 X0.\r\nG1 X1.\r\nG1 X1.5\r\nG1 X2.");
 }
 
 TEST_CASE("a rewritten block over the dialect's line-length limit is an error") {

@@ -49,6 +49,7 @@ struct Settings {
   double slice_mm = 0.2;        // axial slice height of the force model
   int force_steps = 90;         // angular steps per revolution
   int threads = 0;              // 0: all cores
+  int max_splits_per_move = 8;  // points inserted into one move at most
   std::string tool_override;    // use this tool whatever the T words say
 };
 
@@ -85,7 +86,12 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
                             const Physics& ph, const Settings& s, const Progress& progress = {});
 
 struct Result {
-  std::vector<V3> offsets;            // per motion, mm (zero where not compensated)
+  // The motions as written: the program's, with the blocks inserted where a
+  // move was split (inserted[i]; such a motion ends on its parent move, the
+  // next motion that is not inserted, before the offset).
+  std::vector<interp::Motion> motions;
+  std::vector<bool> inserted;
+  std::vector<V3> offsets;            // per motion of `motions`, mm (zero where not compensated)
   std::vector<Point> nominal;         // the program as written
   std::vector<Point> final;           // at the compensated points (last iteration)
   int iterations = 0;
@@ -94,10 +100,15 @@ struct Result {
   std::vector<std::uint32_t> capped_lines;    // lines where max_offset_mm bit
   std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs
   std::size_t compensated_points = 0;
+  std::size_t split_points = 0;       // blocks inserted to split moves
 };
 
+// `splittable` (may be null): per motion, whether its block may be split by
+// inserting G1 blocks before it (a plain G1 with nothing but N, G1, X, Y, Z, F).
+// A move is split where the error under the straight ramp of its end offsets
+// would leave the tolerance (Settings::max_splits_per_move at most).
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
-                  const Progress& progress = {});
+                  const Progress& progress = {}, const std::vector<bool>* splittable = nullptr);
 
 // Which motions may be moved: compensable, and followed by a block the writer
 // can re-target (a plain G90 G0-G3 block) or by nothing.

@@ -35,8 +35,12 @@ class Rewriter {
   // word first when the dialect numbers inserted blocks (the N of the nearest
   // numbered block before it, plus one), then the words (program units), then
   // the comment in the dialect's style.
+  // `lead` (e.g. "G1") goes right after the N word.
   std::string format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words, bool inch,
-                           const std::string& comment = "") const;
+                           const std::string& comment = "", const std::string& lead = "") const;
+  // Inserts a whole new block (text without line end) before line `line`,
+  // ended like that line (or like the line before it when `line` has no end).
+  void insert_block_before(std::uint32_t line, const std::string& text);
   std::size_t edits() const { return edits_.size(); }
   // Streams the result. Throws Error(input) if a changed line breaks the
   // dialect's line-length limit.
