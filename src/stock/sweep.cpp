@@ -5,6 +5,10 @@
 #include <limits>
 #include <numbers>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
@@ -15,12 +19,6 @@ namespace deflex::stock {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
-
-// Derivative of the corner-arc height g(d) (profile_height) for d in (R0 - rc, R0).
-double profile_slope(double rc, double e) {
-  const double q = rc * rc - e * e;
-  return q > 0 ? e / std::sqrt(q) : inf;
-}
 
 }  // namespace
 
@@ -33,6 +31,7 @@ LineSweep::LineSweep(const ToolProfile& tool, const Point3& a_mm, const Point3& 
     ex_ = dx / len_;
     ey_ = dy / len_;
     slope_ = (b_[2] - a_[2]) / len_;
+    ball_k_ = slope_ / std::sqrt(1 + slope_ * slope_);
   } else {
     len_ = 0;
   }
@@ -73,31 +72,54 @@ double LineSweep::lower_height(double x, double y) const {
       // Ball centre c(s) = tip + R; the surface below (x, y) is at
       // c_z(s) - sqrt(rho^2 - (s - par)^2). Setting the derivative to zero:
       // (s - par) / sqrt(rho^2 - (s - par)^2) = -m  =>  s - par = -m rho / sqrt(1 + m^2).
-      const double s = std::clamp(par - m * rho / std::sqrt(1 + m * m), lo, hi);
+      const double s = std::clamp(par - ball_k_ * rho, lo, hi);
       const double q = s - par;
       return tip_z(s) + R - std::sqrt(std::max(0.0, rho * rho - q * q));
     }
     case ToolKind::bull: {
-      // Convex in s: bisect on the sign of the derivative
-      // m + g'(d) (s - par) / d, d = hypot(s - par, perp), g the corner height.
+      // Convex in s: the root of the derivative f'(s) = m + g'(d) (s - par) / d,
+      // d = hypot(s - par, perp), g the corner height, by Newton's method kept
+      // inside a bisection bracket (to 1e-12 of the segment, as plain bisection).
       const double rc = tool_.corner_radius_mm, rf = R - rc;
-      auto deriv = [&](double s) {
-        const double q = s - par, d = std::hypot(q, perp), e = d - rf;
-        if (e <= 0 || d == 0) return m;
-        return m + profile_slope(rc, e) * q / d;
+      const double tol = 1e-12 * (1 + len_);
+      double l = lo, h = hi, s;
+      // f'(s) and f''(s) = g''(d) (q / d)^2 + g'(d) perp^2 / d^3.
+      auto deriv = [&](double s, double* d2f) {
+        const double q = s - par, d = std::sqrt(q * q + perp * perp), e = d - rf;
+        if (e <= 0 || d == 0) {
+          if (d2f) *d2f = 0;
+          return m;
+        }
+        const double w = rc * rc - e * e;
+        if (!(w > 0)) {
+          if (d2f) *d2f = 0;
+          return q > 0 ? inf : q < 0 ? -inf : m;
+        }
+        const double sw = std::sqrt(w), g1 = e / sw;
+        if (d2f) *d2f = rc * rc / (w * sw) * (q / d) * (q / d) + g1 * perp * perp / (d * d * d);
+        return m + g1 * q / d;
       };
-      double l = lo, h = hi;
-      if (deriv(l) >= 0) {
-        h = l;
-      } else if (deriv(h) <= 0) {
-        l = h;
+      if (deriv(l, nullptr) >= 0) {
+        s = l;
+      } else if (deriv(h, nullptr) <= 0) {
+        s = h;
       } else {
-        for (int it = 0; it < 60 && h - l > 1e-12 * (1 + len_); ++it) {
-          const double mid = 0.5 * (l + h);
-          (deriv(mid) > 0 ? h : l) = mid;
+        s = 0.5 * (l + h);
+        for (int it = 0; it < 200 && h - l > tol; ++it) {
+          double d2f;
+          const double f1 = deriv(s, &d2f);
+          if (f1 == 0) break;
+          (f1 > 0 ? h : l) = s;
+          const double step = d2f > 0 ? f1 / d2f : inf;
+          const double nt = s - step;
+          if (nt > l && nt < h && std::fabs(step) < 0.5 * (h - l)) {
+            s = nt;
+            if (std::fabs(step) <= tol) break;
+          } else {
+            s = 0.5 * (l + h);
+          }
         }
       }
-      const double s = 0.5 * (l + h);
       return tip_z(s) + profile_height(tool_, std::min(R, std::hypot(s - par, perp)));
     }
   }
@@ -139,21 +161,191 @@ bool LineSweep::row_range(double y, double& x0, double& x1, bool start_cut) cons
       hi = std::max(hi, bh);
     }
   }
-  if (start_cut && len_ > 0 && slope_ >= 0) {
-    // Keep par(x) = ex x + c >= 0.
+  if (start_cut && len_ > 0 && (slope_ >= 0 || tool_.kind != ToolKind::flat)) {
+    // Keep par(x) = ex x + c >= -back (see the header), plus for a descending
+    // bull nose the chord of the disc of radius r1 about a.
+    double back = 0, r1 = 0;
+    if (slope_ < 0) {
+      const double rc = corner_of(tool_);
+      if (tool_.kind == ToolKind::ball) {
+        back = -slope_ * R;
+      } else {
+        r1 = R - 0.5 * rc;
+        back = -slope_ * r1 * std::sqrt(3.0);  // g'(r1) = 1 / sqrt(3)
+      }
+      back *= 1 + 1e-9;  // rounding: never drop a cell on the boundary
+    }
+    double clo = lo, chi = hi;
     const double c = -a_[0] * ex_ + (y - a_[1]) * ey_;
     if (std::fabs(ex_) < 1e-15) {
-      if (c < 0) return false;
+      if (c < -back) chi = -inf;
     } else if (ex_ > 0) {
-      lo = std::max(lo, -c / ex_);
+      clo = std::max(clo, (-back - c) / ex_);
     } else {
-      hi = std::min(hi, -c / ex_);
+      chi = std::min(chi, (-back - c) / ex_);
     }
+    const double dy = y - a_[1];
+    if (r1 > 0 && std::fabs(dy) <= r1) {
+      const double w = std::sqrt(r1 * r1 - dy * dy);
+      clo = std::min(clo, a_[0] - w);
+      chi = std::max(chi, a_[0] + w);
+    }
+    lo = std::max(lo, clo);
+    hi = std::min(hi, chi);
   }
   if (lo > hi) return false;
   x0 = lo;
   x1 = hi;
   return true;
+}
+
+// ---- row kernels --------------------------------------------------------------
+//
+// Per cell centre x on a row y (wx = x - a_x, wy = y - a_y):
+//   par = wx ex + wy ey, cr = wx ey - wy ex (signed perp), rho^2 = R^2 - cr^2.
+// Ball: the contact is at s = clamp(par - k rho, 0, L), k = m / sqrt(1 + m^2)
+// (the clamp to [par - rho, par + rho] of lower_height is implied by |k| < 1),
+// height a_z + R + m s - sqrt(rho^2 - (s - par)^2).
+// Flat: a_z + m s with s = max(0, par - rho) rising, min(L, par + rho) falling.
+// +inf where the footprint misses (cr^2 > R^2 or |s - par| > rho).
+// The AVX2 paths do the same operations in the same order (no FMA), so every
+// lane equals the scalar result bit for bit.
+
+namespace {
+
+struct RowConsts {
+  double gx0, cell, ax, ex, ey, wyey, wyex, R2, L, m, k, az, azR;
+};
+
+inline float ball_cell(const RowConsts& c, int i) {
+  const double x = c.gx0 + (static_cast<double>(i) + 0.5) * c.cell;
+  const double wx = x - c.ax;
+  const double par = wx * c.ex + c.wyey;
+  const double cr = wx * c.ey - c.wyex;
+  const double cr2 = cr * cr;
+  const double rho2 = c.R2 - cr2;
+  const double rho = std::sqrt(std::max(rho2, 0.0));
+  const double s = std::min(std::max(par - c.k * rho, 0.0), c.L);
+  const double q = s - par;
+  const double t = rho2 - q * q;
+  const double h = c.azR + c.m * s - std::sqrt(std::max(t, 0.0));
+  return (cr2 > c.R2 || t < 0) ? std::numeric_limits<float>::infinity() : static_cast<float>(h);
+}
+
+template <bool Rising>
+inline float flat_cell(const RowConsts& c, int i) {
+  const double x = c.gx0 + (static_cast<double>(i) + 0.5) * c.cell;
+  const double wx = x - c.ax;
+  const double par = wx * c.ex + c.wyey;
+  const double cr = wx * c.ey - c.wyex;
+  const double cr2 = cr * cr;
+  const double rho = std::sqrt(std::max(c.R2 - cr2, 0.0));
+  const double lo = par - rho, hi = par + rho;
+  const double s = Rising ? std::max(lo, 0.0) : std::min(hi, c.L);
+  const double h = c.az + c.m * s;
+  return (cr2 > c.R2 || lo > c.L || hi < 0) ? std::numeric_limits<float>::infinity() : static_cast<float>(h);
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define DEFLEX_SWEEP_AVX2 1
+
+// Cells [i0, i0 + n) in blocks of 4; returns how many were done.
+__attribute__((target("avx2"))) int ball_row_avx2(const RowConsts& c, int i0, int n, float* out) {
+  const __m256d gx0 = _mm256_set1_pd(c.gx0), cell = _mm256_set1_pd(c.cell), half = _mm256_set1_pd(0.5);
+  const __m256d ax = _mm256_set1_pd(c.ax), ex = _mm256_set1_pd(c.ex), ey = _mm256_set1_pd(c.ey);
+  const __m256d wyey = _mm256_set1_pd(c.wyey), wyex = _mm256_set1_pd(c.wyex), R2 = _mm256_set1_pd(c.R2);
+  const __m256d L = _mm256_set1_pd(c.L), m = _mm256_set1_pd(c.m), k = _mm256_set1_pd(c.k);
+  const __m256d azR = _mm256_set1_pd(c.azR), zero = _mm256_setzero_pd();
+  const __m256d dinf = _mm256_set1_pd(inf);
+  __m256d idx = _mm256_setr_pd(i0, i0 + 1.0, i0 + 2.0, i0 + 3.0);
+  const __m256d four = _mm256_set1_pd(4.0);
+  int done = 0;
+  for (; done + 4 <= n; done += 4, idx = _mm256_add_pd(idx, four)) {
+    const __m256d x = _mm256_add_pd(gx0, _mm256_mul_pd(_mm256_add_pd(idx, half), cell));
+    const __m256d wx = _mm256_sub_pd(x, ax);
+    const __m256d par = _mm256_add_pd(_mm256_mul_pd(wx, ex), wyey);
+    const __m256d cr = _mm256_sub_pd(_mm256_mul_pd(wx, ey), wyex);
+    const __m256d cr2 = _mm256_mul_pd(cr, cr);
+    const __m256d rho2 = _mm256_sub_pd(R2, cr2);
+    const __m256d rho = _mm256_sqrt_pd(_mm256_max_pd(rho2, zero));
+    const __m256d s = _mm256_min_pd(_mm256_max_pd(_mm256_sub_pd(par, _mm256_mul_pd(k, rho)), zero), L);
+    const __m256d q = _mm256_sub_pd(s, par);
+    const __m256d t = _mm256_sub_pd(rho2, _mm256_mul_pd(q, q));
+    const __m256d h = _mm256_sub_pd(_mm256_add_pd(azR, _mm256_mul_pd(m, s)), _mm256_sqrt_pd(_mm256_max_pd(t, zero)));
+    const __m256d miss = _mm256_or_pd(_mm256_cmp_pd(cr2, R2, _CMP_GT_OQ), _mm256_cmp_pd(t, zero, _CMP_LT_OQ));
+    _mm_storeu_ps(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)));
+  }
+  return done;
+}
+
+template <bool Rising>
+__attribute__((target("avx2"))) int flat_row_avx2(const RowConsts& c, int i0, int n, float* out) {
+  const __m256d gx0 = _mm256_set1_pd(c.gx0), cell = _mm256_set1_pd(c.cell), half = _mm256_set1_pd(0.5);
+  const __m256d ax = _mm256_set1_pd(c.ax), ex = _mm256_set1_pd(c.ex), ey = _mm256_set1_pd(c.ey);
+  const __m256d wyey = _mm256_set1_pd(c.wyey), wyex = _mm256_set1_pd(c.wyex), R2 = _mm256_set1_pd(c.R2);
+  const __m256d L = _mm256_set1_pd(c.L), m = _mm256_set1_pd(c.m), az = _mm256_set1_pd(c.az);
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d dinf = _mm256_set1_pd(inf);
+  __m256d idx = _mm256_setr_pd(i0, i0 + 1.0, i0 + 2.0, i0 + 3.0);
+  const __m256d four = _mm256_set1_pd(4.0);
+  int done = 0;
+  for (; done + 4 <= n; done += 4, idx = _mm256_add_pd(idx, four)) {
+    const __m256d x = _mm256_add_pd(gx0, _mm256_mul_pd(_mm256_add_pd(idx, half), cell));
+    const __m256d wx = _mm256_sub_pd(x, ax);
+    const __m256d par = _mm256_add_pd(_mm256_mul_pd(wx, ex), wyey);
+    const __m256d cr = _mm256_sub_pd(_mm256_mul_pd(wx, ey), wyex);
+    const __m256d cr2 = _mm256_mul_pd(cr, cr);
+    const __m256d rho = _mm256_sqrt_pd(_mm256_max_pd(_mm256_sub_pd(R2, cr2), zero));
+    const __m256d lo = _mm256_sub_pd(par, rho), hi = _mm256_add_pd(par, rho);
+    const __m256d s = Rising ? _mm256_max_pd(lo, zero) : _mm256_min_pd(hi, L);
+    const __m256d h = _mm256_add_pd(az, _mm256_mul_pd(m, s));
+    const __m256d miss = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(cr2, R2, _CMP_GT_OQ), _mm256_cmp_pd(lo, L, _CMP_GT_OQ)),
+                                      _mm256_cmp_pd(hi, zero, _CMP_LT_OQ));
+    _mm_storeu_ps(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)));
+  }
+  return done;
+}
+
+bool cpu_has_avx2() {
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+}
+#endif
+
+}  // namespace
+
+void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, float* out) const {
+  if (n <= 0) return;
+  const bool vec = len_ > 0 && (tool_.kind == ToolKind::ball || tool_.kind == ToolKind::flat);
+  if (!vec) {  // plunges and bull noses: per cell
+    for (int k = 0; k < n; ++k) {
+      const double h = lower_height(gx0 + (static_cast<double>(i0 + k) + 0.5) * cell, y);
+      out[k] = h == inf ? std::numeric_limits<float>::infinity() : static_cast<float>(h);
+    }
+    return;
+  }
+  const double wy = y - a_[1], R = tool_.radius_mm;
+  const RowConsts c{gx0, cell, a_[0], ex_, ey_, wy * ey_, wy * ex_, R * R, len_, slope_, ball_k_, a_[2], a_[2] + R};
+  int done = 0;
+  if (tool_.kind == ToolKind::ball) {
+#ifdef DEFLEX_SWEEP_AVX2
+    if (cpu_has_avx2()) done = ball_row_avx2(c, i0, n, out);
+#endif
+    for (int k = done; k < n; ++k) out[k] = ball_cell(c, i0 + k);
+  } else if (slope_ >= 0) {
+#ifdef DEFLEX_SWEEP_AVX2
+    if (cpu_has_avx2()) done = flat_row_avx2<true>(c, i0, n, out);
+#endif
+    for (int k = done; k < n; ++k) out[k] = flat_cell<true>(c, i0 + k);
+  } else {
+#ifdef DEFLEX_SWEEP_AVX2
+    if (cpu_has_avx2()) done = flat_row_avx2<false>(c, i0, n, out);
+#endif
+    for (int k = done; k < n; ++k) out[k] = flat_cell<false>(c, i0 + k);
+  }
 }
 
 namespace {
@@ -174,11 +366,7 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut) {
     const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor((xb - g.x0_mm) / g.cell_mm - 0.5)));
     if (i1 < i0) continue;
     buf.resize(static_cast<std::size_t>(i1 - i0 + 1));
-    for (int i = i0; i <= i1; ++i) {
-      const double h = s.lower_height(z.cx(i), y);
-      buf[static_cast<std::size_t>(i - i0)] =
-          h == inf ? std::numeric_limits<float>::infinity() : static_cast<float>(h);
-    }
+    s.row_heights(y, g.x0_mm, g.cell_mm, i0, i1 - i0 + 1, buf.data());
     removed += z.lower_row(j, i0, i1 - i0 + 1, buf.data());
   }
   return removed;
@@ -188,6 +376,26 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut) {
 
 double sweep_line(ZMap& z, const LineSweep& s, bool start_cut) {
   return sweep_rows(z, s, 0, z.grid().ny - 1, start_cut);
+}
+
+double sweep_line_reference(ZMap& z, const LineSweep& s) {
+  const GridSpec& g = z.grid();
+  const int j0 = std::max(0, z.iy(s.y_min())), j1 = std::min(g.ny - 1, z.iy(s.y_max()));
+  std::vector<float> buf;
+  double removed = 0;
+  for (int j = j0; j <= j1; ++j) {
+    const double y = z.cy(j);
+    const int i0 = std::max(0, z.ix(s.x_min())), i1 = std::min(g.nx - 1, z.ix(s.x_max()));
+    if (i1 < i0) continue;
+    buf.resize(static_cast<std::size_t>(i1 - i0 + 1));
+    for (int i = i0; i <= i1; ++i) {
+      const double h = s.lower_height(z.cx(i), y);
+      buf[static_cast<std::size_t>(i - i0)] =
+          h == inf ? std::numeric_limits<float>::infinity() : static_cast<float>(h);
+    }
+    removed += z.lower_row(j, i0, i1 - i0 + 1, buf.data());
+  }
+  return removed;
 }
 
 double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) {

@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -234,6 +236,113 @@ TEST_CASE("chained sweeps in parallel bands equal one-by-one sweeps, cell for ce
     // Removed volumes differ only by rounding (cells lowered in another order).
     CHECK(vb == doctest::Approx(va).epsilon(1e-9));
   }
+}
+
+TEST_CASE("row kernels equal lower_height; AVX2 lanes equal the scalar tail") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-6, 6), dz(-3, 3);
+  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 3, 0}, {ToolKind::bull, 4, 1.5}};
+  const double c = 0.05, gx0 = -12.3;
+  int compared = 0;
+  for (const ToolProfile& t : tools)
+    for (int k = 0; k < 40; ++k) {
+      const Point3 a{u(rng), u(rng), dz(rng)};
+      Point3 b{a[0] + u(rng) / 4, a[1] + u(rng) / 4, a[2] + (k % 3 == 0 ? 0.0 : dz(rng) / 4)};
+      if (k % 10 == 0) b = {a[0], a[1], a[2] - 1};  // plunge
+      const LineSweep s(t, a, b);
+      for (double y = s.y_min() - 0.3; y < s.y_max() + 0.3; y += 0.37) {
+        const int i0 = static_cast<int>(std::floor((s.x_min() - 0.3 - gx0) / c)), n = static_cast<int>((s.x_max() - s.x_min() + 0.6) / c);
+        std::vector<float> row(static_cast<std::size_t>(n));
+        s.row_heights(y, gx0, c, i0, n, row.data());
+        for (int i = 0; i < n; ++i) {
+          const double x = gx0 + (i0 + i + 0.5) * c, h = s.lower_height(x, y);
+          float one;
+          s.row_heights(y, gx0, c, i0 + i, 1, &one);  // scalar path
+          CAPTURE(static_cast<int>(t.kind));
+          CAPTURE(x);
+          CAPTURE(y);
+          REQUIRE(std::bit_cast<std::uint32_t>(one) == std::bit_cast<std::uint32_t>(row[static_cast<std::size_t>(i)]));
+          if (std::isinf(h) || std::isinf(one)) {
+            // Only a cell on the footprint's rim may differ (by rounding).
+            if (std::isinf(h) != std::isinf(one)) CHECK(std::fabs(seg_dist(x, y, a, b) - t.radius_mm) < 1e-9);
+            continue;
+          }
+          REQUIRE(std::fabs(one - h) <= 1e-9 + 1e-6 * std::fabs(h));
+          ++compared;
+        }
+      }
+    }
+  CHECK(compared > 100000);
+}
+
+TEST_CASE("chains of short moves with the fast paths equal straightforward sweeps, cell for cell") {
+  // Random CAM-like chains (0.05-1 mm moves, smooth or sharp turns) rising,
+  // descending (gently and steeply), level and plunging, committed in batches as
+  // the simulator does (each batch's start is cut already), against the
+  // reference sweep of every move over its whole footprint.
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<double> u01(0, 1);
+  const ToolProfile tools[] = {{ToolKind::ball, 3, 3}, {ToolKind::flat, 2.5, 0}, {ToolKind::bull, 3, 1}, {ToolKind::bull, 3, 2.5}};
+  for (const ToolProfile& t : tools)
+    for (int mode = 0; mode < 5; ++mode) {  // 0 level, 1 rising, 2 descending, 3 steep descents, 4 mixed + plunges
+      CAPTURE(static_cast<int>(t.kind));
+      CAPTURE(t.corner_radius_mm);
+      CAPTURE(mode);
+      ZMap fast = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
+      ZMap ref = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
+      // A pre-cut surface, so earlier "passes" leave cells below the new ones.
+      for (ZMap* z : {&fast, &ref}) sweep_line_reference(*z, LineSweep({ToolKind::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+      std::vector<Point3> pts{{6 + 4 * u01(rng), 6 + 4 * u01(rng), -0.5}};
+      double heading = 2 * std::numbers::pi * u01(rng);
+      for (int k = 0; k < 160; ++k) {
+        heading += u01(rng) < 0.1 ? (u01(rng) - 0.5) * 3 : (u01(rng) - 0.5) * 0.3;
+        const double step = 0.05 + 0.95 * u01(rng);
+        Point3 p = pts.back();
+        // Stay inside [5, 25]^2: turn back toward the centre.
+        if (p[0] < 5 || p[0] > 25 || p[1] < 5 || p[1] > 25) heading = std::atan2(15 - p[1], 15 - p[0]);
+        double dzs = 0;
+        switch (mode) {
+          case 1: dzs = 0.1 * u01(rng); break;
+          case 2: dzs = -0.1 * u01(rng); break;
+          case 3: dzs = u01(rng) < 0.5 ? -2 * u01(rng) : 0.5 * u01(rng); break;
+          case 4: dzs = (u01(rng) - 0.5) * 0.6; break;
+        }
+        p[2] = std::clamp(p[2] + dzs * step, -3.0, 0.5);
+        if (mode == 4 && u01(rng) < 0.08) {
+          p[2] = pts.back()[2] + (u01(rng) < 0.5 ? -0.5 : 0.5);  // plunge or retract
+        } else {
+          p[0] += step * std::cos(heading);
+          p[1] += step * std::sin(heading);
+        }
+        pts.push_back(p);
+      }
+      std::vector<LineSweep> segs;
+      double vref = 0;
+      for (std::size_t k = 1; k < pts.size(); ++k) {
+        segs.emplace_back(t, pts[k - 1], pts[k]);
+        vref += sweep_line_reference(ref, segs.back());
+      }
+      double vfast = 0;
+      for (std::size_t k = 0; k < segs.size();) {
+        const std::size_t n = std::min<std::size_t>(1 + rng() % 25, segs.size() - k);
+        vfast += sweep_lines(fast, std::span<const LineSweep>(segs).subspan(k, n), k > 0);
+        k += n;
+      }
+      int higher = 0, lower = 0;
+      double worst = 0;
+      for (int j = 0; j < ref.grid().ny; ++j)
+        for (int i = 0; i < ref.grid().nx; ++i) {
+          const float a = fast.at(i, j), b = ref.at(i, j);
+          if (a == b) continue;
+          const double d = static_cast<double>(a) - b;
+          worst = std::max(worst, std::fabs(d));
+          (d > 0 ? higher : lower) += std::fabs(d) > 1e-6;
+        }
+      CHECK(higher == 0);  // no cell the reference lowers is skipped
+      CHECK(lower == 0);
+      CHECK(worst <= 1e-6);  // float rounding of the same height only
+      CHECK(vfast == doctest::Approx(vref).epsilon(1e-6));
+    }
 }
 
 TEST_CASE("max_height_in follows the cuts") {

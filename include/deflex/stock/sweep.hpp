@@ -40,14 +40,31 @@ class LineSweep {
   double y_min() const { return ymin_; }
   double y_max() const { return ymax_; }
   // X range of the footprint on the line y = y_mm; false if it misses. With
-  // start_cut (the tool at `a` is already in the Z-map) a horizontal or rising
-  // move cannot lower the cells behind its start (they are nearest to `a` and the
-  // tool only rises from there), so the range starts at the start's normal line.
+  // start_cut (the tool at `a` is already in the Z-map) only the cells the move
+  // can lower below the tool at `a` are kept. The lower surface over a cell is a
+  // convex function f(s) of the travel s, so the move lowers the cell only where
+  // f'(0) = m - g'(d0) par / d0 < 0 (m the slope, g the profile, d0 the distance
+  // to `a`, par the coordinate along the move). A horizontal or rising move: only
+  // cells ahead of the start's normal line (par > 0). A descending ball: only
+  // par > -|m| R (g'(d)/d >= 1/R); a bull nose: that band with |m| r1 / g'(r1)
+  // instead of |m| R, plus the disc of radius r1 = R - r_c / 2 about `a`; a flat
+  // end lowers its whole footprint. A retract (rising plunge) removes nothing.
   bool row_range(double y_mm, double& x0_mm, double& x1_mm, bool start_cut = false) const;
 
   const Point3& a() const { return a_; }
   const Point3& b() const { return b_; }
   const ToolProfile& tool() const { return tool_; }
+  double dir_x() const { return ex_; }       // unit XY direction of travel (+X for a plunge)
+  double dir_y() const { return ey_; }
+  double xy_length() const { return len_; }  // 0 for a plunge
+  double slope() const { return slope_; }    // dz per mm of XY travel (0 for a plunge)
+
+  // Heights of the swept lower surface at the centres of n consecutive cells of
+  // one Z-map row: x_k = gx0 + (i0 + k + 0.5) cell, k in [0, n), at y; +inf where
+  // the footprint does not reach. Equal to lower_height within rounding (1e-12 mm);
+  // ball and flat ends are evaluated 4 cells at a time (AVX2, when the CPU has it,
+  // with results identical to the scalar path).
+  void row_heights(double y_mm, double gx0_mm, double cell_mm, int i0, int n, float* out) const;
 
  private:
   ToolProfile tool_;
@@ -55,12 +72,16 @@ class LineSweep {
   double ex_ = 1, ey_ = 0;  // unit XY direction (when len_ > 0)
   double len_ = 0;          // XY length, mm
   double slope_ = 0;        // dz per mm of XY travel
+  double ball_k_ = 0;       // slope / sqrt(1 + slope^2): ball's contact offset per unit half-chord
   double xmin_, xmax_, ymin_, ymax_;
 };
 
 // Removes the swept volume of a line from the stock; returns the removed volume, mm^3.
 double sweep_line(ZMap& z, const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm);
 double sweep_line(ZMap& z, const LineSweep& s, bool start_cut = false);
+// The straightforward sweep (every cell of the footprint, lower_height per cell,
+// no start_cut shortcut): the reference the fast paths are tested against.
+double sweep_line_reference(ZMap& z, const LineSweep& s);
 
 // Consecutive sweeps in order (each one's start is the previous one's end when
 // chained; the first one's start is cut already when first_start_cut). Bands of
