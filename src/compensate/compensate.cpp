@@ -231,6 +231,10 @@ struct Loop {
     std::vector<bool> has;
     end_errors(r.final, n, e, has);
     for (int it = 1; it <= max_iterations; ++it) {
+      // A point that was inside the band as written but left it once its
+      // neighbours were compensated (the stock it meets changed) joins in.
+      for (std::size_t i = 0; i < n; ++i)
+        if (can[i] && has[i] && !active[i] && (e[i] + r.offsets[i]).norm() > s.tolerance_mm) active[i] = true;
       std::vector<V3> next(n, V3::Zero());
       for (std::size_t i = 0; i < n; ++i)
         if (active[i] && has[i]) next[i] = -s.gain * e[i];  // Smaoui 2011 §4: the mirror image
