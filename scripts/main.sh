@@ -1,12 +1,25 @@
 #!/bin/sh
 # The main job on the bundled sample: install what is missing, build, then
-# check the sample program against the sample machine and print its tool path.
+# compensate the six-surface part of Smaoui et al. 2011 (ball D16, 80 mm
+# stick-out, C35) on its semi-finished stock for the sample machine, show that
+# only coordinates changed, and judge the result by simulating it against the
+# original. Defaults (machine mill3, tool and material libraries, material C35,
+# tolerance) come from config.yaml. Results go to out/.
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2
-echo "== deflex check samples/programs/pocket_finish.nc --machine mill3"
-build/deflex check samples/programs/pocket_finish.nc --machine mill3
-echo "== deflex path samples/programs/pocket_finish.nc --lines"
-build/deflex path samples/programs/pocket_finish.nc --lines
+prog=samples/programs/six_surfaces.nc
+stock=samples/stock/six_surfaces_stock.stl
+mkdir -p out
+echo "== deflex check $prog"
+build/deflex check $prog
+echo "== deflex compensate $prog --stock $stock -o out/six_surfaces_comp.nc --report out/report"
+build/deflex compensate $prog --stock $stock -o out/six_surfaces_comp.nc --report out/report
+echo "== deflex diff $prog out/six_surfaces_comp.nc (summary)"
+build/deflex diff $prog out/six_surfaces_comp.nc | tail -n 1
+echo "== deflex simulate out/six_surfaces_comp.nc --reference $prog"
+build/deflex simulate out/six_surfaces_comp.nc --reference $prog --stock $stock
+echo "== out/report/summary.json"
+cat out/report/summary.json
