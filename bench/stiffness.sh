@@ -13,6 +13,9 @@ fi
 mkdir -p bench/out
 cache=$(mktemp -d)
 echo "$(nproc) cores, $(uname -m)"
+# The beam table in-process (process start-up alone is ~0.1 s):
+cmake --build build --target deflex_bench >/dev/null
+build/deflex_bench --benchmark_filter=beam --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 hyperfine --warmup 2 --runs 20 --export-json bench/out/stiffness_beam.json \
   "build/deflex stiffness --tool-file samples/tools.yaml --tool T5 --machine mill3 --method beam --format json"
 for t in T1 T2 T3 T4 T5; do

@@ -13,7 +13,7 @@ libocct-data-exchange-dev libgmsh-dev"
 for a in "$@"; do
   case "$a" in
     --test)  pkgs="$pkgs linuxcnc-uspace" ;;
-    --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace" ;;
+    --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
     *) echo "install-deps.sh: unknown option $a" >&2; exit 2 ;;
   esac
 done
