@@ -6,10 +6,8 @@
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh --bench
-if [ ! -x build/deflex ]; then
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j2 --target deflex
-fi
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target deflex
 n=${BLOCKS:-1000000}
 f=bench/data/finish_$n.nc
 [ -f "$f" ] || sh bench/gen_program.sh "$n" "$f" >/dev/null

@@ -6,10 +6,8 @@
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh --bench
-if [ ! -x build/deflex ]; then
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j2 --target deflex
-fi
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target deflex
 mkdir -p bench/out
 cache=$(mktemp -d)
 echo "$(nproc) cores, $(uname -m)"
