@@ -47,7 +47,7 @@ double LineSweep::lower_height(double x, double y) const {
   const double R = tool_.radius_mm;
   const double wx = x - a_[0], wy = y - a_[1];
   if (len_ == 0) {  // plunge: the lowest of the two tool positions
-    const double d = std::hypot(wx, wy);
+    const double d = std::sqrt(wx * wx + wy * wy);  // mm: no overflow, cheaper than hypot
     return d > R ? inf : std::min(a_[2], b_[2]) + profile_height(tool_, d);
   }
   // XY coordinates along (par) and across (perp) the segment; sigma in [0, len]
@@ -62,7 +62,8 @@ double LineSweep::lower_height(double x, double y) const {
   auto tip_z = [&](double s) { return a_[2] + m * s; };
   if (m == 0) {  // horizontal: the nearest tool position is the lowest
     const double s = std::clamp(par, 0.0, len_);
-    return tip_z(0) + profile_height(tool_, std::hypot(par - s, perp));
+    const double q = par - s;
+    return tip_z(0) + profile_height(tool_, std::sqrt(q * q + perp * perp));
   }
   switch (tool_.kind) {
     case ToolKind::flat:
@@ -120,7 +121,8 @@ double LineSweep::lower_height(double x, double y) const {
           }
         }
       }
-      return tip_z(s) + profile_height(tool_, std::min(R, std::hypot(s - par, perp)));
+      const double q = s - par;
+      return tip_z(s) + profile_height(tool_, std::min(R, std::sqrt(q * q + perp * perp)));
     }
   }
   return inf;
@@ -306,6 +308,100 @@ __attribute__((target("avx2"))) int flat_row_avx2(const RowConsts& c, int i0, in
   return done;
 }
 
+// Bull nose, 4 cells at a time: the cells whose minimum lies at an end of the
+// feasible interval (f'(lo) >= 0 or f'(hi) <= 0: with short moves, nearly all of
+// them) and every cell of a horizontal move are evaluated here with the
+// operations of lower_height; the others are left to lower_height (Newton).
+struct BullV {
+  __m256d Rv, rf, rcv, rc2, m, az, zero, dinf, ninf;
+  bool level;
+};
+
+// f'(s) of lower_height.
+__attribute__((target("avx2"), always_inline)) inline __m256d bull_deriv(const BullV& c, __m256d s, __m256d par,
+                                                                          __m256d pp) {
+  const __m256d q = _mm256_sub_pd(s, par);
+  const __m256d d = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(q, q), pp));
+  const __m256d e = _mm256_sub_pd(d, c.rf);
+  const __m256d w = _mm256_sub_pd(c.rc2, _mm256_mul_pd(e, e));
+  const __m256d g1 = _mm256_div_pd(e, _mm256_sqrt_pd(w));
+  __m256d f = _mm256_add_pd(c.m, _mm256_div_pd(_mm256_mul_pd(g1, q), d));
+  const __m256d bad = _mm256_cmp_pd(w, c.zero, _CMP_NGT_UQ);  // !(w > 0)
+  const __m256d edge = _mm256_blendv_pd(_mm256_blendv_pd(c.m, c.ninf, _mm256_cmp_pd(q, c.zero, _CMP_LT_OQ)), c.dinf,
+                                        _mm256_cmp_pd(q, c.zero, _CMP_GT_OQ));
+  f = _mm256_blendv_pd(f, edge, bad);
+  const __m256d flat = _mm256_or_pd(_mm256_cmp_pd(e, c.zero, _CMP_LE_OQ), _mm256_cmp_pd(d, c.zero, _CMP_EQ_OQ));
+  return _mm256_blendv_pd(f, c.m, flat);
+}
+
+// a_z + m s + profile_height(min(R, d)) (level: no min, beyond R is +inf).
+__attribute__((target("avx2"), always_inline)) inline __m256d bull_height(const BullV& c, __m256d s, __m256d par,
+                                                                           __m256d pp) {
+  const __m256d q = c.level ? _mm256_sub_pd(par, s) : _mm256_sub_pd(s, par);
+  __m256d d = _mm256_sqrt_pd(_mm256_add_pd(_mm256_mul_pd(q, q), pp));
+  const __m256d beyond = _mm256_cmp_pd(d, c.Rv, _CMP_GT_OQ);
+  if (!c.level) d = _mm256_min_pd(c.Rv, d);
+  const __m256d e = _mm256_sub_pd(d, c.rf);
+  const __m256d ph = _mm256_blendv_pd(
+      _mm256_sub_pd(c.rcv, _mm256_sqrt_pd(_mm256_max_pd(_mm256_sub_pd(c.rc2, _mm256_mul_pd(e, e)), c.zero))), c.zero,
+      _mm256_cmp_pd(e, c.zero, _CMP_LE_OQ));
+  const __m256d h = _mm256_add_pd(_mm256_add_pd(c.az, _mm256_mul_pd(c.m, s)), ph);
+  return c.level ? _mm256_blendv_pd(h, c.dinf, beyond) : h;
+}
+
+__attribute__((target("avx2"))) void bull_row_avx2(const LineSweep& sw, double y, double gx0, double cell, int i0, int n,
+                                                   float* out) {
+  const ToolProfile& t = sw.tool();
+  const double R = t.radius_mm, rc = t.corner_radius_mm;
+  const BullV c{_mm256_set1_pd(R),         _mm256_set1_pd(R - rc),      _mm256_set1_pd(rc),
+                _mm256_set1_pd(rc * rc),   _mm256_set1_pd(sw.slope()),  _mm256_set1_pd(sw.a()[2]),
+                _mm256_setzero_pd(),       _mm256_set1_pd(inf),         _mm256_set1_pd(-inf),
+                sw.slope() == 0};
+  const __m256d gx = _mm256_set1_pd(gx0), cl = _mm256_set1_pd(cell), half = _mm256_set1_pd(0.5);
+  const __m256d ax = _mm256_set1_pd(sw.a()[0]), ex = _mm256_set1_pd(sw.dir_x()), ey = _mm256_set1_pd(sw.dir_y());
+  const double wy = y - sw.a()[1];
+  const __m256d wyey = _mm256_set1_pd(wy * sw.dir_y()), wyex = _mm256_set1_pd(wy * sw.dir_x());
+  const __m256d R2 = _mm256_set1_pd(R * R), L = _mm256_set1_pd(sw.xy_length());
+  const __m256d xmin = _mm256_set1_pd(sw.x_min()), xmax = _mm256_set1_pd(sw.x_max());
+  const __m256d sign = _mm256_set1_pd(-0.0), ones = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  __m256d idx = _mm256_setr_pd(i0, i0 + 1.0, i0 + 2.0, i0 + 3.0);
+  const __m256d four = _mm256_set1_pd(4.0);
+  int k = 0;
+  for (; k + 4 <= n; k += 4, idx = _mm256_add_pd(idx, four)) {
+    const __m256d x = _mm256_add_pd(gx, _mm256_mul_pd(_mm256_add_pd(idx, half), cl));
+    const __m256d wx = _mm256_sub_pd(x, ax);
+    const __m256d par = _mm256_add_pd(_mm256_mul_pd(wx, ex), wyey);
+    const __m256d perp = _mm256_andnot_pd(sign, _mm256_sub_pd(_mm256_mul_pd(wx, ey), wyex));
+    const __m256d pp = _mm256_mul_pd(perp, perp);
+    const __m256d rho = _mm256_sqrt_pd(_mm256_sub_pd(R2, pp));
+    const __m256d lo = _mm256_max_pd(_mm256_sub_pd(par, rho), c.zero), hi = _mm256_min_pd(_mm256_add_pd(par, rho), L);
+    __m256d miss = _mm256_or_pd(_mm256_cmp_pd(x, xmin, _CMP_LT_OQ), _mm256_cmp_pd(x, xmax, _CMP_GT_OQ));
+    miss = _mm256_or_pd(miss, _mm256_cmp_pd(perp, c.Rv, _CMP_GT_OQ));
+    miss = _mm256_or_pd(miss, _mm256_cmp_pd(lo, hi, _CMP_GT_OQ));
+    __m256d h, todo = c.zero;
+    if (c.level) {
+      h = bull_height(c, _mm256_min_pd(_mm256_max_pd(par, c.zero), L), par, pp);
+    } else {
+      const __m256d at_lo = _mm256_cmp_pd(bull_deriv(c, lo, par, pp), c.zero, _CMP_GE_OQ);
+      const __m256d at_hi = _mm256_cmp_pd(bull_deriv(c, hi, par, pp), c.zero, _CMP_LE_OQ);
+      todo = _mm256_andnot_pd(_mm256_or_pd(at_lo, at_hi), ones);
+      h = bull_height(c, _mm256_blendv_pd(hi, lo, at_lo), par, pp);
+    }
+    h = _mm256_blendv_pd(h, c.dinf, miss);
+    _mm_storeu_ps(out + k, _mm256_cvtpd_ps(h));
+    const int rest = _mm256_movemask_pd(_mm256_andnot_pd(miss, todo));
+    for (int l = 0; l < 4; ++l)
+      if (rest >> l & 1) {
+        const double v = sw.lower_height(gx0 + (static_cast<double>(i0 + k + l) + 0.5) * cell, y);
+        out[k + l] = v == inf ? std::numeric_limits<float>::infinity() : static_cast<float>(v);
+      }
+  }
+  for (; k < n; ++k) {
+    const double v = sw.lower_height(gx0 + (static_cast<double>(i0 + k) + 0.5) * cell, y);
+    out[k] = v == inf ? std::numeric_limits<float>::infinity() : static_cast<float>(v);
+  }
+}
+
 bool cpu_has_avx2() {
   static const bool has = [] {
     __builtin_cpu_init();
@@ -319,6 +415,12 @@ bool cpu_has_avx2() {
 
 void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, float* out) const {
   if (n <= 0) return;
+#ifdef DEFLEX_SWEEP_AVX2
+  if (len_ > 0 && tool_.kind == ToolKind::bull && cpu_has_avx2() && y >= ymin_ && y <= ymax_) {
+    bull_row_avx2(*this, y, gx0, cell, i0, n, out);
+    return;
+  }
+#endif
   const bool vec = len_ > 0 && (tool_.kind == ToolKind::ball || tool_.kind == ToolKind::flat);
   if (!vec) {  // plunges and bull noses: per cell
     for (int k = 0; k < n; ++k) {
