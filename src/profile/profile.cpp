@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/profile/yaml.hpp"
 
 namespace deflex::embedded {
 const std::vector<std::pair<std::string_view, std::string_view>>& dialect_files();
@@ -16,11 +17,7 @@ namespace deflex::profile {
 namespace fs = std::filesystem;
 
 [[noreturn]] void yaml_error(const std::string& file, const YAML::Mark& mark, const std::string& msg) {
-  std::ostringstream s;
-  s << file;
-  if (mark.line >= 0) s << ":" << mark.line + 1 << ":" << mark.column + 1;
-  s << ": error: " << msg;
-  throw Error(Exit::config, s.str());
+  deflex::yaml::fail(file, mark, msg);
 }
 
 YAML::Node load_yaml_file(const std::string& path) {
@@ -52,19 +49,9 @@ std::string get_string(const YAML::Node& n, const std::string& file, const std::
 
 namespace {
 
-// Rejects keys we do not know: a typo in a profile must not be silently ignored.
 void check_keys(const YAML::Node& n, const std::string& file, std::initializer_list<const char*> known) {
-  if (!n.IsMap()) yaml_error(file, n.Mark(), "expected a mapping of keys");
-  for (auto it = n.begin(); it != n.end(); ++it) {
-    std::string k = it->first.as<std::string>();
-    bool ok = false;
-    for (const char* s : known) ok = ok || k == s;
-    if (!ok) {
-      std::string list;
-      for (const char* s : known) list += std::string(list.empty() ? "" : ", ") + s;
-      yaml_error(file, it->first.Mark(), "unknown key '" + k + "' (known: " + list + ")");
-    }
-  }
+  deflex::yaml::require_map(n, "this section", file);
+  deflex::yaml::check_keys(n, known, file);
 }
 
 template <typename E>

@@ -4,45 +4,24 @@
 #include <set>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/profile/yaml.hpp"
 
 namespace deflex::stiffness::yaml_read {
 
-std::string where(const std::string& file, const YAML::Mark& mark) {
-  if (mark.is_null()) return file;
-  return file + ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
-}
+std::string where(const std::string& file, const YAML::Mark& mark) { return deflex::yaml::where(file, mark); }
 
-void fail(const std::string& file, const YAML::Mark& mark, const std::string& msg) {
-  throw Error(Exit::config, where(file, mark) + ": error: " + msg);
-}
+void fail(const std::string& file, const YAML::Mark& mark, const std::string& msg) { deflex::yaml::fail(file, mark, msg); }
 
 void require_map(const YAML::Node& node, const std::string& what, const std::string& file) {
-  if (!node.IsMap()) fail(file, node.Mark(), what + " must be a map");
+  deflex::yaml::require_map(node, what, file);
 }
 
-void check_keys(const YAML::Node& map, std::initializer_list<const char*> known,
-                const std::string& file) {
-  const std::set<std::string> ok(known.begin(), known.end());
-  for (const auto& kv : map) {
-    const auto key = kv.first.as<std::string>();
-    if (!ok.count(key)) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      fail(file, kv.first.Mark(), "unknown key '" + key + "' (expected: " + list + ")");
-    }
-  }
+void check_keys(const YAML::Node& map, std::initializer_list<const char*> known, const std::string& file) {
+  deflex::yaml::check_keys(map, known, file);
 }
 
 double number_node(const YAML::Node& node, const std::string& what, const std::string& file) {
-  if (!node.IsScalar()) fail(file, node.Mark(), what + " must be a number");
-  double v = 0;
-  try {
-    v = node.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(file, node.Mark(), what + " must be a number, not '" + node.Scalar() + "'");
-  }
-  if (!std::isfinite(v)) fail(file, node.Mark(), what + " must be finite");
-  return v;
+  return deflex::yaml::number(node, what, file);
 }
 
 static YAML::Node required(const YAML::Node& parent, const char* key, const std::string& file) {

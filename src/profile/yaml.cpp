@@ -1,4 +1,4 @@
-#include "yaml_util.hpp"
+#include "deflex/profile/yaml.hpp"
 
 #include <cmath>
 #include <fstream>
@@ -7,7 +7,7 @@
 
 #include "deflex/diag/diagnostics.hpp"
 
-namespace deflex::force::yaml {
+namespace deflex::yaml {
 
 std::string where(const std::string& file, const YAML::Mark& mark) {
   if (mark.is_null()) return file;
@@ -82,4 +82,4 @@ std::string text_at(const YAML::Node& parent, const char* key, const std::string
   return n.Scalar();
 }
 
-}  // namespace deflex::force::yaml
+}  // namespace deflex::yaml
