@@ -61,9 +61,11 @@ std::vector<interp::Motion> finishing_path(int passes, double seg_mm) {
 }
 
 void measure(const char* name, const std::vector<interp::Motion>& path, SimOptions so,
-             double cell_mm = stock::default_cell_mm) {
+             double cell_mm = stock::default_cell_mm, force::CutterType type = force::CutterType::ball,
+             double corner_mm = 0) {
   force::Cutter c;
-  c.type = force::CutterType::ball;
+  c.type = type;
+  c.corner_radius_mm = corner_mm;
   c.diameter_mm = 10;
   c.flutes = 2;
   c.helix_deg = 30;
@@ -128,6 +130,13 @@ TEST_CASE("bench engage: the same on a 0.1 mm Z-map (roughing resolution)" * doc
   SimOptions so;
   so.path.cl_spacing_mm = 0.5;
   measure("CAM-like 0.5 mm G1 segments on a wave, 0.1 mm cells", finishing_path(20, 0.5), so, 0.1);
+}
+
+TEST_CASE("bench engage: bull nose D10 r1, CAM-like 0.5 mm G1 segments on a wave" * doctest::skip()) {
+  SimOptions so;
+  so.path.cl_spacing_mm = 0.5;
+  measure("bull nose D10 r1, CAM-like 0.5 mm G1 segments on a wave", finishing_path(20, 0.5), so,
+          stock::default_cell_mm, force::CutterType::bull, 1.0);
 }
 
 }  // TEST_SUITE
