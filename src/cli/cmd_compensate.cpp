@@ -26,6 +26,7 @@ struct Args {
   MaterialOptions mat;
   std::string file, output, reference, tool_file, tool, stock, report;
   std::optional<double> tolerance, gain;
+  double feed_limit_N = 0;
   double cell_mm = 0.05, cl_spacing_mm = 0.5;
   int max_iterations = 8, threads = 0;
   bool tool_only = false, help = false;
@@ -34,7 +35,9 @@ struct Args {
 void describe(po::options_description& d, Args& a, bool compensating) {
   auto opt = [](std::optional<double>& dst) { return po::value<double>()->notifier([&dst](double v) { dst = v; }); };
   d.add_options()("help,h", po::bool_switch(&a.help), "show this help");
-  if (compensating) d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout");
+  if (compensating)
+    d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout")
+        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N");
   else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
   d.add_options()
       ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else samples/tools.yaml)")
@@ -118,6 +121,8 @@ Job prepare(Args& a, Io& io, bool compensating) {
   st.max_iterations = a.max_iterations;
   st.threads = a.threads;
   st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
+  st.feed_limit_N = a.feed_limit_N;
+  if (a.feed_limit_N < 0) throw Error(Exit::usage, "--feed-limit must be > 0 N");
   if (!(st.tolerance_mm > 0)) throw Error(Exit::usage, "--tolerance must be > 0 mm");
   if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
   if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
@@ -219,6 +224,8 @@ const char* kCompensateHelp =
     "predicted inside +-tolerance stay as programmed. Offsets are capped at the machine\n"
     "profile's max_offset_mm. The written program is read back and checked against the\n"
     "original before anything is written; with --gain 0 the output is the input.\n"
+    "--feed-limit N also lowers F (by the ratio of N to the predicted peak force) on\n"
+    "cutting blocks whose peak force would exceed N, restoring the programmed F after.\n"
     "The surface normal comes from the tool and the local path: the wall for a flat\n"
     "or bull-nose flank, else the normal to the travel in its vertical plane.\n";
 
@@ -254,8 +261,17 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   if (progress) io.err << "\r\033[K";
   std::vector<bool> can = compensate::movable(r.motions);
   compensate::WriteStats ws;
-  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted);
-  compensate::safety_check(j.prog, r.motions, text, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted);
+  const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
+  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted, feeds);
+  compensate::safety_check(j.prog, r.motions, text, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
+  if (!r.feed_lowered_lines.empty()) {
+    std::string lines;
+    for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)
+      lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
+    if (r.feed_lowered_lines.size() > 12) lines += ", ...";
+    io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
+           << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
+  }
   if (!r.capped_lines.empty()) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);

@@ -66,13 +66,44 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
 
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
-                          WriteStats* stats, const std::vector<bool>* inserted) {
+                          WriteStats* stats, const std::vector<bool>* inserted,
+                          const std::vector<double>* feeds) {
   writer::Rewriter w(prog, d);
   WriteStats st;
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   static const char axes[] = {'X', 'Y', 'Z'};
   double carried[3] = {NAN, NAN, NAN};  // what the output program's control holds, mm
+  // --feed-limit: the modal F of the output program, mm/min. Blocks deflex does
+  // not touch may set F themselves; `scanned` is the last line looked at for that.
+  double carried_feed = NAN;
+  std::uint32_t scanned = 0;
+  auto feed_words_up_to = [&](std::uint32_t line, bool inch) {  // F words of untouched lines before `line`
+    for (std::uint32_t l = scanned + 1; l < line; ++l) {
+      prog.lex(l, b, quiet);
+      if (const gcode::Word* f = b.find('F')) carried_feed = f->value * (inch ? 25.4 : 1.0);
+    }
+    scanned = std::max(scanned, line);
+  };
+  // The F word a feed motion needs after --feed-limit (called after its
+  // coordinate words, so an added F comes last in the block).
+  auto feed_edit = [&](std::size_t i) {
+    const interp::Motion& m = motions[i];
+    if (!feeds || m.kind == interp::MotionKind::rapid || (inserted && (*inserted)[i])) return;
+    feed_words_up_to(m.line, m.inch);
+    const double want = (*feeds)[i];
+    const double scale = m.inch ? 25.4 : 1.0;
+    prog.lex(m.line, b, quiet);
+    const gcode::Word* f = b.find('F');
+    if (f && std::fabs(want - m.feed_mm_per_min) > 1e-9) {
+      w.set_number(*f, want / scale, m.inch);
+      ++st.feeds_changed;
+    } else if (!f && !(std::fabs(carried_feed - want) <= 1e-9)) {
+      w.insert_word(b.words.back().end, 'F', want / scale, m.inch);
+      ++st.feeds_changed;
+    }
+    carried_feed = want;
+  };
   for (std::size_t i = 0; i < motions.size(); ++i) {
     const interp::Motion& m = motions[i];
     const V3 o = offsets.empty() ? V3(V3::Zero()) : offsets[i];
@@ -86,7 +117,13 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
         carried[a] = written_mm(want, m.inch, d);
       }
       prog.lex(m.line, b, quiet);
-      if (const gcode::Word* f = b.find('F')) words.push_back({'F', f->value});
+      if (feeds) {
+        feed_words_up_to(m.line, m.inch);
+        if (!(std::fabs(carried_feed - (*feeds)[i]) <= 1e-9)) words.push_back({'F', (*feeds)[i] / (m.inch ? 25.4 : 1.0)});
+        carried_feed = (*feeds)[i];
+      } else if (const gcode::Word* f = b.find('F')) {
+        words.push_back({'F', f->value});
+      }
       w.insert_block_before(m.line, w.format_block(m.line - 1, words, m.inch, "", "G1"));
       ++st.blocks_inserted;
       continue;
@@ -95,6 +132,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       // Cycles, G28/G30/G53, subprograms, G91: never moved, and never preceded
       // by a moved point (compensate::movable), so they end where they did.
       for (int a = 0; a < 3; ++a) carried[a] = m.end_mm[a];
+      feed_edit(i);
       continue;
     }
     bool lexed = false;
@@ -121,6 +159,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
         ++st.words_inserted;
       }
     }
+    feed_edit(i);
   }
   if (stats) *stats = st;
   if (w.edits() == 0) return prog.bytes();
@@ -129,7 +168,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
 
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const std::string& text,
                   const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
-                  const std::vector<bool>* inserted) {
+                  const std::vector<bool>* inserted, const std::vector<double>* feeds) {
   gcode::Program out(SourceText(original.source().name() + " (compensated)", text));
   auto fail = [&](std::uint32_t line, const std::string& what) {
     throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line) +
@@ -155,8 +194,9 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
     }
     original.lex(l, a, quiet);
     out.lex(++ol, b, quiet);
-    if (gcode::skeleton_hash(original, a) != gcode::skeleton_hash(out, b))
-      fail(l, "the block changed in more than its coordinate words");
+    if (gcode::skeleton_hash(original, a, feeds) != gcode::skeleton_hash(out, b, feeds))
+      fail(l, feeds ? "the block changed in more than its coordinate and feed words"
+                    : "the block changed in more than its coordinate words");
   }
   std::ostringstream errs;
   Diagnostics diags(&errs, 0);
@@ -171,6 +211,13 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
     const interp::Motion &x = om[i], &y = c.motions[i];
     const bool ins = inserted && (*inserted)[i];
     if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
+    if (x.kind != interp::MotionKind::rapid) {
+      // Feeds: as programmed, or as --feed-limit lowered them (never higher).
+      const double want = feeds ? (*feeds)[i] : x.feed_mm_per_min;
+      if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0))
+        fail(x.line, "a feed rate is not the one deflex meant");
+      if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail(x.line, "a feed rate went up");
+    }
     const double r = (x.inch ? round_in : round_mm) * std::sqrt(3.0);
     const double allowed = movable[i] || ins ? max_offset_mm + r : r;
     double dist = 0;

@@ -133,6 +133,7 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
       rev.resize(static_cast<std::size_t>(cur->grid.steps));
       force::revolution_forces(cur->slices, cur->grid, ph.k, fz, eng, rev);
       force::Vec3 f = force::summarize(rev).mean_N;
+      for (const force::Vec3& fj : rev) p.peak_N = std::max(p.peak_N, fj.norm());
       // Feed frame X' = feed, Y' = Z x X' -> machine axes.
       const double fx = cl.point.feed_x, fy = cl.point.feed_y;
       p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
@@ -323,6 +324,7 @@ struct Loop {
     std::vector<interp::Motion> m2;
     std::vector<bool> ins2, can2, act2, cap2;
     std::vector<V3> off2;
+    std::vector<double> feeds2;
     for (std::size_t i = 0; i < n; ++i) {
       const interp::Motion& m = r.motions[i];
       interp::Vec3 prev = m.start_mm;
@@ -332,6 +334,7 @@ struct Loop {
         piece.start_mm = prev;
         prev = piece.end_mm;
         m2.push_back(piece);
+        feeds2.push_back(r.feeds_mm_per_min[i]);
         ins2.push_back(true);
         can2.push_back(true);
         act2.push_back(true);
@@ -341,6 +344,7 @@ struct Loop {
       interp::Motion rest = m;
       rest.start_mm = prev;
       m2.push_back(rest);
+      feeds2.push_back(r.feeds_mm_per_min[i]);
       ins2.push_back(r.inserted[i]);
       can2.push_back(can[i]);
       act2.push_back(active[i]);
@@ -353,6 +357,7 @@ struct Loop {
     active = std::move(act2);
     capped = std::move(cap2);
     r.offsets = std::move(off2);
+    r.feeds_mm_per_min = std::move(feeds2);
     return total;
   }
 };
@@ -368,6 +373,25 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   r.offsets.assign(n, V3::Zero());
   r.nominal = simulate(motions, {}, ph, s, progress);
   r.final = r.nominal;
+  r.feeds_mm_per_min.resize(n);
+  for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
+  if (s.feed_limit_N > 0) {
+    // What VERICUT Force does alone: lower the feed of a cutting block whose
+    // peak force would exceed the limit. The cutting force grows with the chip
+    // (f_z) while the edge force does not, so scaling F by limit/peak brings the
+    // peak to the limit or below; the compensation then simulates these feeds.
+    std::vector<double> peak(n, 0.0);
+    for (const Point& p : r.nominal) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
+    for (std::size_t i = 0; i < n; ++i) {
+      const interp::Motion& m = motions[i];
+      if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
+      const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
+      r.feeds_mm_per_min[i] = std::max(f, 0.1);
+      r.motions[i].feed_mm_per_min = r.feeds_mm_per_min[i];
+      r.feed_lowered_lines.push_back(m.line);
+    }
+    if (!r.feed_lowered_lines.empty()) r.final = simulate(r.motions, {}, ph, s, progress);
+  }
   if (s.gain == 0.0) {
     r.converged = true;
     return r;
@@ -376,7 +400,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   // Points inside the tolerance band stay as programmed (decided on the program as written).
   std::vector<V3> e0;
   std::vector<bool> has0;
-  end_errors(r.nominal, n, e0, has0);
+  end_errors(r.final, n, e0, has0);  // as written, at the feeds that will run
   for (std::size_t i = 0; i < n; ++i) loop.active[i] = loop.can[i] && has0[i] && e0[i].norm() > s.tolerance_mm;
   loop.run(s.max_iterations);
   if (splittable) {

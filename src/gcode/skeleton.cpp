@@ -6,7 +6,7 @@ bool is_coordinate_letter(char l) {
   return l == 'X' || l == 'Y' || l == 'Z' || l == 'I' || l == 'J' || l == 'K' || l == 'R';
 }
 
-std::uint64_t skeleton_hash(const Program& p, const Block& b) {
+std::uint64_t skeleton_hash(const Program& p, const Block& b, bool ignore_feed) {
   const std::string& bytes = p.bytes();
   std::uint64_t h = 1469598103934665603ull;  // FNV-1a
   auto add = [&](std::uint32_t from, std::uint32_t to) {
@@ -19,7 +19,7 @@ std::uint64_t skeleton_hash(const Program& p, const Block& b) {
   };
   std::uint32_t at = b.begin;
   for (const Word& w : b.words) {
-    if (!is_coordinate_letter(w.letter)) continue;
+    if (!is_coordinate_letter(w.letter) && !(ignore_feed && w.letter == 'F')) continue;
     add(at, w.begin);
     at = w.end;
   }

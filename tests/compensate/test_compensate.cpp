@@ -219,4 +219,39 @@ TEST_CASE("split moves: the entry and exit of a long wall pass land inside the t
                   Error);
 }
 
+TEST_CASE("--feed-limit lowers F where the peak force exceeds the limit, and only there") {
+  Fixture f;
+  const double limit_N = 250;
+  auto nominal = compensate::simulate(f.motions, {}, f.ph, f.s);
+  double peak = 0;
+  for (const auto& p : nominal) peak = std::max(peak, p.peak_N);
+  REQUIRE(peak > limit_N);  // the wall cut exceeds it as written
+  f.s.feed_limit_N = limit_N;
+  const std::vector<bool> split_ok = compensate::splittable(f.prog, f.motions);
+  auto r = compensate::compensate(f.motions, f.ph, f.s, {}, &split_ok);
+  REQUIRE_FALSE(r.feed_lowered_lines.empty());
+  // At the lowered feeds the peak is at the limit or under it (C35 has no edge
+  // terms: the force is proportional to the feed per tooth).
+  double after = 0;
+  for (const auto& p : r.final) after = std::max(after, p.peak_N);
+  CHECK(after <= limit_N * (1 + 1e-6));
+  CHECK(after > 0.9 * limit_N);
+  for (std::size_t i = 0; i < r.motions.size(); ++i) CHECK(r.feeds_mm_per_min[i] <= 800.0);
+  compensate::WriteStats ws;
+  std::string out = compensate::apply_offsets(f.prog, f.opt.dialect, r.motions, r.offsets, &ws, &r.inserted,
+                                              &r.feeds_mm_per_min);
+  CHECK(ws.feeds_changed >= 1);
+  const auto can = compensate::movable(r.motions);
+  CHECK_NOTHROW(compensate::safety_check(f.prog, r.motions, out, f.opt, can, 0.1, &r.inserted, &r.feeds_mm_per_min));
+  // Without the feed plan, the F change is a change in more than coordinates.
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, r.motions, out, f.opt, can, 0.1, &r.inserted), Error);
+  // A feed written higher than planned is caught.
+  std::string bad = out;
+  const std::size_t at = bad.find(" F", bad.find("N6"));
+  REQUIRE(at != std::string::npos);
+  bad.replace(at, 2, " F9");
+  CHECK_THROWS_AS(compensate::safety_check(f.prog, r.motions, bad, f.opt, can, 0.1, &r.inserted, &r.feeds_mm_per_min),
+                  Error);
+}
+
 }  // TEST_SUITE

@@ -13,6 +13,7 @@ struct WriteStats {
   std::size_t numbers_changed = 0;  // coordinate numbers replaced
   std::size_t words_inserted = 0;   // axis words added where a modal value would carry an offset
   std::size_t blocks_inserted = 0;  // G1 blocks splitting a move
+  std::size_t feeds_changed = 0;    // F words set or added (--feed-limit)
 };
 
 // The program with each motion's end moved by offsets[i]: numbers spliced into
@@ -23,7 +24,8 @@ struct WriteStats {
 // `G1 X Y Z [F]` before the block of the next motion that is not inserted.
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
-                          WriteStats* stats = nullptr, const std::vector<bool>* inserted = nullptr);
+                          WriteStats* stats = nullptr, const std::vector<bool>* inserted = nullptr,
+                          const std::vector<double>* feeds_mm_per_min = nullptr);
 
 // Per motion: whether its block may be split by inserting G1 blocks before it:
 // a plain, compensable G1 whose block holds nothing but N, G1, X, Y, Z and F.
@@ -39,6 +41,7 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
 // within max_offset_mm of the move it splits.
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& original_motions,
                   const std::string& text, const interp::Options& opt, const std::vector<bool>& movable,
-                  double max_offset_mm, const std::vector<bool>* inserted = nullptr);
+                  double max_offset_mm, const std::vector<bool>* inserted = nullptr,
+                  const std::vector<double>* feeds_mm_per_min = nullptr);
 
 }  // namespace deflex::compensate

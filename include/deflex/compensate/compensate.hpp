@@ -50,6 +50,7 @@ struct Settings {
   int force_steps = 90;         // angular steps per revolution
   int threads = 0;              // 0: all cores
   int max_splits_per_move = 8;  // points inserted into one move at most
+  double feed_limit_N = 0;      // > 0: lower F where the peak force would exceed it
   std::string tool_override;    // use this tool whatever the T words say
 };
 
@@ -71,6 +72,7 @@ struct Point {
   double ap_mm = 0, ae_mm = 0;
   bool air = true, plunge = false;
   V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
+  double peak_N = 0;            // largest |F| over the revolution
   double height_mm = 0;         // where along the flutes the force acts
   V3 delta_mm = V3::Zero();     // deflection of the tool at that height
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated
@@ -101,6 +103,10 @@ struct Result {
   std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs
   std::size_t compensated_points = 0;
   std::size_t split_points = 0;       // blocks inserted to split moves
+  // --feed-limit: feed per motion of `motions` (mm/min, as the program will run
+  // it) and the lines where it was lowered.
+  std::vector<double> feeds_mm_per_min;
+  std::vector<std::uint32_t> feed_lowered_lines;
 };
 
 // `splittable` (may be null): per motion, whether its block may be split by

@@ -12,6 +12,7 @@ bool is_coordinate_letter(char letter);
 
 // 64-bit hash of the block's bytes without its coordinate words and without
 // blanks; `b` is the lexed line.
-std::uint64_t skeleton_hash(const Program& p, const Block& b);
+// With ignore_feed, F words are left out too (deflex --feed-limit changes them).
+std::uint64_t skeleton_hash(const Program& p, const Block& b, bool ignore_feed = false);
 
 }  // namespace deflex::gcode
