@@ -160,7 +160,9 @@ void write_file_atomically(const std::string& path, const std::string& input_pat
     throw Error(Exit::usage, path + ": error: output would overwrite the input program; choose another -o");
   fs::path target(path);
   fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string tmpl = (dir / ("." + target.filename().string() + ".deflex-XXXXXX")).string();
+  std::string hidden(".");
+  hidden.append(target.filename().string()).append(".deflex-XXXXXX");
+  std::string tmpl = (dir / hidden).string();
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
   int fd = mkstemp(name.data());
