@@ -26,8 +26,7 @@ std::string format_number(double value, bool inch, const profile::Dialect& d) {
   if (!d.trailing_zeros && s.find('.') != std::string::npos) {
     while (s.back() == '0') s.pop_back();  // "12.500" -> "12.5", "12.000" -> "12."
   }
-  if (s == "-0." || s.starts_with("-0.") && s.find_first_not_of("-0.") == std::string::npos)
-    s = s.substr(1);  // no negative zero
+  if (s.starts_with('-') && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // no negative zero
   if (!d.leading_zero) {
     if (s.starts_with("0.") && s.size() > 2) s.erase(0, 1);
     else if (s.starts_with("-0.")) s.erase(1, 1);
