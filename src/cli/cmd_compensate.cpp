@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
+#include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
@@ -191,6 +192,26 @@ std::vector<double> errors_against(const std::vector<compensate::Point>& pts, co
   return e;
 }
 
+std::vector<compensate::PlotPoint> plot_points(const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets) {
+  std::vector<compensate::PlotPoint> v;
+  for (const auto& p : pts)
+    if (!p.air && !p.plunge)
+      v.push_back({p.tip_mm.x(), p.tip_mm.y(), (offset_at(p, offsets) + p.delta_mm).dot(p.normal)});
+  return v;
+}
+
+// Top-view maps of the surface error, on one colour scale.
+void write_maps(const std::string& dir, double tol,
+                const std::vector<std::pair<std::string, std::vector<compensate::PlotPoint>>>& maps) {
+  double scale = 2 * tol;
+  for (const auto& m : maps)
+    for (const auto& p : m.second) scale = std::max(scale, std::fabs(p.error_mm));
+  for (const auto& [name, pts] : maps)
+    writer::write_file_atomically((fs::path(dir) / (name + ".svg")).string(), "", [&](std::ostream& o) {
+      o << compensate::error_map_svg(pts, tol, scale, name + " (top view, work frame)");
+    });
+}
+
 void write_report(const std::string& dir, const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets,
                   const std::string& summary_json) {
   std::error_code ec;
@@ -224,6 +245,8 @@ const char* kCompensateHelp =
     "predicted inside +-tolerance stay as programmed. Offsets are capped at the machine\n"
     "profile's max_offset_mm. The written program is read back and checked against the\n"
     "original before anything is written; with --gain 0 the output is the input.\n"
+    "--report DIR writes points.csv, summary.json and top-view maps of the error\n"
+    "(error_as_written.svg, error_compensated.svg; one colour scale).\n"
     "--feed-limit N also lowers F (by the ratio of N to the predicted peak force) on\n"
     "cutting blocks whose peak force would exceed N, restoring the programmed F after.\n"
     "The surface normal comes from the tool and the local path: the wall for a flat\n"
@@ -301,6 +324,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
                      stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
     write_report(a.report, r.final, r.offsets, js);
+    write_maps(a.report, tol, {{"error_as_written", plot_points(r.nominal, {})},
+                               {"error_compensated", plot_points(r.final, r.offsets)}});
   }
   if (a.output.empty() || a.output == "-") io.out << text;
   else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });
@@ -388,6 +413,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                   a.reference.empty() ? "null" : ("\"" + a.reference + "\"").c_str());
     std::string js = "{\"surface_error_mm\": " + stats_json(st) + ", \"cl_points\": " + std::to_string(st.points) + buf + "}";
     write_report(a.report, pts, intent, js);
+    write_maps(a.report, tol, {{"surface_error", plot_points(pts, intent)}});
   }
   return 0;
 }
