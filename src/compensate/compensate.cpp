@@ -77,14 +77,13 @@ std::string tool_id(const interp::Motion& m, const Settings& s) {
 // The outward normal of the surface generated at a CL point (see compensate.hpp).
 V3 surface_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t) {
   const auto& p = cl.point;
-  const V3 xf(p.feed_x, p.feed_y, 0.0), yf(-p.feed_y, p.feed_x, 0.0);
+  const V3 yf(-p.feed_y, p.feed_x, 0.0);  // Y' of the feed frame
   const bool flank = t.type != stiffness::ToolType::ball &&
                      mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) && mt.ae_mm < 0.95 * t.diameter_mm;
   if (flank) return mt.up_share > 0.5 ? V3(-yf) : yf;  // wall on the side that cuts
   V3 dir(p.dir[0], p.dir[1], p.dir[2]);
   V3 n = V3::UnitZ() - dir.dot(V3::UnitZ()) * dir;
   double len = n.norm();
-  (void)xf;
   return len > 1e-9 ? V3(n / len) : V3::UnitZ();
 }
 
@@ -199,6 +198,9 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
     // plain block by its words, but a canned cycle, G28/G30/G53, an M98 call or
     // a G91 move would carry the offset along. Such a point stays as programmed.
     if (i + 1 < n && !motions[i + 1].plain) continue;
+    // Nor before a change of work frame (G54..): the offset would travel into
+    // the next frame with the axes the next block leaves modal.
+    if (i + 1 < n && motions[i + 1].work_offset_mm != m.work_offset_mm) continue;
     ok[i] = true;
   }
   return ok;

@@ -68,6 +68,14 @@ TEST_CASE("movable: cutting points only, and never before a block that cannot be
   for (std::size_t i = 4; i < r.motions.size(); ++i)
     if (r.motions[i].fixed == interp::Fixed::canned_cycle) CHECK_FALSE(can[i]);
   CHECK(can[r.motions.size() - 2]);  // G1 X40 before a plain G0
+  // Not before a change of work frame.
+  profile::MachineProfile mp;
+  mp.work_offsets_mm["G55"] = {100, 0, 0};
+  auto w = test::interpret_text("G21 G90 G0 X0 Y0 Z5.\nG1 Z-1. F100 S1000\nX10.\nG55\nG1 X20.\nX30.\n", "fanuc", &mp);
+  REQUIRE(w.errors == 0);
+  auto cw = compensate::movable(w.motions);
+  CHECK_FALSE(cw[2]);  // X10 in G54, then G55
+  CHECK(cw[3]);
 }
 
 TEST_CASE("apply_offsets: zero offsets give the input; a modal axis carries no offset into the next block") {
