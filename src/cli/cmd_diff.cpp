@@ -59,13 +59,24 @@ Side read_side(const std::string& file, const Setup& s, Diagnostics& diags, Io& 
 
 // Myers' O(ND) shortest edit script over skeleton hashes; returns pairs of
 // matched lines (1-based). Gives up (empty, false) past max_d edits.
+// Two lines match when their skeletons do and, for motion blocks, their end
+// points lie within pair_mm: in a program of `G1X..Y..` lines every skeleton is
+// the same, and only the position tells an inserted block from its neighbours.
+bool same_line(const LineInfo& x, const LineInfo& y, double pair_mm) {
+  if (x.skeleton != y.skeleton) return false;
+  if (!x.motions || !y.motions) return x.motions == y.motions;
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) d2 += (x.end[k] - y.end[k]) * (x.end[k] - y.end[k]);
+  return d2 <= pair_mm * pair_mm;
+}
+
 bool align(const std::vector<LineInfo>& a, const std::vector<LineInfo>& b,
-           std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, int max_d) {
+           std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, int max_d, double pair_mm) {
   const int n = static_cast<int>(a.size()) - 1, m = static_cast<int>(b.size()) - 1;
   const int off = max_d + 1;
   std::vector<int> v(2 * off + 2, 0);
   std::vector<std::vector<int>> trace;
-  auto eq = [&](int x, int y) { return a[x + 1].skeleton == b[y + 1].skeleton; };
+  auto eq = [&](int x, int y) { return same_line(a[x + 1], b[y + 1], pair_mm); };
   for (int d = 0; d <= max_d; ++d) {
     trace.push_back(v);
     for (int k = -d; k <= d; k += 2) {
@@ -104,18 +115,69 @@ std::string json_string(const std::string& s) {
   return o + "\"";
 }
 
+// A single line only in B (a block deflex inserted) can be placed anywhere in
+// the run of pairs before it at the same edit distance; the greedy alignment
+// puts it last. Slide it to where the paired end points move least in total.
+void slide_insertions(std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, const std::vector<LineInfo>& a,
+                      const std::vector<LineInfo>& b) {
+  auto dist = [&](std::uint32_t la, std::uint32_t lb) {
+    if (!a[la].motions || !b[lb].motions) return 0.0;
+    double d2 = 0;
+    for (int k = 0; k < 3; ++k) d2 += (a[la].end[k] - b[lb].end[k]) * (a[la].end[k] - b[lb].end[k]);
+    return std::sqrt(d2);
+  };
+  auto alike = [&](std::uint32_t la, std::uint32_t lb) {
+    return lb < b.size() && a[la].skeleton == b[lb].skeleton && a[la].motions == b[lb].motions;
+  };
+  // A sentinel one past the last lines lets a trailing insertion slide too.
+  pairs.push_back({static_cast<std::uint32_t>(a.size()), static_cast<std::uint32_t>(b.size())});
+  for (std::size_t k = 1; k < pairs.size(); ++k) {
+    const auto [a1, b1] = pairs[k];
+    const auto [a0, b0] = pairs[k - 1];
+    if (a1 != a0 + 1 || b1 != b0 + 2) continue;  // not a single B-only line between them
+    // The run of consecutive pairs ending at k - 1 (at most 64 back).
+    std::size_t j0 = k - 1;
+    while (j0 > 0 && k - j0 < 64 && pairs[j0 - 1].first + 1 == pairs[j0].first &&
+           pairs[j0 - 1].second + 1 == pairs[j0].second)
+      --j0;
+    // Gap before pair j: pairs j..k-1 shift to the next B line.
+    double keep = 0, best = 0;
+    for (std::size_t i = j0; i < k; ++i) keep += dist(pairs[i].first, pairs[i].second);
+    best = keep;
+    std::size_t best_j = k;
+    double before = 0, shifted = 0;
+    std::vector<double> shift_cost(k - j0 + 1, 0.0);
+    bool ok = true;
+    for (std::size_t i = k; i-- > j0;) {
+      if (!alike(pairs[i].first, pairs[i].second + 1)) { ok = false; }
+      shifted += dist(pairs[i].first, pairs[i].second + 1);
+      shift_cost[i - j0] = ok ? shifted : -1;
+    }
+    for (std::size_t j = j0; j < k; ++j) {
+      if (shift_cost[j - j0] >= 0 && before + shift_cost[j - j0] < best - 1e-12) {
+        best = before + shift_cost[j - j0];
+        best_j = j;
+      }
+      before += dist(pairs[j].first, pairs[j].second);
+    }
+    for (std::size_t i = best_j; i < k; ++i) ++pairs[i].second;
+  }
+  pairs.pop_back();
+}
+
 }  // namespace
 
 int cmd_diff(const std::vector<std::string>& args, Io& io) {
   ReadOptions r;
   std::vector<std::string> files;
   std::string format = "text";
-  double threshold = 0.0;
+  double threshold = 0.0, pair_mm = 1.0;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
     ("format", po::value(&format)->default_value("text"), "text or json")
-    ("min-mm", po::value(&threshold)->default_value(0.0), "list changed blocks that moved at least this far (mm); all are counted");
+    ("min-mm", po::value(&threshold)->default_value(0.0), "list changed blocks that moved at least this far (mm); all are counted")
+    ("pair-mm", po::value(&pair_mm)->default_value(1.0), "blocks alike but for coordinates pair first when their end points are this close (mm)");
   add_read_options(desc, r);
   parse_with_files(args, desc, files, 2);
   if (help) {
@@ -140,8 +202,31 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   }
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   int max_d = 20000;
-  if (!align(a.lines, b.lines, pairs, max_d))
+  if (!(pair_mm > 0)) throw Error(Exit::usage, "--pair-mm must be > 0");
+  if (!align(a.lines, b.lines, pairs, max_d, pair_mm))
     throw Error(Exit::input, "diff: the programs differ in more than " + std::to_string(max_d) + " blocks; not compared");
+  {
+    // Blocks moved further than pair_mm leave equal-length runs unpaired on
+    // both sides: pair them back when their skeletons match one to one.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> all;
+    std::uint32_t qa = 0, qb = 0;
+    auto gap = [&](std::uint32_t ea, std::uint32_t eb) {
+      const std::uint32_t na = ea - qa - 1, nb = eb - qb - 1;
+      if (na == 0 || na != nb) return;
+      for (std::uint32_t k = 1; k <= na; ++k)
+        if (a.lines[qa + k].skeleton != b.lines[qb + k].skeleton || a.lines[qa + k].motions != b.lines[qb + k].motions) return;
+      for (std::uint32_t k = 1; k <= na; ++k) all.push_back({qa + k, qb + k});
+    };
+    for (auto [la, lb] : pairs) {
+      gap(la, lb);
+      all.push_back({la, lb});
+      qa = la;
+      qb = lb;
+    }
+    gap(static_cast<std::uint32_t>(a.lines.size()), static_cast<std::uint32_t>(b.lines.size()));
+    pairs = std::move(all);
+  }
+  slide_insertions(pairs, a.lines, b.lines);
 
   struct Change { std::uint32_t la, lb; double d[3]; double dist; bool edited; };
   std::vector<Change> changes;
