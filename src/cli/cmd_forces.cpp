@@ -15,7 +15,7 @@
 #include "deflex/force/material.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/morelli.hpp"
-#include "deflex/force/tool_reader.hpp"
+#include "deflex/force/tool.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -160,7 +160,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   if (a.steps < 4 || a.steps > 1000000) throw Error(Exit::usage, "--steps must be between 4 and 1000000");
 
   const fo::Coefficients k = coefficients_of(a.mat);
-  const fo::Cutter cutter = fo::read_cutter(a.tool_file, a.tool);
+  const fo::Cutter cutter = fo::cutter_of(stiffness::find_tool(stiffness::load_tool_library(a.tool_file), a.tool));
   if (a.ap > cutter.flute_length_mm)
     throw Error(Exit::usage, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +
                                  a.tool + " (" + shortest(cutter.flute_length_mm) + " mm)");

@@ -9,6 +9,7 @@
 #include "deflex/engage/simulator.hpp"
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/mechanistic.hpp"
+#include "deflex/force/tool.hpp"
 #include "deflex/stiffness/beam.hpp"
 
 namespace deflex::compensate {
@@ -32,19 +33,6 @@ stock::ZMap clone(const stock::ZMap& z) {
   return c;
 }
 
-force::Cutter cutter_of(const stiffness::Tool& t) {
-  force::Cutter c;
-  c.type = t.type == stiffness::ToolType::ball ? force::CutterType::ball
-           : t.type == stiffness::ToolType::bull ? force::CutterType::bull
-                                                 : force::CutterType::flat;
-  c.diameter_mm = t.diameter_mm;
-  c.corner_radius_mm = c.type == force::CutterType::bull ? t.corner_radius_mm : 0.0;
-  c.flutes = t.flutes;
-  c.helix_deg = t.helix_deg;
-  c.flute_length_mm = t.flute_length_mm;
-  return c;
-}
-
 // Everything about one tool that the simulation needs, built once.
 struct ToolModel {
   stiffness::Tool tool;
@@ -59,8 +47,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   if (it != cache.end()) return it->second;
   ToolModel m;
   m.tool = stiffness::find_tool(ph.tools, id);
-  force::Cutter c = cutter_of(m.tool);
-  force::validate(c);
+  const force::Cutter c = force::cutter_of(m.tool);
   m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
   m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
   // Steps a multiple of the flute count: the force model then computes one

@@ -141,7 +141,7 @@ TEST_CASE("deflex forces: bad usage is Exit::usage, a bad library Exit::config")
                      "--kr", "1", "--ka", "1"}) == Exit::usage);  // no --ae
   CHECK(usage_error({"--tool-file", tools, "--tool", "F12", "--ae", "2", "--ap", "50", "--fz", "0.1", "--up",
                      "--kt", "1", "--kr", "1", "--ka", "1"}) == Exit::usage);  // deeper than the flutes
-  CHECK(usage_error({"--tool-file", tools, "--tool", "BAD", "--ae", "2", "--ap", "5", "--fz", "0.1", "--up",
+  CHECK(usage_error({"--tool-file", src + "/tests/force/data/bad_tools.yaml", "--tool", "BAD", "--ae", "2", "--ap", "5", "--fz", "0.1", "--up",
                      "--kt", "1", "--kr", "1", "--ka", "1"}) == Exit::config);
   CHECK(usage_error({"--tool-file", "/nonexistent.yaml", "--tool", "X", "--ae", "2", "--ap", "5", "--fz",
                      "0.1", "--up", "--kt", "1", "--kr", "1", "--ka", "1"}) == Exit::io);

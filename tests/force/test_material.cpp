@@ -1,11 +1,12 @@
-// Material library and the tolerant tool reader of the force module.
+// Material library, and the cutting geometry the force model takes from a tool-library entry.
 #include <doctest/doctest.h>
 
 #include <string>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/material.hpp"
-#include "deflex/force/tool_reader.hpp"
+#include "deflex/force/tool.hpp"
+#include "deflex/stiffness/tool.hpp"
 
 using namespace deflex::force;
 using deflex::Error;
@@ -102,23 +103,22 @@ TEST_CASE("a material entry written by to_yaml reads back the same") {
   CHECK(r.conditions == m.conditions);
 }
 
-TEST_CASE("the tool reader takes the cutting geometry and ignores the rest") {
-  const std::string file = src + "/tests/force/data/tools.yaml";
-  const Cutter f = read_cutter(file, "F12");
+TEST_CASE("a tool-library entry gives the force model its cutting geometry") {
+  const auto lib = deflex::stiffness::load_tool_library(src + "/tests/force/data/tools.yaml");
+  const Cutter f = cutter_of(deflex::stiffness::find_tool(lib, "F12"));
   CHECK(f.type == CutterType::flat);
   CHECK(f.diameter_mm == 12);
+  CHECK(f.corner_radius_mm == 0);
   CHECK(f.flutes == 4);
   CHECK(f.helix_deg == 45);
   CHECK(f.flute_length_mm == 26);
-  const Cutter r = read_cutter(file, "R12");
+  const Cutter r = cutter_of(deflex::stiffness::find_tool(lib, "R12"));
   CHECK(r.type == CutterType::bull);
   CHECK(r.corner_radius_mm == 1.5);
-  CHECK(r.flute_length_mm == 24);  // default 2 D when absent
-  CHECK(read_cutter(file, "B10").type == CutterType::ball);
-  const std::string bad = error_of([&] { read_cutter(file, "BAD"); }, Exit::config);
-  CHECK(bad.find("tools.yaml:") != std::string::npos);
-  CHECK(bad.find("corner_radius_mm") != std::string::npos);
-  CHECK(error_of([&] { read_cutter(file, "T99"); }, Exit::usage).find("B10") != std::string::npos);
+  const Cutter b = cutter_of(deflex::stiffness::find_tool(lib, "B10"));
+  CHECK(b.type == CutterType::ball);
+  CHECK(b.corner_radius_mm == 0);  // the force model takes a ball's from D
+  CHECK(error_of([&] { deflex::stiffness::find_tool(lib, "T99"); }, Exit::usage).find("B10") != std::string::npos);
 }
 
 }  // TEST_SUITE

@@ -19,7 +19,8 @@
 #include "../support.hpp"
 #include "deflex/engage/simulator.hpp"
 #include "deflex/force/cutter.hpp"
-#include "deflex/force/tool_reader.hpp"
+#include "deflex/force/tool.hpp"
+#include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/build.hpp"
 
 using namespace deflex;
@@ -222,7 +223,7 @@ TEST_CASE("samples: side wall cuts a_e 2.5, a_p 12 in down-milling on its box st
   stock::ZMap z = stock::make_stock(spec, so);
   const auto r = interpret_sample("side_wall.nc");
   REQUIRE(r.errors == 0);
-  const force::Cutter c = force::read_cutter(kSamples + "tools.yaml", "T6");
+  const force::Cutter c = force::cutter_of(stiffness::find_tool(stiffness::load_tool_library(kSamples + "tools.yaml"), "T6"));
   CHECK(c.diameter_mm == 12);
   CHECK(c.flutes == 4);
   CHECK(c.helix_deg == 45);
