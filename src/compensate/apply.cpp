@@ -42,7 +42,7 @@ struct Collect : interp::MotionSink {
 }  // namespace
 
 // A block deflex may split: words only N, G1/G01, X, Y, Z, F.
-bool split_form(const gcode::Block& b) {
+static bool split_form(const gcode::Block& b) {
   if (b.macro || b.block_delete || !b.comments.empty()) return false;
   for (const gcode::Word& w : b.words) {
     if (w.letter == 'G' && w.code10() == 10) continue;

@@ -216,8 +216,7 @@ class Run {
   void step(std::uint32_t line) {
     bool first_time = seen_[line] == 0;
     if (seen_[line] < 2) ++seen_[line];
-    Diagnostics quiet(nullptr, 0);
-    bool ok = prog_.lex(line, blk_, first_time ? diags_ : quiet);
+    bool ok = prog_.lex(line, blk_, first_time ? diags_ : quiet_);
     if (blk_.kind == gcode::LineKind::ignored) { next_ = prog_.line_count() + 1; return; }
     if (blk_.kind == gcode::LineKind::percent) {
       if (prog_.closing_percent_line() == line) ended_ = true;
@@ -257,6 +256,7 @@ class Run {
   Diagnostics& diags_;
   MotionSink& sink_;
   std::vector<std::uint8_t> seen_;  // 0 never lexed, 1 once, 2 more (subprogram repeats)
+  Diagnostics quiet_{nullptr, 0};   // lexes a line again without repeating its messages
   Block blk_;
   std::uint32_t next_ = 1;
   bool stop_ = false, ended_ = false;
