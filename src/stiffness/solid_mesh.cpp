@@ -24,10 +24,10 @@
 #include <gp_Circ.hxx>
 #include <gp_Elips.hxx>
 #include <gp_Pnt.hxx>
-#include <gmsh.h>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stiffness/shape.hpp"
+#include "gmsh_runtime.hpp"
 #include "deflex/stiffness/solid.hpp"
 #include "solid_internal.hpp"
 
@@ -123,24 +123,33 @@ std::mutex& gmsh_mutex() {
   static std::mutex m;
   return m;
 }
-void ensure_gmsh() {
-  static bool done = [] {
-    gmsh::initialize(0, nullptr, false);
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 1);
+const gmshrt::Api& ensure_gmsh() {
+  const gmshrt::Api& g = gmshrt::api();
+  static bool done = [&g] {
+    int ierr = 0;
+    g.initialize(0, nullptr, 0, &ierr);
+    gmshrt::check(ierr, "gmsh could not start");
+    g.option_set_number("General.Terminal", 0, &ierr);
+    g.option_set_number("General.Verbosity", 1, &ierr);
     return true;
   }();
   (void)done;
+  return g;
 }
 
 // My node slot (0-9) of each gmsh local node of a 10-node tet, from the
 // reference coordinates gmsh reports (corner k at 0, e1, e2, e3).
-std::array<int, 10> gmsh_to_local() {
-  std::string name;
-  int dim = 0, order = 0, n = 0, nprim = 0;
-  std::vector<double> ref;
-  gmsh::model::mesh::getElementProperties(11, name, dim, order, n, ref, nprim);
-  if (n != 10) throw Error(Exit::internal, "gmsh: unexpected 10-node tet layout");
+std::array<int, 10> gmsh_to_local(const gmshrt::Api& g) {
+  char* name = nullptr;
+  int dim = 0, order = 0, n = 0, nprim = 0, ierr = 0;
+  double* ref_c = nullptr;
+  std::size_t ref_n = 0;
+  g.mesh_get_element_properties(11, &name, &dim, &order, &n, &ref_c, &ref_n, &nprim, &ierr);
+  gmshrt::check(ierr, "gmsh: no properties of the 10-node tetrahedron");
+  const std::vector<double> ref(ref_c, ref_c + ref_n);
+  g.free(name);
+  g.free(ref_c);
+  if (n != 10 || ref.size() < 30) throw Error(Exit::internal, "gmsh: unexpected 10-node tet layout");
   std::array<int, 10> slot{};
   for (int k = 0; k < 10; ++k) {
     const double x = ref[3 * k], y = ref[3 * k + 1], z = ref[3 * k + 2];
@@ -162,19 +171,32 @@ std::array<int, 10> gmsh_to_local() {
   return slot;
 }
 
-TetMesh read_mesh() {
-  std::vector<std::size_t> tags;
-  std::vector<double> xyz, par;
-  gmsh::model::mesh::getNodes(tags, xyz, par, -1, -1, false, false);
+TetMesh read_mesh(const gmshrt::Api& g) {
+  std::size_t *tags_c = nullptr, tags_n = 0, xyz_n = 0, par_n = 0;
+  double *xyz_c = nullptr, *par_c = nullptr;
+  int ierr = 0;
+  g.mesh_get_nodes(&tags_c, &tags_n, &xyz_c, &xyz_n, &par_c, &par_n, -1, -1, 0, 0, &ierr);
+  gmshrt::check(ierr, "gmsh: cannot read the mesh nodes");
+  const std::vector<std::size_t> tags(tags_c, tags_c + tags_n);
+  const std::vector<double> xyz(xyz_c, xyz_c + xyz_n);
+  g.free(tags_c);
+  g.free(xyz_c);
+  g.free(par_c);
+  if (tags.empty() || xyz.size() != 3 * tags.size()) throw Error(Exit::internal, "gmsh: no mesh nodes");
   TetMesh mesh;
   std::vector<int> index(*std::max_element(tags.begin(), tags.end()) + 1, -1);
   for (std::size_t i = 0; i < tags.size(); ++i) {
     index[tags[i]] = static_cast<int>(i);
     mesh.node_mm.emplace_back(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
   }
-  const std::array<int, 10> slot = gmsh_to_local();
-  std::vector<std::size_t> etags, enodes;
-  gmsh::model::mesh::getElementsByType(11, etags, enodes);
+  const std::array<int, 10> slot = gmsh_to_local(g);
+  std::size_t *etags_c = nullptr, etags_n = 0, *enodes_c = nullptr, enodes_n = 0;
+  g.mesh_get_elements_by_type(11, &etags_c, &etags_n, &enodes_c, &enodes_n, -1, 0, 1, &ierr);
+  gmshrt::check(ierr, "gmsh: cannot read the tetrahedra");
+  const std::vector<std::size_t> etags(etags_c, etags_c + etags_n), enodes(enodes_c, enodes_c + enodes_n);
+  g.free(etags_c);
+  g.free(enodes_c);
+  if (enodes.size() != 10 * etags.size()) throw Error(Exit::internal, "gmsh: unexpected tetrahedron connectivity");
   mesh.tet.resize(etags.size());
   for (std::size_t e = 0; e < etags.size(); ++e)
     for (int k = 0; k < 10; ++k) mesh.tet[e][slot[k]] = index[enodes[10 * e + k]];
@@ -207,35 +229,46 @@ namespace deflex::stiffness::solid {
 
 TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_origin) {
   std::lock_guard<std::mutex> lock(gmsh_mutex());
-  ensure_gmsh();
-  gmsh::model::add("deflex_tool");
+  const gmshrt::Api& g = ensure_gmsh();
+  int ierr = 0;
+  g.model_add("deflex_tool", &ierr);
   TetMesh mesh;
   try {
-    gmsh::vectorpair dimtags;
-    gmsh::model::occ::importShapes(brep_path, dimtags, true, "brep");
-    gmsh::model::occ::synchronize();
+    gmshrt::check(ierr, "gmsh: cannot add a model");
+    int* dimtags = nullptr;
+    std::size_t dimtags_n = 0;
+    g.occ_import_shapes(brep_path.c_str(), &dimtags, &dimtags_n, 1, "brep", &ierr);
+    gmshrt::check(ierr, "gmsh: cannot import the tool solid");
+    std::vector<int> dt(dimtags, dimtags + dimtags_n);
+    g.free(dimtags);
+    g.occ_synchronize(&ierr);
     if (move_tip_to_origin) {
       double x0, y0, z0, x1, y1, z1;
-      gmsh::model::getBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1);
-      gmsh::model::occ::translate(dimtags, 0, 0, -z0);
-      gmsh::model::occ::synchronize();
+      g.get_bounding_box(-1, -1, &x0, &y0, &z0, &x1, &y1, &z1, &ierr);
+      gmshrt::check(ierr, "gmsh: no bounding box of the tool solid");
+      g.occ_translate(dt.data(), dt.size(), 0, 0, -z0, &ierr);
+      g.occ_synchronize(&ierr);
     }
-    gmsh::option::setNumber("Mesh.MeshSizeMax", h_mm);
-    gmsh::option::setNumber("Mesh.MeshSizeMin", 0.05 * h_mm);
-    gmsh::option::setNumber("Mesh.ElementOrder", 2);
-    gmsh::option::setNumber("Mesh.HighOrderOptimize", 0);
-    gmsh::model::mesh::generate(3);
-    mesh = read_mesh();
+    g.option_set_number("Mesh.MeshSizeMax", h_mm, &ierr);
+    g.option_set_number("Mesh.MeshSizeMin", 0.05 * h_mm, &ierr);
+    g.option_set_number("Mesh.ElementOrder", 2, &ierr);
+    g.option_set_number("Mesh.HighOrderOptimize", 0, &ierr);
+    g.mesh_generate(3, &ierr);
+    gmshrt::check(ierr, "gmsh failed to mesh the tool solid");
+    mesh = read_mesh(g);
   } catch (const Error&) {
-    gmsh::model::remove();
+    g.model_remove(&ierr);
     throw;
-  } catch (...) {
-    std::string why;
-    gmsh::logger::getLastError(why);
-    gmsh::model::remove();
-    throw Error(Exit::internal, "gmsh failed to mesh the tool solid" + (why.empty() ? "" : ": " + why));
+  } catch (const std::exception& e) {
+    char* why = nullptr;
+    g.logger_get_last_error(&why, &ierr);
+    std::string msg = e.what();
+    if (why && *why) msg += std::string(": ") + why;
+    g.free(why);
+    g.model_remove(&ierr);
+    throw Error(Exit::internal, msg);
   }
-  gmsh::model::remove();
+  g.model_remove(&ierr);
   if (mesh.tet.empty()) throw Error(Exit::internal, "gmsh produced no tetrahedra for the tool solid");
   return mesh;
 }
