@@ -21,21 +21,40 @@ class Out {
   // 7th decimal) and ten times cheaper. Huge values fall back to to_chars.
   void num6(double v) {
     char b[48];
-    double s = v * 1e6;
+    const double s = v * 1e6;
     if (!(std::fabs(s) < 9e15)) {
       auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::fixed, 6);
       buf_.append(b, r.ptr);
       return;
     }
-    long long u = std::llround(s);
+    const long long u = static_cast<long long>(s < 0 ? s - 0.5 : s + 0.5);  // round half away from zero
+    unsigned long long a = u < 0 ? 0ull - static_cast<unsigned long long>(u) : static_cast<unsigned long long>(u);
     char* e = b + sizeof b;
     char* p = e;
-    bool neg = u < 0;
-    unsigned long long a = neg ? -static_cast<unsigned long long>(u) : static_cast<unsigned long long>(u);
-    for (int i = 0; i < 6; ++i) { *--p = static_cast<char>('0' + a % 10); a /= 10; }
+    // Two digits per step from a table: the six decimals, the point, the integer part.
+    static const char kPairs[] =
+        "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+        "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+        "8081828384858687888990919293949596979899";
+    for (int i = 0; i < 3; ++i) {
+      const unsigned d = static_cast<unsigned>(a % 100);
+      a /= 100;
+      *--p = kPairs[2 * d + 1];
+      *--p = kPairs[2 * d];
+    }
     *--p = '.';
-    do { *--p = static_cast<char>('0' + a % 10); a /= 10; } while (a);
-    if (neg) *--p = '-';  // u == 0 never gets a sign: no "-0.000000"
+    do {
+      if (a >= 10) {
+        const unsigned d = static_cast<unsigned>(a % 100);
+        a /= 100;
+        *--p = kPairs[2 * d + 1];
+        *--p = kPairs[2 * d];
+      } else {
+        *--p = static_cast<char>('0' + a);
+        a = 0;
+      }
+    } while (a);
+    if (u < 0) *--p = '-';  // u == 0 never gets a sign: no "-0.000000"
     buf_.append(p, e);
   }
   void integer(unsigned long v) {
