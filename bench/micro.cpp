@@ -1,5 +1,5 @@
 // In-process timings (Google Benchmark) of what whole-process timings cannot
-// show: deflex starts in ~0.1 s (loading OpenCASCADE and gmsh), far more than
+// show: deflex starts in ~0.05 s (loading OpenCASCADE and its other libraries), far more than
 // the beam table it computes. Build: cmake --build build --target deflex_bench;
 // run from the repository root: build/deflex_bench.
 #include <benchmark/benchmark.h>

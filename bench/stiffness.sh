@@ -11,7 +11,7 @@ cmake --build build -j2 --target deflex
 mkdir -p bench/out
 cache=$(mktemp -d)
 echo "$(nproc) cores, $(uname -m)"
-# The beam table in-process (process start-up alone is ~0.1 s):
+# The beam table in-process (process start-up alone, ~0.05 s, is far more than the table):
 cmake --build build --target deflex_bench >/dev/null
 build/deflex_bench --benchmark_filter=beam --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 hyperfine --warmup 2 --runs 20 --export-json bench/out/stiffness_beam.json \
