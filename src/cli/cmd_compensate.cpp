@@ -49,7 +49,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("report", po::value(&a.report), "write points.csv (one row per CL point) and summary.json into this folder")
       ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
-      ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror fixed-point iterations at most")
+      ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
       ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
       ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
   add_material_options(d, a.mat);
@@ -307,20 +307,20 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
            << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
   if (!r.converged)
     io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
-           << " iterations (last change " << r.last_change_mm << " mm)\n";
+           << " updates at some points (largest change left " << r.last_change_mm << " mm); their last iterate is written\n";
   const double tol = j.settings.tolerance_mm;
   Stats before = stats_of(errors_against(r.nominal, {}), tol);
   Stats after = stats_of(errors_against(r.final, r.offsets), tol);
   io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
          << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
-         << " blocks inserted to split moves; " << r.iterations << " iterations"
-         << (r.converged ? "" : " (not converged)") << "\n";
+         << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
+         << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
   summary_line(io, "predicted error, as written:", before, tol);
   summary_line(io, "predicted error, compensated:", after, tol);
   if (!a.report.empty()) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"converged\": %s, \"compensated_points\": %zu, \"inserted_blocks\": %zu",
-                  tol, r.iterations, r.converged ? "true" : "false", r.compensated_points, ws.blocks_inserted);
+    char buf[260];
+    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"evaluations\": %zu, \"converged\": %s, \"compensated_points\": %zu, \"inserted_blocks\": %zu",
+                  tol, r.iterations, r.evaluations, r.converged ? "true" : "false", r.compensated_points, ws.blocks_inserted);
     std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
                      stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
     write_report(a.report, r.final, r.offsets, js);

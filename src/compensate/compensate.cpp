@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <memory>
+#include <thread>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/engage/engagement.hpp"
+#include "deflex/engage/path.hpp"
 #include "deflex/engage/simulator.hpp"
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/mechanistic.hpp"
@@ -74,104 +77,144 @@ V3 surface_normal(const engage::CLSample& cl, const engage::Metrics& mt, const s
   return len > 1e-9 ? V3(n / len) : V3::UnitZ();
 }
 
+// The per-point physics of one CL sample: forces, deflection, surface error.
+// Shared by simulate() and the mirror stream, so both report the same numbers.
+Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
+               const interp::Motion& m, const force::Coefficients& k, std::vector<force::Vec3>& rev) {
+  Point p;
+  p.line = cl.line;
+  p.index = cl.index;
+  p.count = cl.count;
+  p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
+  p.ap_mm = mt.ap_mm;
+  p.ae_mm = mt.ae_mm;
+  p.air = mt.air_cut || eng.empty();
+  p.plunge = mt.plunge;
+  p.normal = surface_normal(cl, mt, tm.tool);
+  if (p.air || p.plunge) return p;
+  const int flutes = tm.slices.cutter.flutes;
+  const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
+  if (rpm <= 0) throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no spindle speed (S) set");
+  const double fz = m.feed_mm_per_min / (rpm * flutes);
+  rev.resize(static_cast<std::size_t>(tm.grid.steps));
+  force::revolution_forces(tm.slices, tm.grid, k, fz, eng, rev);
+  force::Vec3 f = force::summarize(rev).mean_N;
+  for (const force::Vec3& fj : rev) p.peak_N = std::max(p.peak_N, fj.norm());
+  // Feed frame X' = feed, Y' = Z x X' -> machine axes.
+  const double fx = cl.point.feed_x, fy = cl.point.feed_y;
+  p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
+  // Height of the resultant: centre of the engaged edge length along the flutes.
+  double wz = 0, w = 0;
+  for (std::size_t i = 0; i < eng.slices.size(); ++i) {
+    double ang = 0;
+    for (const auto& iv : eng.slices[i]) ang += iv.end - iv.start;
+    const double wi = ang * tm.slices.slices[i].width_mm;
+    wz += wi * tm.slices.slices[i].z_mm;
+    w += wi;
+  }
+  p.height_mm = w > 0 ? wz / w : 0.0;
+  p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
+  p.error_mm = p.delta_mm.dot(p.normal);
+  return p;
+}
+
+// The stock and the tool's simulator along one run through the program.
+class Run {
+ public:
+  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}) : ph_(ph), s_(s), sink_(std::move(sink)) {
+    if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
+    z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
+    so_.path.cl_spacing_mm = s.cl_spacing_mm;
+    so_.threads = s.threads;
+  }
+  // Before motion m: false for a rapid before the first cut (not run); a cut
+  // with another tool finishes the old simulator and starts the tool's own.
+  bool prepare(const interp::Motion& m) {
+    if (m.kind == interp::MotionKind::rapid && !sim_) return false;
+    const std::string id = tool_id(m, s_);
+    if (m.kind != interp::MotionKind::rapid && id != id_) {
+      if (sim_) sim_->finish();
+      if (m.tool == 0 && s_.tool_override.empty())
+        throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give --tool");
+      tm_ = &model_for(models_, id, ph_, s_);
+      engage::Process proc;
+      proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;
+      proc.fz_mm = m.feed_mm_per_min / (proc.spindle_rpm * tm_->slices.cutter.flutes);
+      sim_ = std::make_unique<engage::Simulator>(*z_, tm_->slices, proc, so_, sink_);
+      id_ = id;
+      ++tool_changes_;
+    }
+    return true;
+  }
+  engage::Simulator& sim() { return *sim_; }
+  const ToolModel& tool() const { return *tm_; }
+  std::size_t tool_changes() const { return tool_changes_; }
+  void finish() {
+    if (sim_) sim_->finish();
+  }
+
+ private:
+  const Physics& ph_;
+  const Settings& s_;
+  engage::PointSink sink_;
+  std::unique_ptr<stock::ZMap> z_;
+  engage::SimOptions so_;
+  std::map<std::string, ToolModel> models_;
+  const ToolModel* tm_ = nullptr;
+  std::string id_;
+  std::unique_ptr<engage::Simulator> sim_;
+  std::size_t tool_changes_ = 0;
+};
+
+// Motion m with its start moved by a and its end (and an arc's centre) by b.
+interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
+  for (int c = 0; c < 3; ++c) {
+    m.start_mm[c] += a[c];
+    m.end_mm[c] += b[c];
+    m.center_mm[c] += b[c];
+  }
+  return m;
+}
+
 }  // namespace
 
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                             const Physics& ph, const Settings& s, const Progress& progress) {
-  if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
-  stock::ZMap z = clone(*ph.stock);
-  std::map<std::string, ToolModel> models;
   std::vector<Point> out;
   out.reserve(motions.size() * 2);
-
-  const ToolModel* cur = nullptr;
-  std::unique_ptr<engage::Simulator> sim;
   std::vector<force::Vec3> rev;
-  // The motions as the control will run them: each end moved by its offset,
-  // each start by the offset of the motion before (arcs are moved whole).
-  std::vector<interp::Motion> moved;
-  auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
-
   // CLSample::motion counts the motions one Simulator has run; ran[] maps it
   // back to the index in `motions` (rapids before the first cut are not run,
   // and a tool change starts a new Simulator).
   std::vector<std::size_t> ran;
+  const ToolModel* tm = nullptr;
   auto sink = [&](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
     if (cl.rapid) return;
     const std::size_t gi = ran.at(cl.motion);
-    const interp::Motion& m = motions[gi];
-    Point p;
-    p.line = cl.line;
+    Point p = point_of(cl, mt, eng, *tm, motions[gi], ph.k, rev);
     p.motion = static_cast<std::uint32_t>(gi);
-    p.index = cl.index;
-    p.count = cl.count;
-    p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
-    p.ap_mm = mt.ap_mm;
-    p.ae_mm = mt.ae_mm;
-    p.air = mt.air_cut || eng.empty();
-    p.plunge = mt.plunge;
-    p.normal = surface_normal(cl, mt, cur->tool);
-    if (!p.air && !p.plunge) {
-      const int flutes = cur->slices.cutter.flutes;
-      const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
-      if (rpm <= 0) throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no spindle speed (S) set");
-      const double fz = m.feed_mm_per_min / (rpm * flutes);
-      rev.resize(static_cast<std::size_t>(cur->grid.steps));
-      force::revolution_forces(cur->slices, cur->grid, ph.k, fz, eng, rev);
-      force::Vec3 f = force::summarize(rev).mean_N;
-      for (const force::Vec3& fj : rev) p.peak_N = std::max(p.peak_N, fj.norm());
-      // Feed frame X' = feed, Y' = Z x X' -> machine axes.
-      const double fx = cl.point.feed_x, fy = cl.point.feed_y;
-      p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
-      // Height of the resultant: centre of the engaged edge length along the flutes.
-      double wz = 0, w = 0;
-      for (std::size_t i = 0; i < eng.slices.size(); ++i) {
-        double ang = 0;
-        for (const auto& iv : eng.slices[i]) ang += iv.end - iv.start;
-        const double wi = ang * cur->slices.slices[i].width_mm;
-        wz += wi * cur->slices.slices[i].z_mm;
-        w += wi;
-      }
-      p.height_mm = w > 0 ? wz / w : 0.0;
-      p.delta_mm = cur->compliance.at(p.height_mm) * p.force_N;
-      p.error_mm = p.delta_mm.dot(p.normal);
-    }
     out.push_back(p);
   };
-
-  engage::SimOptions so;
-  so.path.cl_spacing_mm = s.cl_spacing_mm;
-  so.threads = s.threads;
-  std::string cur_id;
+  Run run(ph, s, sink);
+  auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
   const std::size_t n = motions.size();
+  std::size_t changes = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    interp::Motion m = motions[i];
-    const V3 o = offset(i), o_prev = i ? offset(i - 1) : V3(V3::Zero());
-    for (int a = 0; a < 3; ++a) {
-      m.start_mm[a] += o_prev[a];
-      m.end_mm[a] += o[a];
-      m.center_mm[a] += o[a];
-    }
-    if (m.kind != interp::MotionKind::rapid || sim) {
-      const std::string id = tool_id(m, s);
-      if (m.kind != interp::MotionKind::rapid && id != cur_id) {
-        if (sim) sim->finish();
-        if (m.tool == 0 && s.tool_override.empty())
-          throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give --tool");
-        cur = &model_for(models, id, ph, s);
-        engage::Process proc;
-        proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;
-        proc.fz_mm = m.feed_mm_per_min / (proc.spindle_rpm * cur->slices.cutter.flutes);
-        sim = std::make_unique<engage::Simulator>(z, cur->slices, proc, so, sink);
+    // The motions as the control will run them: each end moved by its offset,
+    // each start by the offset of the motion before (arcs are moved whole).
+    const interp::Motion m = moved(motions[i], i ? offset(i - 1) : V3(V3::Zero()), offset(i));
+    if (run.prepare(m)) {
+      if (run.tool_changes() != changes) {
+        changes = run.tool_changes();
         ran.clear();
-        cur_id = id;
+        tm = &run.tool();
       }
       ran.push_back(i);
-      sim->run(m);
+      run.sim().run(m);
     }
     if (progress && (i % 4096 == 0)) progress("simulating", static_cast<double>(i) / static_cast<double>(n));
   }
-  if (sim) sim->finish();
+  run.finish();
   return out;
 }
 
@@ -195,160 +238,212 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
 
 namespace {
 
-// End-point error vector e n per motion (the CL sample that is its end).
-void end_errors(const std::vector<Point>& pts, std::size_t n, std::vector<V3>& e, std::vector<bool>& has) {
-  e.assign(n, V3::Zero());
-  has.assign(n, false);
-  for (const Point& p : pts)
-    if (p.index == p.count && !p.air && !p.plunge) {
-      e[p.motion] = p.error_mm * p.normal;
-      has[p.motion] = true;
-    }
-}
+// The mirror method in one pass through the program. The stock a CL sample
+// meets depends only on the path before it (causality), so the fixed point of
+// P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
+// through it once, in order: at each motion end, with every earlier motion
+// already at its compensated position and cut into the stock, the offset along
+// the surface normal is the root of h(s) = s + gain e(s) (e the surface error
+// with the end moved by s n), found by secant steps, each step one engagement
+// evaluation at the trial position (Simulator::probe, nothing is cut); then the
+// motion is cut at its offset and the stream moves on. Re-simulating the whole
+// program per mirror iteration would reach the same point, slower.
+class Stream {
+ public:
+  Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
+         const std::vector<bool>* splittable, const Progress& progress)
+      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), progress_(progress), run_(ph, s) {}
 
-struct Loop {
-  const Physics& ph;
-  const Settings& s;
-  const Progress& progress;
-  Result& r;
-  std::vector<bool> can, active, capped;
-
-  // Mirror iterations from the current offsets (r.final must hold the
-  // simulation at them) to the fixed point.
-  void run(int max_iterations) {
-    const std::size_t n = r.motions.size();
-    std::vector<V3> e;
-    std::vector<bool> has;
-    end_errors(r.final, n, e, has);
-    for (int it = 1; it <= max_iterations; ++it) {
-      // A point that was inside the band as written but left it once its
-      // neighbours were compensated (the stock it meets changed) joins in.
-      for (std::size_t i = 0; i < n; ++i)
-        if (can[i] && has[i] && !active[i] && (e[i] + r.offsets[i]).norm() > s.tolerance_mm) active[i] = true;
-      std::vector<V3> next(n, V3::Zero());
-      for (std::size_t i = 0; i < n; ++i)
-        if (active[i] && has[i]) next[i] = -s.gain * e[i];  // Smaoui 2011 §4: the mirror image
-      for (std::size_t i = 0; i < n; ++i) {
-        const double len = next[i].norm();
-        if (len > s.max_offset_mm) {
-          next[i] *= s.max_offset_mm / len;
-          capped[i] = true;
-        }
-      }
-      // No jerk: bound the change of offset from one point to the next.
-      for (int pass = 0; pass < 2; ++pass)
-        for (std::size_t k = 1; k < n; ++k) {
-          const std::size_t i = pass == 0 ? k : n - 1 - k, j = pass == 0 ? k - 1 : n - k;
-          if (!can[i] || !can[j]) continue;
-          const V3 d = next[i] - next[j];
-          const double len = d.norm();
-          if (len > s.max_step_mm) next[i] = next[j] + d * (s.max_step_mm / len);
-        }
-      // Arcs move whole: their end takes the offset of their start.
-      for (std::size_t i = 0; i < n; ++i) {
-        const auto k = r.motions[i].kind;
-        if (!can[i] || (k != interp::MotionKind::arc_cw && k != interp::MotionKind::arc_ccw)) continue;
-        const V3 start = i ? next[i - 1] : V3(V3::Zero());
-        if ((next[i] - start).norm() > s.tolerance_mm && it == max_iterations) r.nonuniform_arcs.push_back(r.motions[i].line);
-        next[i] = start;
-      }
-      double change = 0;
-      for (std::size_t i = 0; i < n; ++i) change = std::max(change, (next[i] - r.offsets[i]).norm());
-      r.offsets = next;
-      ++r.iterations;
-      r.last_change_mm = change;
-      if (progress) progress("iteration " + std::to_string(r.iterations), 0.0);
-      r.final = simulate(r.motions, r.offsets, ph, s, progress);
-      if (change <= 0.01 * s.tolerance_mm) { r.converged = true; return; }
-      r.converged = false;
-      end_errors(r.final, n, e, has);
-    }
-  }
-
-  // Inserts vertices into moves whose samples, under the straight ramp of the
-  // offsets of their ends, land outside the tolerance. Returns how many.
-  std::size_t split(const std::vector<bool>& splittable_by_motion) {
-    const std::size_t n = r.motions.size();
-    std::vector<std::vector<const Point*>> by_motion(n);
-    for (const Point& p : r.final)
-      if (!p.air && !p.plunge && p.index < p.count) by_motion[p.motion].push_back(&p);
-    struct Vertex { double u; V3 offset; };
-    std::vector<std::vector<Vertex>> add(n);
-    std::size_t total = 0;
-    for (std::size_t i = 1; i < n; ++i) {
-      if (!can[i] || !splittable_by_motion[i] || r.motions[i].kind != interp::MotionKind::linear) continue;
-      const auto& pts = by_motion[i];
-      if (pts.empty()) continue;
-      // Knots of the ramp: (u, offset), starting with the two ends.
-      std::vector<Vertex> knots{{0.0, r.offsets[i - 1]}, {1.0, r.offsets[i]}};
-      auto ramp = [&](double u) {
-        std::size_t k = 1;
-        while (k + 1 < knots.size() && knots[k].u < u) ++k;
-        const double t = (u - knots[k - 1].u) / (knots[k].u - knots[k - 1].u);
-        return V3(knots[k - 1].offset + t * (knots[k].offset - knots[k - 1].offset));
-      };
-      // The sample was simulated under the old ramp (its commanded offset is
-      // the straight ramp of the ends); its deflection is kept for the estimate.
-      for (int sp = 0; sp < s.max_splits_per_move; ++sp) {
-        double worst = s.tolerance_mm;
-        const Point* at = nullptr;
-        for (const Point* p : pts) {
-          const double u = static_cast<double>(p->index) / p->count;
-          const double res = std::fabs((ramp(u) + p->delta_mm).dot(p->normal));
-          if (res > worst) { worst = res; at = p; }
-        }
-        if (!at) break;
-        const double u = static_cast<double>(at->index) / at->count;
-        V3 want = -s.gain * at->error_mm * at->normal;
-        if (want.norm() > s.max_offset_mm) want *= s.max_offset_mm / want.norm();
-        knots.insert(std::upper_bound(knots.begin(), knots.end(), u, [](double v, const Vertex& k) { return v < k.u; }),
-                     Vertex{u, want});
-        add[i].push_back({u, want});
-      }
-      std::sort(add[i].begin(), add[i].end(), [](const Vertex& a, const Vertex& b) { return a.u < b.u; });
-      total += add[i].size();
-    }
-    if (!total) return 0;
-    // Rebuild the motion list with the new vertices.
-    std::vector<interp::Motion> m2;
-    std::vector<bool> ins2, can2, act2, cap2;
-    std::vector<V3> off2;
-    std::vector<double> feeds2;
+  void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
+    r_.motions.clear();
+    r_.inserted.clear();
+    r_.offsets.clear();
+    r_.final.clear();
+    r_.feeds_mm_per_min.clear();
+    r_.converged = true;
+    const std::size_t n = motions.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const interp::Motion& m = r.motions[i];
-      interp::Vec3 prev = m.start_mm;
-      for (const Vertex& v : add[i]) {
-        interp::Motion piece = m;
-        for (int a = 0; a < 3; ++a) piece.end_mm[a] = m.start_mm[a] + v.u * (m.end_mm[a] - m.start_mm[a]);
-        piece.start_mm = prev;
-        prev = piece.end_mm;
-        m2.push_back(piece);
-        feeds2.push_back(r.feeds_mm_per_min[i]);
-        ins2.push_back(true);
-        can2.push_back(true);
-        act2.push_back(true);
-        cap2.push_back(false);
-        off2.push_back(v.offset);
+      const interp::Motion& m = motions[i];
+      feed_ = feeds[i];
+      splits_ = 0;
+      if (!run_.prepare(m)) {
+        emit(m, V3::Zero(), false, false, {}, false);
+      } else if (m.kind == interp::MotionKind::rapid || !can_[i]) {
+        std::vector<Point> pts;
+        if (m.kind != interp::MotionKind::rapid) pts = samples(m, prev_, V3::Zero(), 0);
+        emit(m, V3::Zero(), false, false, std::move(pts), true);
+      } else if (m.kind != interp::MotionKind::linear) {
+        // Arcs move whole: their end takes the offset of their start.
+        std::vector<Point> pts = samples(m, prev_, prev_, 0);
+        double worst = 0;
+        for (const Point& p : pts)
+          if (!p.air && !p.plunge) worst = std::max(worst, std::fabs((prev_ + p.delta_mm).dot(p.normal)));
+        if (worst > s_.tolerance_mm) r_.nonuniform_arcs.push_back(m.line);
+        emit(m, prev_, false, true, std::move(pts), true);
+      } else {
+        const bool may_split = split_ && (*split_)[i];
+        piece(m, 0.0, 1.0, may_split);
       }
-      interp::Motion rest = m;
-      rest.start_mm = prev;
-      m2.push_back(rest);
-      feeds2.push_back(r.feeds_mm_per_min[i]);
-      ins2.push_back(r.inserted[i]);
-      can2.push_back(can[i]);
-      act2.push_back(active[i]);
-      cap2.push_back(capped[i]);
-      off2.push_back(r.offsets[i]);
+      if (progress_ && (i % 4096 == 0)) progress_("compensating", static_cast<double>(i) / static_cast<double>(n));
     }
-    r.motions = std::move(m2);
-    r.inserted = std::move(ins2);
-    can = std::move(can2);
-    active = std::move(act2);
-    capped = std::move(cap2);
-    r.offsets = std::move(off2);
-    r.feeds_mm_per_min = std::move(feeds2);
-    return total;
+    run_.finish();
+    r_.iterations = max_updates_;
+    r_.evaluations = evaluations_;
   }
+
+ private:
+  // One CL sample of motion m moved by (a, b).
+  Point probe(const interp::Motion& m, const V3& a, const V3& b, int k, const std::vector<engage::Point3>* v = nullptr) {
+    const interp::Motion mm = moved(m, a, b);
+    std::vector<engage::Point3> own;
+    if (!v) {
+      own = engage::motion_vertices(mm, run_.sim().options().path);
+      v = &own;
+    }
+    engage::CLSample cl;
+    const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
+    ++evaluations_;
+    return point_of(cl, mt, eng_, run_.tool(), mm, ph_.k, rev_);
+  }
+
+  // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
+  std::vector<Point> samples(const interp::Motion& m, const V3& a, const V3& b, int skip) {
+    const interp::Motion mm = moved(m, a, b);
+    const std::vector<engage::Point3> v = engage::motion_vertices(mm, run_.sim().options().path);
+    std::vector<Point> pts;
+    const int n = static_cast<int>(v.size()) - 1;
+    for (int k = 1; k <= n; ++k)
+      if (k != skip) pts.push_back(probe(m, a, b, k, &v));
+    return pts;
+  }
+
+  // Appends a motion as written, with its offset and samples, and cuts it.
+  void emit(const interp::Motion& m, const V3& off, bool inserted, bool can, std::vector<Point> pts, bool cut) {
+    const auto index = static_cast<std::uint32_t>(r_.motions.size());
+    if (cut) run_.sim().run(moved(m, prev_, off));
+    r_.motions.push_back(m);
+    r_.inserted.push_back(inserted);
+    r_.offsets.push_back(off);
+    r_.feeds_mm_per_min.push_back(feed_);
+    if (can && capped_) r_.capped_lines.push_back(m.line);
+    capped_ = false;
+    for (Point& p : pts) {
+      p.motion = index;
+      r_.final.push_back(p);
+    }
+    prev_ = off;
+  }
+
+  // The part [u0, u1] of linear motion m (parameters of the whole move), its
+  // start at the current offset prev_. Its end offset is solved; where the
+  // samples between land outside the tolerance under the straight ramp of the
+  // offsets and the move may be split, a vertex goes in at the worst sample and
+  // the part before it is done first (at most max_splits_per_move per move).
+  void piece(const interp::Motion& m, double u0, double u1, bool may_split) {
+    const bool last = u1 == 1.0;
+    for (;;) {
+      interp::Motion part = m;
+      for (int c = 0; c < 3; ++c) {
+        part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
+        if (!last) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
+      }
+      Point end;
+      const V3 off = solve(part, end);
+      std::vector<Point> pts = samples(part, prev_, off, end.count);
+      double worst = s_.tolerance_mm, at = -1;
+      if (may_split && splits_ < s_.max_splits_per_move)
+        for (const Point& p : pts) {
+          if (p.air || p.plunge) continue;
+          const double u = static_cast<double>(p.index) / p.count;
+          const double res = std::fabs((prev_ + u * (off - prev_) + p.delta_mm).dot(p.normal));
+          if (res > worst) {
+            worst = res;
+            at = u0 + u * (u1 - u0);
+          }
+        }
+      if (at < 0) {
+        pts.push_back(end);
+        emit(part, off, !last, true, std::move(pts), true);
+        return;
+      }
+      ++splits_;
+      ++r_.split_points;
+      piece(m, u0, at, may_split);
+      u0 = at;
+    }
+  }
+
+  // The end offset of a cutting move from the current offset prev_: zero when
+  // the error there, as programmed, is inside the tolerance; else the mirror
+  // fixed point, capped at max_offset_mm, its change from prev_ bounded by
+  // max_step_mm. `end` receives the end sample at the returned offset.
+  V3 solve(const interp::Motion& m, Point& end) {
+    Point p0 = probe(m, prev_, V3::Zero(), 0);
+    V3 off = V3::Zero();
+    Point at = p0;  // the sample at `off`
+    if (!p0.air && !p0.plunge && std::fabs(p0.error_mm) > s_.tolerance_mm) {
+      const V3 n = p0.normal;
+      const double g = s_.gain, cap = s_.max_offset_mm;
+      // Secant on h(s) = s + g e(s), from s0 = 0 and a first step that uses the
+      // slope de/ds of the previous point (neighbours cut alike).
+      double s0 = 0, h0 = g * p0.error_mm;
+      double s1 = -g * p0.error_mm / (1 + g * slope_);
+      bool done = false;
+      int updates = 0;
+      double change = 0;
+      for (int it = 0; it < s_.max_iterations && !done; ++it) {
+        if (std::fabs(s1) > cap) {
+          s1 = std::copysign(cap, s1);
+          capped_ = true;
+          done = true;  // at the cap: nothing further to find
+        }
+        at = probe(m, prev_, s1 * n, 0);
+        ++updates;
+        const double e1 = at.delta_mm.dot(n), h1 = s1 + g * e1;
+        change = std::fabs(h1);  // |s1 - (-g e1)|: the next plain mirror step
+        if (s1 != s0) slope_ = std::clamp((e1 - (h0 - s0) / g) / (s1 - s0), -0.8, 0.8);
+        off = s1 * n;
+        if (change <= 0.01 * s_.tolerance_mm) done = true;
+        if (done) break;
+        const double d = h1 - h0;
+        double s2 = std::fabs(d) > 1e-15 ? s1 - h1 * (s1 - s0) / d : s1 - h1;
+        if (!std::isfinite(s2) || std::fabs(s2 - s1) > 4 * std::fabs(h1)) s2 = s1 - h1;  // plain mirror step
+        s0 = s1;
+        h0 = h1;
+        s1 = s2;
+      }
+      if (change > 0.01 * s_.tolerance_mm && !capped_) {
+        r_.converged = false;
+        r_.last_change_mm = std::max(r_.last_change_mm, change);
+      }
+      max_updates_ = std::max(max_updates_, updates);
+    }
+    // No jerk: the offset moves at most max_step_mm from the point before.
+    const V3 d = off - prev_;
+    if (d.norm() > s_.max_step_mm) {
+      off = prev_ + d * (s_.max_step_mm / d.norm());
+      at = probe(m, prev_, off, 0);
+    }
+    end = at;
+    return off;
+  }
+
+  const Physics& ph_;
+  const Settings& s_;
+  Result& r_;
+  const std::vector<bool>& can_;
+  const std::vector<bool>* split_;
+  const Progress& progress_;
+  Run run_;
+  force::Engagement eng_;
+  std::vector<force::Vec3> rev_;
+  V3 prev_ = V3::Zero();       // offset of the last motion written
+  double feed_ = 0;
+  double slope_ = 0;           // de/ds at the last solved point
+  bool capped_ = false;
+  int splits_ = 0;
+  int max_updates_ = 0;
+  std::size_t evaluations_ = 0;
 };
 
 }  // namespace
@@ -360,52 +455,61 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   r.motions = motions;
   r.inserted.assign(n, false);
   r.offsets.assign(n, V3::Zero());
-  r.nominal = simulate(motions, {}, ph, s, progress);
-  r.final = r.nominal;
   r.feeds_mm_per_min.resize(n);
   for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
+  if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
+  std::vector<interp::Motion> run_motions = motions;
+  std::vector<double> feeds = r.feeds_mm_per_min;
+  // The program as written is simulated for the report beside the stream, on
+  // its own thread, unless the feed limit needs its forces first.
+  std::exception_ptr nominal_failed;
+  std::thread nominal;
+  if (s.feed_limit_N > 0 || s.gain == 0.0) {
+    r.nominal = simulate(motions, {}, ph, s, progress);
+  } else {
+    nominal = std::thread([&] {
+      try {
+        r.nominal = simulate(motions, {}, ph, s);
+      } catch (...) {
+        nominal_failed = std::current_exception();
+      }
+    });
+  }
+  struct Join {
+    std::thread& t;
+    ~Join() {
+      if (t.joinable()) t.join();
+    }
+  } join{nominal};
   if (s.feed_limit_N > 0) {
     // What VERICUT Force does alone: lower the feed of a cutting block whose
     // peak force would exceed the limit. The cutting force grows with the chip
     // (f_z) while the edge force does not, so scaling F by limit/peak brings the
-    // peak to the limit or below; the compensation then simulates these feeds.
+    // peak to the limit or below; the compensation then runs at these feeds.
     std::vector<double> peak(n, 0.0);
     for (const Point& p : r.nominal) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
     for (std::size_t i = 0; i < n; ++i) {
       const interp::Motion& m = motions[i];
       if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
       const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
-      r.feeds_mm_per_min[i] = std::max(f, 0.1);
-      r.motions[i].feed_mm_per_min = r.feeds_mm_per_min[i];
+      feeds[i] = std::max(f, 0.1);
+      run_motions[i].feed_mm_per_min = feeds[i];
       r.feed_lowered_lines.push_back(m.line);
     }
-    if (!r.feed_lowered_lines.empty()) r.final = simulate(r.motions, {}, ph, s, progress);
   }
+  r.feeds_mm_per_min = feeds;
   if (s.gain == 0.0) {
+    r.motions = run_motions;
+    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(run_motions, {}, ph, s, progress);
     r.converged = true;
     return r;
   }
-  Loop loop{ph, s, progress, r, movable(motions), std::vector<bool>(n, false), std::vector<bool>(n, false)};
-  // Points inside the tolerance band stay as programmed (decided on the program as written).
-  std::vector<V3> e0;
-  std::vector<bool> has0;
-  end_errors(r.final, n, e0, has0);  // as written, at the feeds that will run
-  for (std::size_t i = 0; i < n; ++i) loop.active[i] = loop.can[i] && has0[i] && e0[i].norm() > s.tolerance_mm;
-  loop.run(s.max_iterations);
-  if (splittable) {
-    // Moves whose error changes along them: split them, then find the fixed point again.
-    std::vector<bool> split_ok(n, false);
-    for (std::size_t i = 0; i < n; ++i) split_ok[i] = (*splittable)[i];
-    r.split_points = loop.split(split_ok);
-    if (r.split_points) {
-      r.final = simulate(r.motions, r.offsets, ph, s, progress);
-      loop.run(s.max_iterations);
-    }
-  }
-  for (std::size_t i = 0; i < r.motions.size(); ++i) {
-    if (loop.capped[i]) r.capped_lines.push_back(r.motions[i].line);
+  const std::vector<bool> can = movable(motions);
+  Stream(ph, s, r, can, splittable, progress).go(run_motions, feeds);
+  if (nominal.joinable()) nominal.join();
+  if (nominal_failed) std::rethrow_exception(nominal_failed);
+  for (std::size_t i = 0; i < r.motions.size(); ++i)
     if (r.offsets[i].norm() > 0) ++r.compensated_points;
-  }
   return r;
 }
 

@@ -121,12 +121,15 @@ void Simulator::run(const interp::Motion& m) {
     const Point3& vk = v[static_cast<std::size_t>(k)];
     // A line is one sweep from its start; an arc one per chord.
     const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
+    // The XY feed direction is carried across plunges whether sampled or not
+    // (probe() reads it).
+    const Point3 dir = motion_direction(m, v, static_cast<std::size_t>(k));
+    const double h = std::hypot(dir[0], dir[1]);
+    if (h > 1e-6) feed_ = {dir[0] / h, dir[1] / h};
     if (sample) {
       Sample s{CLSample{}, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()};
       s.cl.point.tip_mm = vk;
-      s.cl.point.dir = motion_direction(m, v, static_cast<std::size_t>(k));
-      const double h = std::hypot(s.cl.point.dir[0], s.cl.point.dir[1]);
-      if (h > 1e-6) feed_ = {s.cl.point.dir[0] / h, s.cl.point.dir[1] / h};
+      s.cl.point.dir = dir;
       s.cl.point.feed_x = feed_[0];
       s.cl.point.feed_y = feed_[1];
       s.cl.motion = motion_index;
@@ -148,6 +151,50 @@ void Simulator::run(const interp::Motion& m) {
     pend_end_s_.push_back(s_);
   }
   if (s_ - batch_start_s_ >= batch_mm_) flush();
+}
+
+Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int k, CLSample& cl,
+                         force::Engagement& out) {
+  const int n = static_cast<int>(v.size()) - 1;
+  if (k < 1 || k > n) throw Error(Exit::internal, "simulation: probe of a sample outside the motion");
+  const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+  const stock::ToolProfile& tool = eng_.tool();
+  const Point3& vk = v[static_cast<std::size_t>(k)];
+  const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
+  const stock::LineSweep current(tool, from, trimmed(from, vk, o_.trim_mm));
+  // An arc's chords before the sample are pending while it is evaluated; they
+  // go on the pending list for the call and come off again.
+  const std::size_t keep = pend_.size();
+  if (!line)
+    for (int c = 1; c < k; ++c) pend_.emplace_back(tool, v[static_cast<std::size_t>(c - 1)], v[static_cast<std::size_t>(c)]);
+  // The feed direction run() would have at this sample.
+  std::array<double, 2> feed = feed_;
+  for (int c = 1; c <= k; ++c) {
+    const Point3 d = motion_direction(m, v, static_cast<std::size_t>(c));
+    const double h = std::hypot(d[0], d[1]);
+    if (h > 1e-6) feed = {d[0] / h, d[1] / h};
+    if (c == k) cl.point.dir = d;
+  }
+  cl.point.tip_mm = vk;
+  cl.point.feed_x = feed[0];
+  cl.point.feed_y = feed[1];
+  cl.motion = motions_;
+  cl.line = m.line;
+  cl.index = k;
+  cl.count = n;
+  cl.rapid = m.kind == interp::MotionKind::rapid;
+  const double t0 = now_s();
+  const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), pend_.size()), &current};
+  Metrics mt;
+  try {
+    mt = eng_.evaluate(view, cl.point, proc_, out);
+  } catch (...) {
+    pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
+    throw;
+  }
+  pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
+  t_engage_ += now_s() - t0;
+  return mt;
 }
 
 }  // namespace deflex::engage

@@ -16,10 +16,17 @@
 //     seen from the path alone: a documented limit.
 // e > 0: the tool stands off the surface (material left); e < 0: it digs in.
 //
-// Mirror method (Smaoui 2011 §4): P_comp = P_nom - gain e(P_comp) n, a fixed
-// point found by simulating the whole program again at the compensated points
-// (the engagement, and so the force, changes with the path) until no offset
-// changes by more than 1% of the tolerance, or max_iterations.
+// Mirror method (Smaoui 2011 §4): P_comp = P_nom - gain e(P_comp) n. The
+// engagement at a CL point depends only on the path before it, so the fixed
+// point of the whole program is found in one pass in program order: at each
+// motion end, with the motions before it already cut at their compensated
+// positions, the offset along n is solved by secant steps (one engagement
+// evaluation each, nothing cut) until the next mirror step would change it by
+// no more than 1% of the tolerance, or max_iterations; then the motion is cut
+// there. The same fixed point as re-simulating the whole program per mirror
+// iteration, at the cost of about one simulation plus an evaluation or two per
+// compensated point. A point whose error at the programmed position (in the
+// stock the compensated motions before it leave) is within the tolerance stays.
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -42,7 +49,7 @@ using V3 = Eigen::Vector3d;
 struct Settings {
   double tolerance_mm = 0.01;   // |e| within it: the point stays as programmed
   double gain = 1.0;            // mirror gain
-  int max_iterations = 8;
+  int max_iterations = 8;       // mirror updates per point at most
   double max_offset_mm = 0.1;   // cap of |offset| (machine profile)
   double max_step_mm = 0.02;    // largest change of offset from one point to the next
   double cl_spacing_mm = 0.5;   // CL samples along long moves and arcs
@@ -96,8 +103,9 @@ struct Result {
   std::vector<V3> offsets;            // per motion of `motions`, mm (zero where not compensated)
   std::vector<Point> nominal;         // the program as written
   std::vector<Point> final;           // at the compensated points (last iteration)
-  int iterations = 0;
-  double last_change_mm = 0;          // largest offset change in the last iteration
+  int iterations = 0;                 // most mirror updates any point needed
+  std::size_t evaluations = 0;        // engagement evaluations of the mirror stream
+  double last_change_mm = 0;          // largest change left where a point did not converge
   bool converged = false;
   std::vector<std::uint32_t> capped_lines;    // lines where max_offset_mm bit
   std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs

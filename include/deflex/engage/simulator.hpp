@@ -14,6 +14,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "deflex/engage/engagement.hpp"
@@ -51,6 +52,16 @@ class Simulator {
             PointSink sink = {});
 
   void run(const interp::Motion& m);
+
+  // Evaluates CL sample k (1..count) of motion m, whose vertices are v
+  // (motion_vertices(m, options().path)), against the stock as the motions run so
+  // far left it plus m itself up to just before the sample, without cutting
+  // anything: what run(m) would report for that sample. For a driver that
+  // chooses each motion's end point from the engagement there (the mirror
+  // method of deflex::compensate): probe, decide, then run() the chosen motion.
+  // Sequential (one probe at a time); fills `cl` as run() would.
+  Metrics probe(const interp::Motion& m, std::span<const Point3> v, int k, CLSample& cl, force::Engagement& out);
+  const SimOptions& options() const { return o_; }
   // Evaluates what is left and commits every pending volume: the Z-map is then
   // the stock as cut by all motions run so far.
   void finish();
