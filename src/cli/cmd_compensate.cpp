@@ -307,7 +307,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
            << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
   if (!r.converged)
     io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
-           << " updates at some points (largest change left " << r.last_change_mm << " mm); their last iterate is written\n";
+           << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
+           << " mm); the best iterate is written\n";
   const double tol = j.settings.tolerance_mm;
   Stats before = stats_of(errors_against(r.nominal, {}), tol);
   Stats after = stats_of(errors_against(r.final, r.offsets), tol);
@@ -397,7 +398,16 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
       throw Error(Exit::input, a.reference + ": error: motions of the reference have no counterpart in " + a.file);
   }
   auto progress = progress_for(io);
-  std::vector<compensate::Point> pts = compensate::simulate(j.motions, {}, j.physics, j.settings, progress);
+  // The design path: this program's motions less the intent offsets (the
+  // surface normals follow it), run with those offsets.
+  std::vector<interp::Motion> design = j.motions;
+  for (std::size_t i = 0; i < intent.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      design[i].start_mm[c] -= i ? intent[i - 1][c] : 0.0;
+      design[i].end_mm[c] -= intent[i][c];
+      design[i].center_mm[c] -= intent[i][c];
+    }
+  std::vector<compensate::Point> pts = compensate::simulate(design, intent, j.physics, j.settings, progress);
   if (progress) io.err << "\r\033[K";
   const double tol = j.settings.tolerance_mm;
   Stats st = stats_of(errors_against(pts, intent), tol);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <thread>
 
@@ -77,10 +78,34 @@ V3 surface_normal(const engage::CLSample& cl, const engage::Metrics& mt, const s
   return len > 1e-9 ? V3(n / len) : V3::UnitZ();
 }
 
+// The normal of the design surface at a CL sample of `design` (the motion as
+// programmed, before any offset): a compensated move's own direction differs
+// from the design's by the change of offset along it (on a 0.4 mm move a 20 um
+// step tilts it by 3 degrees, which is 10 um of error where the tool deflects
+// 0.2 mm along the feed), and the error is measured against the design surface.
+V3 design_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
+                 const interp::Motion& design) {
+  if (design.kind != interp::MotionKind::linear && design.kind != interp::MotionKind::rapid)
+    return surface_normal(cl, mt, t);  // arcs move whole: the same tangent
+  V3 d(design.end_mm[0] - design.start_mm[0], design.end_mm[1] - design.start_mm[1], design.end_mm[2] - design.start_mm[2]);
+  if (d.norm() == 0) return surface_normal(cl, mt, t);
+  d.normalize();
+  engage::CLSample c = cl;
+  c.point.dir = {d.x(), d.y(), d.z()};
+  const double h = std::hypot(d.x(), d.y());
+  if (h > 1e-6) {
+    c.point.feed_x = d.x() / h;
+    c.point.feed_y = d.y() / h;
+  }
+  return surface_normal(c, mt, t);
+}
+
 // The per-point physics of one CL sample: forces, deflection, surface error.
 // Shared by simulate() and the mirror stream, so both report the same numbers.
+// m: the motion as run; design: as programmed (the surface normal's).
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
-               const interp::Motion& m, const force::Coefficients& k, std::vector<force::Vec3>& rev) {
+               const interp::Motion& m, const interp::Motion& design, const force::Coefficients& k,
+               std::vector<force::Vec3>& rev) {
   Point p;
   p.line = cl.line;
   p.index = cl.index;
@@ -90,7 +115,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.ae_mm = mt.ae_mm;
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
-  p.normal = surface_normal(cl, mt, tm.tool);
+  p.normal = design_normal(cl, mt, tm.tool, design);
   if (p.air || p.plunge) return p;
   const int flutes = tm.slices.cutter.flutes;
   const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
@@ -191,7 +216,8 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
   auto sink = [&](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
     if (cl.rapid) return;
     const std::size_t gi = ran.at(cl.motion);
-    Point p = point_of(cl, mt, eng, *tm, motions[gi], ph.k, rev);
+    const interp::Motion& design = motions[gi];
+    Point p = point_of(cl, mt, eng, *tm, design, design, ph.k, rev);
     p.motion = static_cast<std::uint32_t>(gi);
     out.push_back(p);
   };
@@ -303,7 +329,7 @@ class Stream {
     engage::CLSample cl;
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, ph_.k, rev_);
+    return point_of(cl, mt, eng_, run_.tool(), mm, m, ph_.k, rev_);
   }
 
   // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
@@ -384,37 +410,54 @@ class Stream {
     if (!p0.air && !p0.plunge && std::fabs(p0.error_mm) > s_.tolerance_mm) {
       const V3 n = p0.normal;
       const double g = s_.gain, cap = s_.max_offset_mm;
-      // Secant on h(s) = s + g e(s), from s0 = 0 and a first step that uses the
-      // slope de/ds of the previous point (neighbours cut alike).
+      // Root of h(s) = s + g e(s) by secant steps from s0 = 0 and a first step
+      // that uses the slope de/ds of the previous point (neighbours cut alike).
+      // The force model is piecewise smooth (a slice entering the cut adds its
+      // edge at once), so h can jump across its root: once a sign change is
+      // bracketed, steps stay inside the bracket (bisection when the secant
+      // leaves it) and a bracket narrower than 1% of the tolerance is the fixed
+      // point as well as the model defines one. The trial with the smallest
+      // |h| is the one kept.
+      const double tol = 0.01 * s_.tolerance_mm;
       double s0 = 0, h0 = g * p0.error_mm;
+      double lo = 0, hi = 0;  // s where h < 0 and h > 0 (valid when the flags say so)
+      bool have_lo = h0 < 0, have_hi = h0 > 0;
       double s1 = -g * p0.error_mm / (1 + g * slope_);
+      double best = std::numeric_limits<double>::infinity();  // |h| of the trial kept
       bool done = false;
       int updates = 0;
-      double change = 0;
       for (int it = 0; it < s_.max_iterations && !done; ++it) {
-        if (std::fabs(s1) > cap) {
+        if (std::fabs(s1) >= cap) {
           s1 = std::copysign(cap, s1);
           capped_ = true;
           done = true;  // at the cap: nothing further to find
         }
-        at = probe(m, prev_, s1 * n, 0);
+        const Point p1 = probe(m, prev_, s1 * n, 0);
         ++updates;
-        const double e1 = at.delta_mm.dot(n), h1 = s1 + g * e1;
-        change = std::fabs(h1);  // |s1 - (-g e1)|: the next plain mirror step
+        const double e1 = p1.delta_mm.dot(n), h1 = s1 + g * e1;
         if (s1 != s0) slope_ = std::clamp((e1 - (h0 - s0) / g) / (s1 - s0), -0.8, 0.8);
-        off = s1 * n;
-        if (change <= 0.01 * s_.tolerance_mm) done = true;
+        if (std::fabs(h1) < best) {
+          best = std::fabs(h1);
+          off = s1 * n;
+          at = p1;
+        }
+        if (h1 < 0 && (!have_lo || s1 > lo)) lo = s1, have_lo = true;
+        if (h1 > 0 && (!have_hi || s1 < hi)) hi = s1, have_hi = true;
+        const bool bracket = have_lo && have_hi;
+        if (std::fabs(h1) <= tol || (bracket && std::fabs(hi - lo) <= tol)) done = true;
         if (done) break;
         const double d = h1 - h0;
         double s2 = std::fabs(d) > 1e-15 ? s1 - h1 * (s1 - s0) / d : s1 - h1;
         if (!std::isfinite(s2) || std::fabs(s2 - s1) > 4 * std::fabs(h1)) s2 = s1 - h1;  // plain mirror step
+        if (bracket && !(s2 > std::min(lo, hi) && s2 < std::max(lo, hi))) s2 = 0.5 * (lo + hi);
         s0 = s1;
         h0 = h1;
         s1 = s2;
       }
-      if (change > 0.01 * s_.tolerance_mm && !capped_) {
+      if (!done) {
+        ++r_.unconverged_points;
         r_.converged = false;
-        r_.last_change_mm = std::max(r_.last_change_mm, change);
+        r_.last_change_mm = std::max(r_.last_change_mm, best);
       }
       max_updates_ = std::max(max_updates_, updates);
     }

@@ -90,7 +90,8 @@ using Progress = std::function<void(const std::string& stage, double fraction)>;
 
 // Runs the motions through the stock, each motion end displaced by offsets[i]
 // (empty: none), and returns every CL sample of the cutting moves (rapids are
-// cut into the stock but not reported).
+// cut into the stock but not reported). The motions are the design: surface
+// normals follow their directions, not those of the displaced path.
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                             const Physics& ph, const Settings& s, const Progress& progress = {});
 
@@ -107,6 +108,7 @@ struct Result {
   std::size_t evaluations = 0;        // engagement evaluations of the mirror stream
   double last_change_mm = 0;          // largest change left where a point did not converge
   bool converged = false;
+  std::size_t unconverged_points = 0; // where max_iterations ran out
   std::vector<std::uint32_t> capped_lines;    // lines where max_offset_mm bit
   std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs
   std::size_t compensated_points = 0;
