@@ -302,6 +302,10 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": warning: the offset was capped at max_offset_mm = " << j.settings.max_offset_mm
            << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
   }
+  if (r.linearised_arcs)
+    io.err << j.prog.source().name() << ": note: " << r.linearised_arcs
+           << " arcs whose compensation varies along them were linearised (G1 chords within "
+           << j.settings.chord_tol_mm << " mm of the arc; the arc block keeps the last piece)\n";
   for (std::uint32_t l : r.nonuniform_arcs)
     io.err << j.prog.source().name() << ":" << l
            << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
@@ -379,6 +383,24 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
           intent[i] = pe - re;
           ++k;
           paired = true;
+        } else if (m.kind == interp::MotionKind::linear && rm[k].kind != interp::MotionKind::linear &&
+                   rm[k].kind != interp::MotionKind::rapid) {
+          // A chord of a reference arc that deflex linearised: the intended
+          // point is the nearest on the arc's circle, in its plane.
+          const int normal = rm[k].plane == 17 ? 2 : rm[k].plane == 18 ? 1 : 0;
+          const V3 c(rm[k].center_mm[0], rm[k].center_mm[1], rm[k].center_mm[2]);
+          const V3 rs(rm[k].start_mm[0], rm[k].start_mm[1], rm[k].start_mm[2]);
+          V3 radial = pe - c, r0 = rs - c;
+          radial[normal] = 0;
+          r0[normal] = 0;
+          if (radial.norm() > 0) {
+            V3 q = c + radial * (r0.norm() / radial.norm());
+            q[normal] = rs[normal];
+            if ((pe - q).norm() <= near) {
+              intent[i] = pe - q;
+              paired = true;
+            }
+          }
         } else if (m.kind == interp::MotionKind::linear && rm[k].kind == interp::MotionKind::linear) {
           const V3 rs(rm[k].start_mm[0], rm[k].start_mm[1], rm[k].start_mm[2]);
           const V3 ab = re - rs;

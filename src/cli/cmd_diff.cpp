@@ -18,8 +18,10 @@ struct LineInfo {
   std::uint64_t skeleton = 0;
   interp::Vec3 start{};  // where the line's first motion starts
   interp::Vec3 end{};
+  interp::Vec3 center{};  // of the last motion, when an arc
   std::uint32_t motions = 0;
   std::uint8_t kind = 0;  // MotionKind of the last motion
+  std::uint8_t plane = 17;
 };
 
 struct Collector : interp::MotionSink {
@@ -29,6 +31,8 @@ struct Collector : interp::MotionSink {
     if (!li.motions) li.start = m.start_mm;
     li.end = m.end_mm;
     li.kind = static_cast<std::uint8_t>(m.kind);
+    li.center = m.center_mm;
+    li.plane = m.plane;
     ++li.motions;
   }
 };
@@ -242,7 +246,7 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   gcode::Block blk;
   auto split_distance = [&](std::uint32_t lb, std::uint32_t next_la) -> double {
     if (!next_la || next_la >= a.lines.size() || !b.lines[lb].motions || b.lines[lb].kind != 1 ||
-        a.lines[next_la].kind != 1 || a.lines[next_la].motions != 1)
+        a.lines[next_la].kind == 0 || a.lines[next_la].motions != 1)
       return -1;
     b.prog.lex(lb, blk, quiet);
     for (const gcode::Word& w : blk.words)
@@ -251,6 +255,21 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
         return -1;
     if (!blk.comments.empty()) return -1;
     const interp::Vec3 &s0 = a.lines[next_la].start, &s1 = a.lines[next_la].end, &p = b.lines[lb].end;
+    if (a.lines[next_la].kind != 1) {
+      // A chord end of a linearised arc: its distance from the arc's circle
+      // (in the plane) and plane (along the axis).
+      const interp::Vec3& c = a.lines[next_la].center;
+      const int normal = a.lines[next_la].plane == 17 ? 2 : a.lines[next_la].plane == 18 ? 1 : 0;
+      double r2 = 0, p2 = 0;
+      for (int k = 0; k < 3; ++k) {
+        if (k == normal) continue;
+        r2 += (s0[k] - c[k]) * (s0[k] - c[k]);
+        p2 += (p[k] - c[k]) * (p[k] - c[k]);
+      }
+      const double radial = std::sqrt(p2) - std::sqrt(r2), axial = p[normal] - s0[normal];
+      const double d = std::sqrt(radial * radial + axial * axial);
+      return d <= 1.0 ? d : -1;
+    }
     double ab[3], ap[3], ab2 = 0, t = 0, d2 = 0;
     for (int k = 0; k < 3; ++k) { ab[k] = s1[k] - s0[k]; ap[k] = p[k] - s0[k]; ab2 += ab[k] * ab[k]; t += ap[k] * ab[k]; }
     t = ab2 > 0 ? std::clamp(t / ab2, 0.0, 1.0) : 0.0;

@@ -51,15 +51,36 @@ static bool split_form(const gcode::Block& b) {
   return true;
 }
 
+// An arc deflex may linearise: its own G2/G3 word, centre by I/J/K (not R),
+// words only N, G2/G3, X, Y, Z, I, J, K, F, and in its plane (no helix). The
+// chords go in before it as G1 blocks and the block keeps the last piece of the
+// arc, its centre words re-aimed from the new start; the G word in the block
+// keeps the motion mode of the blocks after it.
+static bool arc_split_form(const gcode::Block& b, const interp::Motion& m) {
+  if (b.macro || b.block_delete || !b.comments.empty()) return false;
+  bool g = false;
+  for (const gcode::Word& w : b.words) {
+    if (w.letter == 'G' && (w.code10() == 20 || w.code10() == 30)) {
+      g = true;
+      continue;
+    }
+    if (w.letter != 'N' && w.letter != 'X' && w.letter != 'Y' && w.letter != 'Z' && w.letter != 'I' &&
+        w.letter != 'J' && w.letter != 'K' && w.letter != 'F')
+      return false;
+  }
+  const int normal = m.plane == 17 ? 2 : m.plane == 18 ? 1 : 0;
+  return g && std::fabs(m.end_mm[normal] - m.start_mm[normal]) < 1e-9;
+}
+
 std::vector<bool> splittable(const gcode::Program& prog, const std::vector<interp::Motion>& motions) {
   std::vector<bool> ok(motions.size(), false);
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   for (std::size_t i = 0; i < motions.size(); ++i) {
     const interp::Motion& m = motions[i];
-    if (!m.plain || !m.compensable() || m.kind != interp::MotionKind::linear) continue;
+    if (!m.plain || !m.compensable() || m.kind == interp::MotionKind::rapid) continue;
     prog.lex(m.line, b, quiet);
-    ok[i] = split_form(b);
+    ok[i] = m.kind == interp::MotionKind::linear ? split_form(b) : arc_split_form(b, m);
   }
   return ok;
 }
@@ -136,6 +157,31 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       continue;
     }
     bool lexed = false;
+    // An arc whose first part went into inserted chords: its centre words,
+    // relative to the new start (what the control holds after the last chord).
+    const bool arc = m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw;
+    if (arc && inserted && i > 0 && (*inserted)[i - 1]) {
+      prog.lex(m.line, b, quiet);
+      lexed = true;
+      static const char centre[] = {'I', 'J', 'K'};
+      const int normal = m.plane == 17 ? 2 : m.plane == 18 ? 1 : 0;
+      for (int a = 0; a < 3; ++a) {
+        if (a == normal) continue;
+        const double want = m.center_mm[a] + o[a] - carried[a];
+        const gcode::Word* word = b.find(centre[a]);
+        if (word) {
+          w.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
+          ++st.numbers_changed;
+        } else {
+          // After the centre word before it in I, J, K, else after the axis words.
+          const gcode::Word* after = nullptr;
+          for (const gcode::Word& x : b.words)
+            if (x.letter >= 'I' && x.letter < centre[a]) after = &x;
+          w.insert_word(after ? after->end : insert_position(b, '['), centre[a], m.inch ? want / 25.4 : want, m.inch);
+          ++st.words_inserted;
+        }
+      }
+    }
     for (int a = 0; a < 3; ++a) {
       const double want = m.end_mm[a] + o[a];
       if (!lexed) { prog.lex(m.line, b, quiet); lexed = true; }
@@ -230,11 +276,31 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
       std::size_t s0 = i;
       while (s0 > 0 && (*inserted)[s0 - 1]) --s0;
       const interp::Vec3 A = om[s0].start_mm, B = om[k].end_mm;
-      V3 ab(B[0] - A[0], B[1] - A[1], B[2] - A[2]), ap(y.end_mm[0] - A[0], y.end_mm[1] - A[1], y.end_mm[2] - A[2]);
-      const double t = ab.squaredNorm() > 0 ? std::clamp(ap.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-      dist = (ap - t * ab).norm();
+      if (om[k].kind == interp::MotionKind::linear) {
+        V3 ab(B[0] - A[0], B[1] - A[1], B[2] - A[2]), ap(y.end_mm[0] - A[0], y.end_mm[1] - A[1], y.end_mm[2] - A[2]);
+        const double t = ab.squaredNorm() > 0 ? std::clamp(ap.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
+        dist = (ap - t * ab).norm();
+      } else if (om[k].kind != interp::MotionKind::rapid) {
+        // A chord end of a linearised arc: off the arc's circle, in its plane
+        // or along its axis (the arc is planar).
+        const interp::Vec3& c = om[k].center_mm;
+        const int normal = om[k].plane == 17 ? 2 : om[k].plane == 18 ? 1 : 0;
+        double r2 = 0, p2 = 0;
+        for (int a = 0; a < 3; ++a) {
+          if (a == normal) continue;
+          r2 += (A[a] - c[a]) * (A[a] - c[a]);
+          p2 += (y.end_mm[a] - c[a]) * (y.end_mm[a] - c[a]);
+        }
+        const double radial = std::sqrt(p2) - std::sqrt(r2), axial = y.end_mm[normal] - A[normal];
+        dist = std::sqrt(radial * radial + axial * axial);
+      } else {
+        fail(x.line, "an inserted block before a rapid");
+      }
     } else {
       for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.end_mm[k] - x.end_mm[k]));
+      // An arc's centre moves with its end (arcs are moved whole).
+      if (x.kind == interp::MotionKind::arc_cw || x.kind == interp::MotionKind::arc_ccw)
+        for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.center_mm[k] - x.center_mm[k]));
     }
     if (dist > allowed) {
       char buf[160];

@@ -259,6 +259,11 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
     if (i + 1 < n && motions[i + 1].work_offset_mm != m.work_offset_mm) continue;
     ok[i] = true;
   }
+  // An arc moves whole (its centre words are relative to its start), so the
+  // point before an arc that stays must stay too.
+  for (std::size_t i = n; i-- > 1;)
+    if (!ok[i] && (motions[i].kind == interp::MotionKind::arc_cw || motions[i].kind == interp::MotionKind::arc_ccw))
+      ok[i - 1] = false;
   return ok;
 }
 
@@ -299,13 +304,21 @@ class Stream {
         if (m.kind != interp::MotionKind::rapid) pts = samples(m, prev_, V3::Zero(), 0);
         emit(m, V3::Zero(), false, false, std::move(pts), true);
       } else if (m.kind != interp::MotionKind::linear) {
-        // Arcs move whole: their end takes the offset of their start.
+        // Arcs move whole: their end takes the offset of their start. Where
+        // the error along one then leaves the tolerance, it is linearised if
+        // its block allows (compensate::splittable), else kept and reported.
         std::vector<Point> pts = samples(m, prev_, prev_, 0);
         double worst = 0;
         for (const Point& p : pts)
           if (!p.air && !p.plunge) worst = std::max(worst, std::fabs((prev_ + p.delta_mm).dot(p.normal)));
-        if (worst > s_.tolerance_mm) r_.nonuniform_arcs.push_back(m.line);
-        emit(m, prev_, false, true, std::move(pts), true);
+        if (worst <= s_.tolerance_mm) {
+          emit(m, prev_, false, true, std::move(pts), true);
+        } else if (split_ && (*split_)[i]) {
+          linearise(m);
+        } else {
+          r_.nonuniform_arcs.push_back(m.line);
+          emit(m, prev_, false, true, std::move(pts), true);
+        }
       } else {
         const bool may_split = split_ && (*split_)[i];
         piece(m, 0.0, 1.0, may_split);
@@ -360,18 +373,41 @@ class Stream {
     prev_ = off;
   }
 
+  // An arc as chords whose sagitta is within Settings::chord_tol_mm, each end
+  // compensated like a line's; the arc block keeps the last chord's piece of
+  // the arc, moved whole with the last chord end (its centre words re-aimed by
+  // the writer).
+  void linearise(const interp::Motion& m) {
+    const stock::Arc a = engage::arc_of(m);
+    const int chords = std::max(2, stock::arc_chord_count(a, s_.chord_tol_mm));
+    const std::vector<engage::Point3> v = stock::arc_polyline(a, chords);
+    for (int c = 1; c < chords; ++c) {
+      interp::Motion chord = m;
+      chord.kind = interp::MotionKind::linear;
+      chord.start_mm = v[static_cast<std::size_t>(c - 1)];
+      chord.end_mm = v[static_cast<std::size_t>(c)];
+      piece(chord, 0.0, 1.0, false, true);
+    }
+    interp::Motion rest = m;
+    rest.start_mm = v[static_cast<std::size_t>(chords - 1)];
+    std::vector<Point> pts = samples(rest, prev_, prev_, 0);
+    emit(rest, prev_, false, true, std::move(pts), true);
+    ++r_.linearised_arcs;
+    r_.split_points += static_cast<std::size_t>(chords - 1);
+  }
+
   // The part [u0, u1] of linear motion m (parameters of the whole move), its
   // start at the current offset prev_. Its end offset is solved; where the
   // samples between land outside the tolerance under the straight ramp of the
   // offsets and the move may be split, a vertex goes in at the worst sample and
   // the part before it is done first (at most max_splits_per_move per move).
-  void piece(const interp::Motion& m, double u0, double u1, bool may_split) {
-    const bool last = u1 == 1.0;
+  void piece(const interp::Motion& m, double u0, double u1, bool may_split, bool inserted = false) {
+    const bool last = u1 == 1.0 && !inserted;
     for (;;) {
       interp::Motion part = m;
       for (int c = 0; c < 3; ++c) {
         part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
-        if (!last) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
+        if (u1 != 1.0) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
       }
       Point end;
       const V3 off = solve(part, end);
@@ -394,7 +430,7 @@ class Stream {
       }
       ++splits_;
       ++r_.split_points;
-      piece(m, u0, at, may_split);
+      piece(m, u0, at, may_split, true);
       u0 = at;
     }
   }

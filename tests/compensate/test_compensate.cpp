@@ -283,6 +283,87 @@ TEST_CASE("split moves: the entry and exit of a long wall pass land inside the t
                   Error);
 }
 
+TEST_CASE("an arc whose compensation varies is linearised: G1 chords, the arc block keeps the last piece") {
+  // Along the wall of the fixture, an arc bulging 2 mm away from it: a_e falls
+  // from 2 mm at its ends to nothing in the middle, so moving it whole by one
+  // offset cannot land both.
+  const char* kArc =
+      "%\nO0003\nN1 G21 G90 G17 G40 G49 G80 G54\nN2 T1 M06\nN3 S8000 M03\nN4 G00 X-10. Y-3. Z5.\n"
+      "N5 G01 Z-10. F800.\nN6 X20.\nN7 G3 X50. Y-3. I15. J57.25\nN8 G1 X80.\nN9 X110.\nN10 G00 Z5.\nN11 M30\n%\n";
+  Fixture f;
+  gcode::Program prog{SourceText("arc.nc", kArc)};
+  std::vector<interp::Motion> motions;
+  Diagnostics d(nullptr, 0);
+  test::Collect c;
+  c.out = &motions;
+  interp::interpret(prog, f.opt, d, c);
+  REQUIRE(d.errors() == 0);
+  const std::vector<bool> split_ok = compensate::splittable(prog, motions);
+  std::size_t arc = 0;
+  while (motions[arc].kind != interp::MotionKind::arc_ccw) ++arc;
+  REQUIRE(split_ok[arc]);
+  const std::uint32_t arc_line = motions[arc].line;
+  auto landing = [&](const compensate::Result& res, bool arcs_only) {
+    double w = 0;
+    for (const auto& p : res.final) {
+      if (p.air || p.plunge || (arcs_only && p.line != arc_line)) continue;
+      const V3 end = res.offsets[p.motion], start = p.motion ? res.offsets[p.motion - 1] : V3(V3::Zero());
+      const double u = static_cast<double>(p.index) / p.count;
+      w = std::max(w, std::fabs((start + u * (end - start) + p.delta_mm).dot(p.normal)));
+    }
+    return w;
+  };
+  // Not allowed to split: the arc is kept whole, reported, and lands outside.
+  std::vector<bool> lines_only = split_ok;
+  lines_only[arc] = false;
+  auto kept = compensate::compensate(motions, f.ph, f.s, {}, &lines_only);
+  REQUIRE(kept.nonuniform_arcs.size() == 1);
+  CHECK(kept.nonuniform_arcs[0] == arc_line);
+  CHECK(landing(kept, true) > f.s.tolerance_mm);
+  // Allowed: chords within the chordal tolerance, every sample inside the tolerance.
+  auto r = compensate::compensate(motions, f.ph, f.s, {}, &split_ok);
+  CHECK(r.linearised_arcs == 1);
+  CHECK(r.nonuniform_arcs.empty());
+  CHECK(landing(r, true) <= f.s.tolerance_mm);
+  std::size_t chords = 0;
+  for (std::size_t i = 0; i < r.motions.size(); ++i)
+    if (r.inserted[i] && r.motions[i].line == arc_line) {
+      ++chords;
+      CHECK(r.motions[i].kind == interp::MotionKind::linear);
+    }
+  // Sagitta r (1 - cos(dtheta / 2)) <= 1 um on a 57.25 mm radius over 30.3 degrees: 25 chords.
+  CHECK(chords >= 20);
+  compensate::WriteStats ws;
+  std::string out = compensate::apply_offsets(prog, f.opt.dialect, r.motions, r.offsets, &ws, &r.inserted);
+  CHECK(ws.blocks_inserted == r.split_points);
+  const auto can = compensate::movable(r.motions);
+  CHECK_NOTHROW(compensate::safety_check(prog, r.motions, out, f.opt, can, 0.1, &r.inserted));
+  // Read back: the arc block is still a G3 whose start and end are on one circle
+  // (a control alarms when they are not), about the nominal centre moved by at
+  // most the offset.
+  gcode::Program back{SourceText("back.nc", out)};
+  std::vector<interp::Motion> bm;
+  test::Collect cb;
+  cb.out = &bm;
+  interp::interpret(back, f.opt, d, cb);
+  REQUIRE(d.errors() == 0);
+  const interp::Motion* a = nullptr;
+  for (const auto& m : bm)
+    if (m.kind == interp::MotionKind::arc_ccw) a = &m;
+  REQUIRE(a);
+  auto radius = [&](const interp::Vec3& p) { return std::hypot(p[0] - a->center_mm[0], p[1] - a->center_mm[1]); };
+  CHECK(std::fabs(radius(a->start_mm) - radius(a->end_mm)) <= 2e-4);
+  CHECK(std::hypot(a->center_mm[0] - 35.0, a->center_mm[1] - 54.25) <= 0.1);
+  CHECK(out.find("G3 X50.") != std::string::npos);
+  // A tampered chord (off the arc by 0.5 mm) is caught.
+  std::string bad = out;
+  const std::size_t at = bad.find("G1 X", bad.find("N6"));
+  REQUIRE(at != std::string::npos);
+  const std::size_t y = bad.find('Y', at);
+  bad.insert(y + 1, "1");
+  CHECK_THROWS_AS(compensate::safety_check(prog, r.motions, bad, f.opt, can, 0.1, &r.inserted), Error);
+}
+
 TEST_CASE("--feed-limit lowers F where the peak force exceeds the limit, and only there") {
   Fixture f;
   const double limit_N = 250;

@@ -28,7 +28,10 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<double>* feeds_mm_per_min = nullptr);
 
 // Per motion: whether its block may be split by inserting G1 blocks before it:
-// a plain, compensable G1 whose block holds nothing but N, G1, X, Y, Z and F.
+// a plain, compensable G1 whose block holds nothing but N, G1, X, Y, Z and F;
+// or a plain, compensable arc in its plane (no helix) whose block holds its own
+// G2/G3 word and nothing but N, X, Y, Z, I, J, K and F (centre by I/J/K, not R):
+// its first part can then go into G1 chords before it.
 std::vector<bool> splittable(const gcode::Program& prog, const std::vector<interp::Motion>& motions);
 
 // Reads `text` back as the control would and pairs every motion with the

@@ -57,6 +57,7 @@ struct Settings {
   int force_steps = 90;         // angular steps per revolution
   int threads = 0;              // 0: all cores
   int max_splits_per_move = 8;  // points inserted into one move at most
+  double chord_tol_mm = 0.001;  // sagitta of the chords of a linearised arc
   double feed_limit_N = 0;      // > 0: lower F where the peak force would exceed it
   std::string tool_override;    // use this tool whatever the T words say
 };
@@ -110,7 +111,8 @@ struct Result {
   bool converged = false;
   std::size_t unconverged_points = 0; // where max_iterations ran out
   std::vector<std::uint32_t> capped_lines;    // lines where max_offset_mm bit
-  std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs
+  std::vector<std::uint32_t> nonuniform_arcs; // arcs kept as translated arcs though their compensation varies
+  std::size_t linearised_arcs = 0;   // arcs whose first part went into G1 chords
   std::size_t compensated_points = 0;
   std::size_t split_points = 0;       // blocks inserted to split moves
   // --feed-limit: feed per motion of `motions` (mm/min, as the program will run
@@ -120,9 +122,11 @@ struct Result {
 };
 
 // `splittable` (may be null): per motion, whether its block may be split by
-// inserting G1 blocks before it (a plain G1 with nothing but N, G1, X, Y, Z, F).
-// A move is split where the error under the straight ramp of its end offsets
-// would leave the tolerance (Settings::max_splits_per_move at most).
+// inserting G1 blocks before it (compensate::splittable). A move is split where
+// the error under the straight ramp of its end offsets would leave the
+// tolerance (Settings::max_splits_per_move at most); an arc whose compensation
+// varies by more than the tolerance is linearised: chords within chord_tol_mm
+// as inserted G1 blocks, the arc block keeping the last chord's piece.
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
                   const Progress& progress = {}, const std::vector<bool>* splittable = nullptr);
 
