@@ -1,9 +1,11 @@
 #!/bin/sh
-# Issue 5 benchmark: end-to-end compensation (read, simulate, mirror iterations,
-# write, read-back check). 1) the six-surface sample (41,010 blocks, STL stock);
-# 2) a generated raster finishing program of $BLOCKS blocks (default 100,000) on
-# a box stock. Prints the medians (hyperfine), CL points evaluated per second
-# (CL points x simulations / time) and peak memory.
+# Issue 5 benchmark: end-to-end compensation (read, the as-written simulation
+# beside the mirror pass, write, read-back check). 1) the six-surface sample
+# (41,010 blocks, STL stock, D16 ball); 2) a generated raster finishing program
+# of $BLOCKS blocks (default 100,000; BLOCKS=1000000 for the issue's 1M target)
+# on its semi-finished stock (STRESS=1 adds the same raster out of a box). Prints the medians (hyperfine), program CL points per second
+# end to end (CL points / median wall time), engagement evaluations of the
+# mirror pass per CL point, and peak memory.
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh --bench
@@ -16,16 +18,24 @@ run() {  # name, program, stock, extra options
   hyperfine --runs ${RUNS:-3} --export-json "bench/out/compensate_$name.json" -n "compensate $name" \
     "build/deflex compensate $prog --stock $stock $* -o bench/out/${name}_comp.nc --report bench/out/report_$name"
   pts=$(sed -n 's/.*"cl_points": \([0-9]*\).*/\1/p' "bench/out/report_$name/summary.json")
-  its=$(sed -n 's/.*"iterations": \([0-9]*\).*/\1/p' "bench/out/report_$name/summary.json")
+  evs=$(sed -n 's/.*"evaluations": \([0-9]*\).*/\1/p' "bench/out/report_$name/summary.json")
   med=$(sed -n 's/.*"median": \([0-9.]*\).*/\1/p' "bench/out/compensate_$name.json" | head -n 1)
-  echo "$name: $pts CL points, $its iterations (+1 nominal simulation), median $med s:" \
-    "$(awk -v p="$pts" -v i="$its" -v t="$med" 'BEGIN { printf "%.0f CL points evaluated/s", p * (i + 1) / t }')"
+  echo "$name: $pts CL points, median $med s: $(awk -v p="$pts" -v t="$med" 'BEGIN { printf "%.0f", p / t }') CL points/s end to end;" \
+    "mirror pass $(awk -v e="$evs" -v p="$pts" 'BEGIN { printf "%.2f", e / p }') engagement evaluations per CL point"
   /usr/bin/time -f "$name: peak memory %M KiB" build/deflex compensate "$prog" --stock "$stock" "$@" -o /dev/null 2>&1 | tail -n 1
 }
 run six_surfaces samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl
 n=${BLOCKS:-100000}
 f=bench/data/finish_$n.nc
 [ -f "$f" ] || sh bench/gen_program.sh "$n" "$f" >/dev/null
-# The generated raster spans X 0..200, Y 0..0.25*rows, Z -3..1: a box with 0.3 mm above the highest point.
-rows=$(( (n - 10) / 501 ))
-run "raster_$n" "$f" "box:-10,-10,-10,210,$(awk -v r="$rows" 'BEGIN { print r * 0.25 + 10 }'),1.3" --tool T5
+# Finishing: the stock is the surface plus a 0.5 mm allowance (bench/gen_stock.sh),
+# judged at +-2 um (the first row takes the whole allowance with the full ball).
+st=bench/data/stock_${n}_0.5.stl
+[ -f "$st" ] || sh bench/gen_stock.sh "$n" "$st" 0.5 >/dev/null
+run "raster_$n" "$f" "$st" --tool T5 --tolerance 0.002
+if [ -n "${STRESS:-}" ]; then
+  # Stress: the same raster from a box 0.3 mm above the highest point; the first
+  # row slots 2-4 mm deep and deflects 0.2-0.3 mm.
+  rows=$(( (n - 10) / 501 ))
+  run "raster_box_$n" "$f" "box:-10,-10,-10,210,$(awk -v r="$rows" 'BEGIN { print r * 0.25 + 10 }'),1.3" --tool T5
+fi
