@@ -285,6 +285,7 @@ class Stream {
          const std::vector<bool>* splittable, const Progress& progress)
       : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), progress_(progress), run_(ph, s) {}
 
+  // Fills r.motions (and the rest of the result) anew; `motions` must not be r.motions.
   void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
     r_.motions.clear();
     r_.inserted.clear();
@@ -294,8 +295,8 @@ class Stream {
     r_.converged = true;
     const std::size_t n = motions.size();
     for (std::size_t i = 0; i < n; ++i) {
-      const interp::Motion& m = motions[i];
-      feed_ = feeds[i];
+      interp::Motion m = motions[i];
+      m.feed_mm_per_min = feed_ = feeds[i];
       splits_ = 0;
       if (!run_.prepare(m)) {
         emit(m, V3::Zero(), false, false, {}, false);
@@ -537,7 +538,6 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   r.feeds_mm_per_min.resize(n);
   for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
   if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
-  std::vector<interp::Motion> run_motions = motions;
   std::vector<double> feeds = r.feeds_mm_per_min;
   // The program as written is simulated for the report beside the stream, on
   // its own thread, unless the feed limit needs its forces first.
@@ -572,19 +572,18 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
       if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
       const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
       feeds[i] = std::max(f, 0.1);
-      run_motions[i].feed_mm_per_min = feeds[i];
+      r.motions[i].feed_mm_per_min = feeds[i];
       r.feed_lowered_lines.push_back(m.line);
     }
   }
   r.feeds_mm_per_min = feeds;
   if (s.gain == 0.0) {
-    r.motions = run_motions;
-    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(run_motions, {}, ph, s, progress);
+    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress);
     r.converged = true;
     return r;
   }
   const std::vector<bool> can = movable(motions);
-  Stream(ph, s, r, can, splittable, progress).go(run_motions, feeds);
+  Stream(ph, s, r, can, splittable, progress).go(motions, feeds);
   if (nominal.joinable()) nominal.join();
   if (nominal_failed) std::rethrow_exception(nominal_failed);
   for (std::size_t i = 0; i < r.motions.size(); ++i)
