@@ -201,6 +201,222 @@ bool LineSweep::row_range(double y, double& x0, double& x1, bool start_cut) cons
   return true;
 }
 
+// ---- hand-off between chained moves -------------------------------------------
+//
+// Move k (a -> b: direction e, slope m, XY length L) followed by move n (b -> b':
+// e', m', L') swept with start_cut, both with the same tool. Over a cell p the tool's
+// lower surface at travel s is a convex f(s) = z(s) + g(d(s)) (g the profile), the
+// tool at b gives T_b(p) = f_k(L) = f_n(0), and a cell ends at the minimum of its
+// height and of the row kernels' heights H of every move that evaluates it (the
+// order does not matter). So k may leave p out when n evaluates p and H_n(p) <=
+// H_k(p). That holds, with a margin, where (par = (p - b).e, par' = (p - b).e',
+// perp across e, d = |p - b|, rho = sqrt(R^2 - perp^2), K = m / sqrt(1 + m^2),
+// r1 = R - r_c / 2):
+//  (i)  k cannot lower p below T_b, so min f_k = T_b (start_cut's rule with the
+//       move reversed). Ball: the unclamped contact of row_heights, L + par - K rho,
+//       is past the end: par >= K rho (exact; an ellipse about b cut from or added
+//       to par >= 0). Bull (g'(d) / d >= 1/(sqrt 3 r1) at d >= r1): f_k'(L) = m -
+//       g'(d) par / d <= 0 where par >= 0, rising also par >= sqrt(3) r1 m and d >=
+//       r1. Flat: par >= 0, level or descending only.
+//  (ii) n lowers p below T_b by at least G: convexity gives T_b - min f_n >=
+//       f_n(0) - f_n(sg) >= integral of -f_n' over [0, sg], sg = mu / 2 <= L'.
+//       Ball: f_n'' >= 1/R and f_n' = 0 at n's contact par' - K' rho', so where that
+//       is >= mu, G >= 3 mu^2 / (8 R). Bull: with par' >= max(m', 0) sqrt(3) r1 + mu
+//       outside the disc of radius r1 + mu about b, -f_n' >= mu / (2 sqrt(3) r1)
+//       on [0, sg], G >= mu^2 / (4 sqrt(3) r1); a steep enough descent has -f_n' >=
+//       |m'| >= that without the disc. Flat, descending at least mu / (2 R): G >=
+//       |m'| mu / 2 where par' >= mu (a level or rising flat end does not lower its
+//       footprint: nothing is left to it).
+//  (iii) p is in n's row_range with start_cut (so n evaluates it).
+// The row kernels are exact up to ~1e-13 mm, up to ~6e-8 R on the rim of a
+// footprint (the square root of a rounded ~0); with mu = max(0.02, R / 200) mm,
+// G >= 9e-6 R (ball), 3.6e-6 R (bull) is more than 50 times both errors, so H_n <=
+// T_b - G + err <= H_k, and rounding to float keeps the order. The regions are
+// made smaller than derived by 1e-6 mm (and 1e-9 relative), far more than the
+// rounding of their bounds. Slopes above 1000 are left alone (the ball's contact is
+// then at its equator, where the kernel's error grows); above 10, and below 1e-3,
+// the ball's ellipses give way to half-planes inside the regions (K rho <= K R). A
+// cell n leaves out in turn is left to n + 1, lower still; the last move of a
+// sweep_lines call leaves out nothing.
+
+namespace {
+
+// (p - b).e - K sqrt(R^2 - perp^2) >= c on the cells of a row: a half-plane for K
+// = 0, that minus an ellipse about par = c for K > 0, plus one for K < 0.
+struct Cond {
+  double ex = 1, ey = 0, c = 0, K = 0, R = 0;
+  // Per-row constants (prepare()).
+  double inv_ex = 0, K2 = 0, A = 0, inv_2a = 0;
+  void prepare() {
+    inv_ex = std::fabs(ex) < 1e-12 ? 0 : 1 / ex;
+    K2 = K * K;
+    A = ex * ex + K2 * ey * ey;
+    inv_2a = K == 0 ? 0 : 0.5 / A;
+  }
+};
+
+struct Handoff {
+  double bx = 0, by = 0;  // b
+  Cond own, next;         // (i), (ii)
+  double r_out = 0;       // and |p - b| >= r_out (0: no disc)
+};
+
+constexpr double tiny_mm = 1e-6;
+
+// The ball's condition "the contact of row_heights is at least c past b":
+// (p - b).e - K rho >= c, shrunk by tiny_mm; a half-plane inside it when K is small
+// (ill-conditioned ellipse) or the move steep.
+Cond ball_cond(const LineSweep& l, double c, double R) {
+  const double m = l.slope(), K = m / std::sqrt(1 + m * m);
+  Cond q{l.dir_x(), l.dir_y(), c + tiny_mm, 0, 0};
+  if (std::fabs(K) < 1e-3 || std::fabs(m) > 10) {
+    if (K > 0) q.c += K * R;  // K rho <= K R
+  } else {
+    q.K = K;
+    q.R = K > 0 ? R * (1 + 1e-9) + tiny_mm : R * (1 - 1e-9) - tiny_mm;
+  }
+  return q;
+}
+
+bool same_tool(const ToolProfile& t, const ToolProfile& u) {
+  return t.kind == u.kind && t.radius_mm == u.radius_mm && t.corner_radius_mm == u.corner_radius_mm;
+}
+
+double margin_mm(const ToolProfile& t) { return std::max(0.02, t.radius_mm / 200); }
+
+bool make_handoff(const LineSweep& k, const LineSweep& n, Handoff& h) {
+  const ToolProfile& t = k.tool();
+  if (!same_tool(t, n.tool()) || n.a() != k.b() || k.xy_length() == 0) return false;
+  const double R = t.radius_mm, m = k.slope(), mn = n.slope(), mu = margin_mm(t);
+  if (n.xy_length() < mu / 2 || std::fabs(m) > 1000 || std::fabs(mn) > 1000) return false;
+  h.bx = k.b()[0];
+  h.by = k.b()[1];
+  h.own = {k.dir_x(), k.dir_y(), tiny_mm};
+  h.next = {n.dir_x(), n.dir_y(), mu};
+  h.r_out = 0;
+  const double r1 = R - 0.5 * corner_of(t), s3 = std::sqrt(3.0);
+  switch (t.kind) {
+    case ToolKind::ball:
+      h.own = ball_cond(k, 0, R);
+      h.next = ball_cond(n, mu, R);
+      break;
+    case ToolKind::bull:
+      if (m > 0) {
+        h.own.c += s3 * r1 * m;
+        h.r_out = r1 * (1 + 1e-9) + tiny_mm;
+      }
+      h.next.c += std::max(mn, 0.0) * s3 * r1;
+      if (!(-mn >= mu / (2 * s3 * r1))) h.r_out = std::max(h.r_out, r1 + mu);
+      break;
+    case ToolKind::flat:
+      if (m > 0 || !(-mn >= mu / (2 * R))) return false;
+      break;
+  }
+  h.own.prepare();
+  h.next.prepare();
+  return true;
+}
+
+// The cells of row y (wy = y - b_y) meeting a condition: up to two intervals.
+int cond_row(const Cond& q, double bx, double wy, double* l, double* r) {
+  // par = (x - bx) ex + wy ey >= c: x >= h or x <= h.
+  double hl = -inf, hr = inf;
+  const double rest = q.c - wy * q.ey;
+  if (q.inv_ex == 0) {
+    if (rest > 0) hl = inf;
+  } else if (q.ex > 0) {
+    hl = bx + rest * q.inv_ex;
+  } else {
+    hr = bx + rest * q.inv_ex;
+  }
+  int cnt = 0;
+  auto add = [&](double a, double b) {
+    if (a <= b) {
+      l[cnt] = a;
+      r[cnt++] = b;
+    }
+  };
+  if (q.K == 0) {
+    add(hl, hr);
+    return cnt;
+  }
+  // Ellipse (par - c)^2 + K^2 perp^2 <= K^2 R^2 with perp = (x - bx) ey - wy ex:
+  // A u^2 + B u + C <= 0, u = x - bx.
+  const double p0 = wy * q.ey - q.c, q0 = -wy * q.ex;
+  const double B = 2 * (q.ex * p0 + q.K2 * q.ey * q0), C = p0 * p0 + q.K2 * (q0 * q0 - q.R * q.R);
+  const double D = B * B - 4 * q.A * C;
+  if (!(D > 0)) {
+    add(hl, hr);
+    return cnt;
+  }
+  const double sd = std::sqrt(D), e0 = bx + (-B - sd) * q.inv_2a, e1 = bx + (-B + sd) * q.inv_2a;
+  if (q.K > 0) {  // half-line minus the open chord
+    add(hl, std::min(hr, e0));
+    add(std::max(hl, e1), hr);
+  } else {  // half-line plus the chord
+    if (e1 < hl || e0 > hr) {
+      add(hl, hr);
+      add(e0, e1);
+    } else {
+      add(std::min(hl, e0), std::max(hr, e1));
+    }
+  }
+  return cnt;
+}
+
+// Narrows [x0, x1] (cells both moves evaluate on row y) to one interval of cells
+// move k may leave out (the longest where the conditions split it).
+bool handoff_row(const Handoff& h, double y, double& x0, double& x1, double min_len = 0) {
+  const double wy = y - h.by;
+  double ol[2], orr[2], nl[2], nr[2];
+  int no = cond_row(h.own, h.bx, wy, ol, orr), kept = 0;
+  for (int i = 0; i < no; ++i)  // the cheap test first: pieces of the window as long as asked
+    if (std::min(x1, orr[i]) - std::max(x0, ol[i]) >= min_len) {
+      ol[kept] = ol[i];
+      orr[kept++] = orr[i];
+    }
+  if ((no = kept) == 0) return false;
+  const int nn = cond_row(h.next, h.bx, wy, nl, nr);
+  double dl = inf, dr = -inf;  // the disc's chord, left out
+  if (h.r_out > 0 && std::fabs(wy) < h.r_out) {
+    const double w = std::sqrt(h.r_out * h.r_out - wy * wy);
+    dl = h.bx - w;
+    dr = h.bx + w;
+  }
+  double bl = 0, br = -1;
+  auto take = [&](double l, double r) {
+    if (l <= r && (br < bl || r - l > br - bl)) {
+      bl = l;
+      br = r;
+    }
+  };
+  for (int i = 0; i < no; ++i)
+    for (int k = 0; k < nn; ++k) {
+      const double l = std::max({x0, ol[i], nl[k]}), r = std::min({x1, orr[i], nr[k]});
+      if (dl < dr) {
+        take(l, std::min(r, dl));
+        take(std::max(l, dr), r);
+      } else {
+        take(l, r);
+      }
+    }
+  if (br < bl) return false;
+  x0 = bl;
+  x1 = br;
+  return true;
+}
+
+}  // namespace
+
+bool LineSweep::end_handoff(const LineSweep& next, double y, double& x0, double& x1) const {
+  Handoff h;
+  double na, nb;
+  if (!make_handoff(*this, next, h) || !next.row_range(y, na, nb, true)) return false;
+  x0 = std::max(x0, na);
+  x1 = std::min(x1, nb);
+  return handoff_row(h, y, x0, x1);
+}
+
 // ---- row kernels --------------------------------------------------------------
 //
 // Per cell centre x on a row y (wx = x - a_x, wy = y - a_y):
@@ -251,7 +467,20 @@ inline float flat_cell(const RowConsts& c, int i) {
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DEFLEX_SWEEP_AVX2 1
 
-// Cells [i0, i0 + n) in blocks of 4; returns how many were done.
+// Four lanes to out[0, cnt), cnt <= 4.
+__attribute__((target("avx2"), always_inline)) inline void store_lanes(float* out, __m128 v, int cnt) {
+  if (cnt == 4) {
+    _mm_storeu_ps(out, v);
+    return;
+  }
+  alignas(16) float t[4];
+  _mm_store_ps(t, v);
+  std::copy(t, t + cnt, out);
+}
+
+// Cells [i0, i0 + n) in blocks of 4, the last one partly (n >= 4; fewer are left
+// to the scalar path); returns how many were done. Short pieces of rows (the
+// hand-off splits them) would otherwise spend more on the scalar tail than here.
 __attribute__((target("avx2"))) int ball_row_avx2(const RowConsts& c, int i0, int n, float* out) {
   const __m256d gx0 = _mm256_set1_pd(c.gx0), cell = _mm256_set1_pd(c.cell), half = _mm256_set1_pd(0.5);
   const __m256d ax = _mm256_set1_pd(c.ax), ex = _mm256_set1_pd(c.ex), ey = _mm256_set1_pd(c.ey);
@@ -262,7 +491,7 @@ __attribute__((target("avx2"))) int ball_row_avx2(const RowConsts& c, int i0, in
   __m256d idx = _mm256_setr_pd(i0, i0 + 1.0, i0 + 2.0, i0 + 3.0);
   const __m256d four = _mm256_set1_pd(4.0);
   int done = 0;
-  for (; done + 4 <= n; done += 4, idx = _mm256_add_pd(idx, four)) {
+  for (const int stop = n >= 4 ? n : 0; done < stop; done += 4, idx = _mm256_add_pd(idx, four)) {
     const __m256d x = _mm256_add_pd(gx0, _mm256_mul_pd(_mm256_add_pd(idx, half), cell));
     const __m256d wx = _mm256_sub_pd(x, ax);
     const __m256d par = _mm256_add_pd(_mm256_mul_pd(wx, ex), wyey);
@@ -275,9 +504,9 @@ __attribute__((target("avx2"))) int ball_row_avx2(const RowConsts& c, int i0, in
     const __m256d t = _mm256_sub_pd(rho2, _mm256_mul_pd(q, q));
     const __m256d h = _mm256_sub_pd(_mm256_add_pd(azR, _mm256_mul_pd(m, s)), _mm256_sqrt_pd(_mm256_max_pd(t, zero)));
     const __m256d miss = _mm256_or_pd(_mm256_cmp_pd(cr2, R2, _CMP_GT_OQ), _mm256_cmp_pd(t, zero, _CMP_LT_OQ));
-    _mm_storeu_ps(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)));
+    store_lanes(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)), std::min(4, n - done));
   }
-  return done;
+  return std::min(done, n);
 }
 
 template <bool Rising>
@@ -291,7 +520,7 @@ __attribute__((target("avx2"))) int flat_row_avx2(const RowConsts& c, int i0, in
   __m256d idx = _mm256_setr_pd(i0, i0 + 1.0, i0 + 2.0, i0 + 3.0);
   const __m256d four = _mm256_set1_pd(4.0);
   int done = 0;
-  for (; done + 4 <= n; done += 4, idx = _mm256_add_pd(idx, four)) {
+  for (const int stop = n >= 4 ? n : 0; done < stop; done += 4, idx = _mm256_add_pd(idx, four)) {
     const __m256d x = _mm256_add_pd(gx0, _mm256_mul_pd(_mm256_add_pd(idx, half), cell));
     const __m256d wx = _mm256_sub_pd(x, ax);
     const __m256d par = _mm256_add_pd(_mm256_mul_pd(wx, ex), wyey);
@@ -303,9 +532,9 @@ __attribute__((target("avx2"))) int flat_row_avx2(const RowConsts& c, int i0, in
     const __m256d h = _mm256_add_pd(az, _mm256_mul_pd(m, s));
     const __m256d miss = _mm256_or_pd(_mm256_or_pd(_mm256_cmp_pd(cr2, R2, _CMP_GT_OQ), _mm256_cmp_pd(lo, L, _CMP_GT_OQ)),
                                       _mm256_cmp_pd(hi, zero, _CMP_LT_OQ));
-    _mm_storeu_ps(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)));
+    store_lanes(out + done, _mm256_cvtpd_ps(_mm256_blendv_pd(h, dinf, miss)), std::min(4, n - done));
   }
-  return done;
+  return std::min(done, n);
 }
 
 // Bull nose, 4 cells at a time: the cells whose minimum lies at an end of the
@@ -452,24 +681,94 @@ void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, fl
 
 namespace {
 
-// Rows [j0, j1] of one sweep.
-double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut) {
+// A move's cells (row_range with start_cut) on the rows of one band, found while
+// sweeping the move before it, which needs them for the hand-off.
+struct RowCache {
+  static constexpr int rows = ZMap::tile_cells;
+  int j0 = 0;
+  bool known[rows];
+  int lo[rows], hi[rows];  // cells [lo, hi]; none if hi < lo
+  void reset(int band_j0) {
+    j0 = band_j0;
+    std::fill(known, known + rows, false);
+  }
+};
+
+// Rows [j0, j1] (within one band when a cache is given) of one sweep; with a
+// hand-off, the cells `next` (swept right after it on the same rows) lowers further
+// are left out. mine: this move's cells if known; theirs: next's, filled here.
+double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, const LineSweep* next = nullptr,
+                  const Handoff* h = nullptr, const RowCache* mine = nullptr, RowCache* theirs = nullptr) {
   const GridSpec& g = z.grid();
+  // Cells whose centre lies in [xa, xb]: [first(xa), last(xb)].
+  auto first = [&](double xa) { return std::max(0, static_cast<int>(std::ceil((xa - g.x0_mm) / g.cell_mm - 0.5))); };
+  auto last = [&](double xb) {
+    return std::min(g.nx - 1, static_cast<int>(std::floor((xb - g.x0_mm) / g.cell_mm - 0.5)));
+  };
+  // The same for the left-out cells, inside [lo, hi]: by a multiplication (the
+  // regions have margins far above its rounding).
+  const double inv_cell = 1 / g.cell_mm;
+  auto inner = [&](double xa, double xb, int lo, int hi, int& c0, int& c1) {
+    const double t0 = std::clamp((xa - g.x0_mm) * inv_cell - 0.5, lo - 1.0, hi + 1.0);
+    const double t1 = std::clamp((xb - g.x0_mm) * inv_cell - 0.5, lo - 1.0, hi + 1.0);
+    const int k0 = static_cast<int>(t0), k1 = static_cast<int>(t1);  // toward zero: ceil and floor below
+    c0 = std::max(lo, k0 + (k0 < t0));
+    c1 = std::min(hi, k1 - (k1 > t1));
+  };
+  // next's rows (sweep_rows of next clips to these).
+  const int nj0 = next ? z.iy(next->y_min()) : 0, nj1 = next ? z.iy(next->y_max()) : -1;
   j0 = std::max({j0, 0, z.iy(s.y_min())});
   j1 = std::min({j1, g.ny - 1, z.iy(s.y_max())});
   thread_local std::vector<float> buf;
   double removed = 0;
-  for (int j = j0; j <= j1; ++j) {
-    const double y = z.cy(j);
-    double xa, xb;
-    if (!s.row_range(y, xa, xb, start_cut)) continue;
-    // Cells whose centre lies in [xa, xb].
-    const int i0 = std::max(0, static_cast<int>(std::ceil((xa - g.x0_mm) / g.cell_mm - 0.5)));
-    const int i1 = std::min(g.nx - 1, static_cast<int>(std::floor((xb - g.x0_mm) / g.cell_mm - 0.5)));
-    if (i1 < i0) continue;
+  auto cells = [&](int j, double y, int i0, int i1) {
+    if (i1 < i0) return;
     buf.resize(static_cast<std::size_t>(i1 - i0 + 1));
     s.row_heights(y, g.x0_mm, g.cell_mm, i0, i1 - i0 + 1, buf.data());
     removed += z.lower_row(j, i0, i1 - i0 + 1, buf.data());
+  };
+  for (int j = j0; j <= j1; ++j) {
+    const double y = z.cy(j);
+    int i0, i1;
+    if (mine && mine->known[j - mine->j0]) {
+      i0 = mine->lo[j - mine->j0];
+      i1 = mine->hi[j - mine->j0];
+    } else {
+      double xa, xb;
+      if (!s.row_range(y, xa, xb, start_cut)) continue;
+      i0 = first(xa);
+      i1 = last(xb);
+    }
+    if (i1 < i0) continue;
+    // Cells [e0, e1] are left to next (inside next's cells on this row).
+    int e0 = i1 + 1, e1 = i1;
+    if (h && j >= nj0 && j <= nj1) {
+      double na, nb;
+      int n0 = 0, n1 = -1;
+      if (next->row_range(y, na, nb, true)) {
+        n0 = first(na);
+        n1 = last(nb);
+      }
+      if (theirs) {
+        theirs->known[j - theirs->j0] = true;
+        theirs->lo[j - theirs->j0] = n0;
+        theirs->hi[j - theirs->j0] = n1;
+      }
+      const int c0 = std::max(i0, n0), c1 = std::min(i1, n1);
+      if (c1 - c0 >= 4) {
+        // Within both moves' cells (the window only picks the longest piece).
+        na = g.x0_mm + c0 * g.cell_mm;
+        nb = g.x0_mm + (c1 + 1) * g.cell_mm;
+        if (handoff_row(*h, y, na, nb, 4 * g.cell_mm)) inner(na, nb, c0, c1, e0, e1);
+      }
+    }
+    // A gap of a few cells costs more (a second call) than it saves.
+    if (e1 - e0 < 4 || (e0 > i0 && e1 < i1 && e1 - e0 < 12)) {
+      cells(j, y, i0, i1);
+    } else {
+      cells(j, y, i0, e0 - 1);
+      cells(j, y, e1 + 1, i1);
+    }
   }
   return removed;
 }
@@ -514,13 +813,30 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) 
     if (k == 0) return first_start_cut;
     return s[k].a() == s[k - 1].b();
   };
+  // Move k leaves cells to move k + 1 when that one is chained (the last move of
+  // the batch leaves nothing: the next batch may not come).
+  std::vector<Handoff> hand(s.size());
+  std::vector<char> has(s.size(), 0);
+  for (std::size_t k = 0; k + 1 < s.size(); ++k) has[k] = chained(k + 1) && make_handoff(s[k], s[k + 1], hand[k]);
   // One task per tile row: lower_row on different tile rows never shares a tile.
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(j0 / T, j1 / T + 1, 1), 0.0,
       [&](const tbb::blocked_range<int>& r, double acc) {
-        for (int band = r.begin(); band != r.end(); ++band)
-          for (std::size_t k = 0; k < s.size(); ++k)
-            acc += sweep_rows(z, s[k], band * T, band * T + T - 1, chained(k));
+        RowCache cache[2];
+        for (int band = r.begin(); band != r.end(); ++band) {
+          const RowCache* mine = nullptr;
+          for (std::size_t k = 0; k < s.size(); ++k) {
+            if (!has[k]) {
+              acc += sweep_rows(z, s[k], band * T, band * T + T - 1, chained(k), nullptr, nullptr, mine);
+              mine = nullptr;
+              continue;
+            }
+            RowCache* theirs = &cache[k % 2];
+            theirs->reset(band * T);
+            acc += sweep_rows(z, s[k], band * T, band * T + T - 1, chained(k), &s[k + 1], &hand[k], mine, theirs);
+            mine = theirs;
+          }
+        }
         return acc;
       },
       [](double a, double b) { return a + b; });

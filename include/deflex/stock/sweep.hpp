@@ -50,6 +50,16 @@ class LineSweep {
   // instead of |m| R, plus the disc of radius r1 = R - r_c / 2 about `a`; a flat
   // end lowers its whole footprint. A retract (rising plunge) removes nothing.
   bool row_range(double y_mm, double& x0_mm, double& x1_mm, bool start_cut = false) const;
+  // Hand-off to the next move of a chain: narrows [x0_mm, x1_mm] (e.g. this move's
+  // row_range) on the line y = y_mm to the cells this move may leave out when
+  // `next` starts at b() and is swept after it with start_cut (sweep_lines), one
+  // interval; false if none. Those cells are in next's row_range(y, .., true), this
+  // move cannot lower them below the tool at b, and next lowers them below it by a
+  // margin far above the rounding of the row kernels, so next's height is <= this
+  // move's (as floats) and leaving them out changes no cell (see sweep.cpp). Leaves
+  // out nothing for plunges, other tools, very short or very steep moves and a
+  // flat end that next does not lower.
+  bool end_handoff(const LineSweep& next, double y_mm, double& x0_mm, double& x1_mm) const;
 
   const Point3& a() const { return a_; }
   const Point3& b() const { return b_; }
@@ -86,7 +96,9 @@ double sweep_line_reference(ZMap& z, const LineSweep& s);
 // Consecutive sweeps in order (each one's start is the previous one's end when
 // chained; the first one's start is cut already when first_start_cut). Bands of
 // tile rows are cut in parallel (TBB), each band applying the sweeps in order, so
-// the result equals sweeping them one by one.
+// the result equals sweeping them one by one (sweep_line with start_cut when
+// chained), bit for bit: a move followed by a chained one skips the cells of its
+// end_handoff, which the next move lowers further anyway.
 double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut);
 
 // Consecutive points joined by lines.
