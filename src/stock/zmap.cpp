@@ -48,15 +48,14 @@ float* ZMap::materialize(Tile& t) {
   return t.cells.get();
 }
 
-double ZMap::height_smooth(double x_mm, double y_mm) const {
+double ZMap::height_smooth_general(double x_mm, double y_mm) const {
   const double u = (x_mm - g_.x0_mm) * inv_cell_ - 0.5, v = (y_mm - g_.y0_mm) * inv_cell_ - 0.5;
   const int i = fast_floor(u), j = fast_floor(v);
   if (i < 0 || j < 0 || i + 1 >= g_.nx || j + 1 >= g_.ny) return height_at(x_mm, y_mm);
   const float h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
   if (h00 == no_material || h10 == no_material || h01 == no_material || h11 == no_material)
     return height_at(x_mm, y_mm);
-  const double fu = u - i, fv = v - j;
-  return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
+  return bilinear(u - i, v - j, h00, h10, h01, h11);
 }
 
 void ZMap::set(int i, int j, float h) {
@@ -250,6 +249,26 @@ float ZMap::max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm
       for (int r = r0; r <= r1; ++r) m = std::max(m, t.cells[static_cast<std::size_t>(T) * T + r]);
     }
   return m;
+}
+
+bool ZMap::none_above(double x0_mm, double y0_mm, double x1_mm, double y1_mm, float h) const {
+  const int i0 = std::max(ix(x0_mm), 0), i1 = std::min(ix(x1_mm), g_.nx - 1);
+  const int j0 = std::max(iy(y0_mm), 0), j1 = std::min(iy(y1_mm), g_.ny - 1);
+  if (i0 > i1 || j0 > j1) return true;
+  for (int tj = j0 / T; tj <= j1 / T; ++tj) {
+    const int r0 = std::max(j0 - tj * T, 0), r1 = std::min(j1 - tj * T, T - 1);
+    for (int ti = i0 / T; ti <= i1 / T; ++ti) {
+      const Tile& t = tiles_[static_cast<std::size_t>(tj) * tiles_x_ + static_cast<std::size_t>(ti)];
+      if (t.max <= h) continue;
+      if (!t.cells) return false;
+      // Counted rather than returned at the first: the compiler vectorises this.
+      const float* row_max = t.cells.get() + static_cast<std::size_t>(T) * T;
+      int above = 0;
+      for (int r = r0; r <= r1; ++r) above += row_max[r] > h;
+      if (above) return false;
+    }
+  }
+  return true;
 }
 
 std::size_t ZMap::allocated_tiles() const {

@@ -15,6 +15,10 @@
 // inside the tool's own earlier positions and are excluded exactly (not to a cell),
 // which is why no explicit front-half rule is needed and why ramps and arcs are
 // handled as well as lines. Every in/out transition is refined by bisection.
+// evaluate() settles most of those tests without making them (arcs of samples
+// above every Z-map cell they could read, pending sweeps out of reach of a slice
+// or a point; engagement.cpp), with the results of making them all,
+// evaluate_reference(), bit for bit.
 //
 // Plunges and ramps. The feed frame takes the XY direction of travel; a pure
 // plunge (no XY travel) keeps the previous move's XY direction (+X at the start).
@@ -25,6 +29,7 @@
 // |ramp_angle| beyond a few degrees its forces are an approximation, and for a
 // plunge (Metrics::plunge) they are not meaningful; the caller should flag those.
 #pragma once
+#include <array>
 #include <span>
 #include <vector>
 
@@ -86,6 +91,12 @@ class Engager {
   // Fills `out` (one entry per slice of cs) and returns the per-point quantities.
   Metrics evaluate(const StockView& stock, const CLPoint& p, const Process& proc,
                    force::Engagement& out) const;
+  // The same by the definition, point by point: every test against the Z-map and
+  // every pending sweep near the tool, no shortcut. evaluate() skips only tests
+  // whose outcome it has proved, so both give identical results (the tests
+  // compare them bit for bit); this one is several times slower.
+  Metrics evaluate_reference(const StockView& stock, const CLPoint& p, const Process& proc,
+                             force::Engagement& out) const;
 
   const force::CutterSlices& slices() const { return cs_; }
   const stock::ToolProfile& tool() const { return tool_; }
@@ -95,6 +106,16 @@ class Engager {
   Options o_;
   stock::ToolProfile tool_;
   std::vector<double> sin_, cos_;  // of the sample angles
+  // sin and cos of the refinement midpoints: refine_nodes_ per transition (empty
+  // when refine_steps is 0 or large); r dz integrated over each slice's band.
+  std::vector<std::array<double, 2>> refine_sc_;
+  int refine_nodes_ = 0;
+  std::vector<double> band_rdz_;
+
+  // The method, with the in-material tests answered by a Probe (engagement.cpp).
+  template <class Probe>
+  Metrics evaluate_with(const StockView& stock, const CLPoint& p, const Process& proc,
+                        force::Engagement& out) const;
 };
 
 // The Z-map's view of a cutter's lower surface.

@@ -66,7 +66,46 @@ class ZMap {
   // Bilinear interpolation between the four nearest cell centres, so smooth cut
   // surfaces (ball scallops) are resolved to O(c^2) instead of O(c); falls back to
   // the containing cell next to empty cells (a vertical wall stays a step).
-  double height_smooth(double x_mm, double y_mm) const;
+  // Inline for the common case, four cells of one tile (the engagement calls it
+  // tens of millions of times per program); height_smooth_general does the rest.
+  // Both read the same cells and blend them with bilinear(), so the result does
+  // not depend on the path.
+  double height_smooth(double x_mm, double y_mm) const {
+    const double u = (x_mm - g_.x0_mm) * inv_cell_ - 0.5, v = (y_mm - g_.y0_mm) * inv_cell_ - 0.5;
+    const int i = fast_floor(u), j = fast_floor(v);
+    if (i >= 0 && j >= 0 && i + 1 < g_.nx && j + 1 < g_.ny) {
+      const unsigned li = static_cast<unsigned>(i) % tile_cells, lj = static_cast<unsigned>(j) % tile_cells;
+      if (li + 1 < tile_cells && lj + 1 < tile_cells) {
+        const Tile& t = tiles_[tile_index(i, j)];
+        if (const float* c = t.cells.get()) {
+          c += lj * tile_cells + li;
+          const float h00 = c[0], h10 = c[1], h01 = c[tile_cells], h11 = c[tile_cells + 1];
+          if (h00 != no_material && h10 != no_material && h01 != no_material && h11 != no_material)
+            return bilinear(u - i, v - j, h00, h10, h01, h11);
+        } else if (t.uniform != no_material) {
+          return bilinear(u - i, v - j, t.uniform, t.uniform, t.uniform, t.uniform);
+        }
+      }
+    }
+    return height_smooth_general(x_mm, y_mm);
+  }
+  double height_smooth_general(double x_mm, double y_mm) const;
+  // Asks the cache for the cells height_smooth(x, y) reads (a hint, no effect on
+  // any result), so that a batch of lookups waits for memory once, not per lookup.
+  void prefetch_smooth(double x_mm, double y_mm) const {
+#ifdef __GNUC__
+    const int i = fast_floor((x_mm - g_.x0_mm) * inv_cell_ - 0.5), j = fast_floor((y_mm - g_.y0_mm) * inv_cell_ - 0.5);
+    if (i < 0 || j < 0 || i + 1 >= g_.nx || j + 1 >= g_.ny) return;
+    if (const float* c = tiles_[tile_index(i, j)].cells.get()) {
+      c += local(i, j);
+      __builtin_prefetch(c);
+      __builtin_prefetch(c + tile_cells + 1);
+    }
+#else
+    (void)x_mm;
+    (void)y_mm;
+#endif
+  }
   void set(int i, int j, float h);
 
   // Lowers row j, cells [i0, i0 + n), to min(current, h[k]). Returns the removed
@@ -78,6 +117,9 @@ class ZMap {
   // An upper bound of the heights in the cells overlapping [x0,x1] x [y0,y1]
   // (exact per tile row band; no_material when the rectangle misses the grid).
   float max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const;
+  // max_height_in(...) <= h, stopping at the first tile above h: the cheap way to
+  // prove that a region is above the stock.
+  bool none_above(double x0_mm, double y0_mm, double x1_mm, double y1_mm, float h) const;
 
   // Tiles: tile (tx, ty) holds cells [tx T, tx T + T) x [ty T, ty T + T), T = tile_cells.
   std::size_t tiles_x() const { return tiles_x_; }
@@ -99,6 +141,9 @@ class ZMap {
     float uniform = no_material;
     float max = no_material;  // max of the heights (exact)
   };
+  static double bilinear(double fu, double fv, float h00, float h10, float h01, float h11) {
+    return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
+  }
   static int fast_floor(double v) {
     const int i = static_cast<int>(v);
     return i - (v < i);
