@@ -89,7 +89,6 @@ class ZMap {
     }
     return height_smooth_general(x_mm, y_mm);
   }
-  double height_smooth_general(double x_mm, double y_mm) const;
   // Asks the cache for the cells height_smooth(x, y) reads (a hint, no effect on
   // any result), so that a batch of lookups waits for memory once, not per lookup.
   void prefetch_smooth(double x_mm, double y_mm) const {
@@ -141,6 +140,7 @@ class ZMap {
     float uniform = no_material;
     float max = no_material;  // max of the heights (exact)
   };
+  double height_smooth_general(double x_mm, double y_mm) const;  // every case
   static double bilinear(double fu, double fv, float h00, float h10, float h01, float h11) {
     return (1 - fv) * ((1 - fu) * h00 + fu * h10) + fv * ((1 - fu) * h01 + fu * h11);
   }
