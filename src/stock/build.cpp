@@ -86,10 +86,17 @@ ZMap zmap_from_triangles(std::span<const Triangle> tris, double cell_mm) {
       for (int ti = i0; ti <= i1; ++ti) bins[static_cast<std::size_t>(tj) * tx + ti].push_back(static_cast<std::uint32_t>(k));
   }
   std::vector<float> buf(static_cast<std::size_t>(T) * T);
+  // Highest vertex per triangle: a tile's triangles go highest first, and one
+  // whose highest vertex is not above any cell of its box cannot raise a cell
+  // (the bottom and the sides of a closed solid, under its top): skipped after
+  // a float-only scan of the box instead of a barycentric test per cell.
+  std::vector<double> top(tris.size());
+  for (std::size_t k = 0; k < tris.size(); ++k) top[k] = std::max({tris[k].p[0][2], tris[k].p[1][2], tris[k].p[2][2]});
   for (std::size_t by = 0; by < ty; ++by)
     for (std::size_t bx = 0; bx < tx; ++bx) {
-      const auto& bin = bins[by * tx + bx];
+      auto& bin = bins[by * tx + bx];
       if (bin.empty()) continue;  // stays empty
+      std::sort(bin.begin(), bin.end(), [&](std::uint32_t a, std::uint32_t b) { return top[a] > top[b]; });
       std::fill(buf.begin(), buf.end(), no_material);
       const int ci0 = static_cast<int>(bx) * T, cj0 = static_cast<int>(by) * T;
       for (std::uint32_t k : bin) {
@@ -104,6 +111,16 @@ ZMap zmap_from_triangles(std::span<const Triangle> tris, double cell_mm) {
         const int i1 = std::min({ci0 + T - 1, g.nx - 1, static_cast<int>(std::floor((x1 - g.x0_mm) / cell_mm - 0.5))});
         const int j0 = std::max(cj0, static_cast<int>(std::ceil((y0 - g.y0_mm) / cell_mm - 0.5)));
         const int j1 = std::min({cj0 + T - 1, g.ny - 1, static_cast<int>(std::floor((y1 - g.y0_mm) / cell_mm - 0.5))});
+        if (i0 > i1 || j0 > j1) continue;
+        float lowest = std::numeric_limits<float>::infinity();
+        for (int j = j0; j <= j1; ++j) {
+          const float* row = buf.data() + static_cast<std::size_t>(j - cj0) * T - ci0;
+          for (int i = i0; i <= i1; ++i) lowest = std::min(lowest, row[i]);
+        }
+        // The interpolated height exceeds the highest vertex by rounding at most
+        // (1e-12 barycentric slack): with this margin, and float rounding being
+        // monotone, it cannot exceed `lowest`, so the skip is exact.
+        if (top[k] + 1e-9 * (1 + std::fabs(top[k])) < static_cast<double>(lowest)) continue;
         // A tiny tolerance so that a centre on a shared edge belongs to both triangles.
         constexpr double eps = -1e-12;
         for (int j = j0; j <= j1; ++j) {

@@ -2,10 +2,13 @@
 // 10 written by OpenCASCADE as STEP and IGES (within the mesh deflection).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <random>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stock/build.hpp"
@@ -57,6 +60,56 @@ void check_sphere(const ZMap& z, double deflection) {
 }  // namespace
 
 TEST_SUITE("stock") {
+
+TEST_CASE("triangle soup: the upper envelope equals every triangle tested at every cell centre, bit for bit") {
+  // A closed height-field solid (top of random heights, flat bottom, sides)
+  // plus loose triangles above and below it, in shuffled order: the skip of
+  // triangles that cannot raise a cell must not change a single cell.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> h(-3.0, 3.0);
+  std::vector<Triangle> tris;
+  const int n = 12;
+  const double step = 2.5;
+  std::vector<double> top((n + 1) * (n + 1));
+  for (double& t : top) t = h(rng);
+  auto at = [&](int i, int j) { return std::array<double, 3>{i * step, j * step, top[j * (n + 1) + i]}; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      tris.push_back({{at(i, j), at(i + 1, j), at(i + 1, j + 1)}});
+      tris.push_back({{at(i, j), at(i + 1, j + 1), at(i, j + 1)}});
+    }
+  const double L = n * step;
+  tris.push_back({{{{0, 0, -10}, {L, 0, -10}, {L, L, -10}}}});  // bottom
+  tris.push_back({{{{0, 0, -10}, {L, L, -10}, {0, L, -10}}}});
+  tris.push_back({{{{0, 0, -10}, {L, 0, -10}, {L, 0, 3}}}});      // a side (vertical: no area)
+  std::uniform_real_distribution<double> u(-2.0, L + 2.0), v(-12.0, 6.0);
+  for (int k = 0; k < 60; ++k)
+    tris.push_back({{{{u(rng), u(rng), v(rng)}, {u(rng), u(rng), v(rng)}, {u(rng), u(rng), v(rng)}}}});
+  std::shuffle(tris.begin(), tris.end(), rng);
+  const double cell = 0.05;
+  const ZMap z = zmap_from_triangles(tris, cell);
+  // The plain rule: each cell centre takes the highest triangle over it.
+  const GridSpec& g = z.grid();
+  std::size_t raised = 0;
+  for (int j = 0; j < g.ny; j += 3)
+    for (int i = 0; i < g.nx; i += 3) {
+      const double x = z.cx(i), y = z.cy(j);
+      float want = no_material;
+      for (const Triangle& t : tris) {
+        const auto& p = t.p;
+        const double d = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+        if (std::fabs(d) < 1e-18) continue;
+        const double l1 = ((x - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (y - p[0][1])) / d;
+        const double l2 = ((p[1][0] - p[0][0]) * (y - p[0][1]) - (x - p[0][0]) * (p[1][1] - p[0][1])) / d;
+        const double l0 = 1 - l1 - l2;
+        if (l0 < -1e-12 || l1 < -1e-12 || l2 < -1e-12) continue;
+        want = std::max(want, static_cast<float>(l0 * p[0][2] + l1 * p[1][2] + l2 * p[2][2]));
+      }
+      REQUIRE(z.at(i, j) == want);
+      raised += want != no_material;
+    }
+  CHECK(raised > 10000);
+}
 
 TEST_CASE("STL pyramid: the upper envelope is exact at the cell centres") {
   const std::string path = write_pyramid_stl();
