@@ -34,11 +34,6 @@ double written_mm(double value_mm, bool inch, const profile::Dialect& d) {
   return inch ? v * 25.4 : v;
 }
 
-struct Collect : interp::MotionSink {
-  std::vector<interp::Motion> motions;
-  void motion(const interp::Motion& m) override { motions.push_back(m); }
-};
-
 }  // namespace
 
 // A block deflex may split: words only N, G1/G01, X, Y, Z, F.
@@ -246,15 +241,14 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   }
   std::ostringstream errs;
   Diagnostics diags(&errs, 0);
-  Collect c;
-  interp::interpret(out, opt, diags, c);
-  if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
-  if (c.motions.size() != om.size()) fail(1, "the written program has a different number of motions");
   // Numbers are written with the dialect's decimals: allow their rounding.
   const double round_mm = 0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001;
   const double round_in = 0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001;
-  for (std::size_t i = 0; i < om.size(); ++i) {
-    const interp::Motion &x = om[i], &y = c.motions[i];
+  // Each motion read back is checked as it comes (no copy of the whole list).
+  std::size_t i = 0;
+  auto check = [&](const interp::Motion& y) {
+    if (i >= om.size()) fail(1, "the written program has more motions than the original");
+    const interp::Motion& x = om[i];
     const bool ins = inserted && (*inserted)[i];
     if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
     if (x.kind != interp::MotionKind::rapid) {
@@ -308,7 +302,17 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
                     ins ? "inserted" : movable[i] ? "compensated" : "fixed", dist, allowed);
       fail(x.line, buf);
     }
-  }
+    ++i;
+  };
+  struct Checker : interp::MotionSink {
+    decltype(check)& f;
+    explicit Checker(decltype(check)& g) : f(g) {}
+    void motion(const interp::Motion& m) override { f(m); }
+  } sink(check);
+  interp::interpret(out, opt, diags, sink);
+  if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
+  if (i != om.size()) fail(1, "the written program has a different number of motions");
+
 }
 
 }  // namespace deflex::compensate
