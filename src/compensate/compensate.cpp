@@ -540,10 +540,11 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
   std::vector<double> feeds = r.feeds_mm_per_min;
   // The program as written is simulated for the report beside the stream, on
-  // its own thread, unless the feed limit needs its forces first.
+  // its own thread, unless the feed limit needs its forces first (or one
+  // thread was asked for).
   std::exception_ptr nominal_failed;
   std::thread nominal;
-  if (s.feed_limit_N > 0 || s.gain == 0.0) {
+  if (s.feed_limit_N > 0 || s.gain == 0.0 || s.threads == 1) {
     r.nominal = simulate(motions, {}, ph, s, progress);
   } else {
     nominal = std::thread([&] {
