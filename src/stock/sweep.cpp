@@ -473,9 +473,9 @@ __attribute__((target("avx2"), always_inline)) inline void store_lanes(float* ou
     _mm_storeu_ps(out, v);
     return;
   }
-  alignas(16) float t[4];
-  _mm_store_ps(t, v);
-  std::copy(t, t + cnt, out);
+  // Masked: the floats past cnt are not touched (no copy through memory).
+  const __m128i mask = _mm_cmpgt_epi32(_mm_set1_epi32(cnt), _mm_setr_epi32(0, 1, 2, 3));
+  _mm_maskstore_ps(out, mask, v);
 }
 
 // Cells [i0, i0 + n) in blocks of 4, the last one partly (n >= 4; fewer are left
@@ -719,14 +719,11 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
   const int nj0 = next ? z.iy(next->y_min()) : 0, nj1 = next ? z.iy(next->y_max()) : -1;
   j0 = std::max({j0, 0, z.iy(s.y_min())});
   j1 = std::min({j1, g.ny - 1, z.iy(s.y_max())});
-  thread_local std::vector<float> buf;
+  // Row heights: on the stack for rows of up to 1024 cells (D 51 mm at 0.05 mm).
+  constexpr int stack_cells = 1024;
+  float stack_buf[stack_cells];
+  thread_local std::vector<float> heap_buf;
   double removed = 0;
-  auto cells = [&](int j, double y, int i0, int i1) {
-    if (i1 < i0) return;
-    buf.resize(static_cast<std::size_t>(i1 - i0 + 1));
-    s.row_heights(y, g.x0_mm, g.cell_mm, i0, i1 - i0 + 1, buf.data());
-    removed += z.lower_row(j, i0, i1 - i0 + 1, buf.data());
-  };
   for (int j = j0; j <= j1; ++j) {
     const double y = z.cy(j);
     int i0, i1;
@@ -762,12 +759,30 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
         if (handoff_row(*h, y, na, nb, 4 * g.cell_mm)) inner(na, nb, c0, c1, e0, e1);
       }
     }
-    // A gap of a few cells costs more (a second call) than it saves.
+    const int n = i1 - i0 + 1;
+    float* buf = stack_buf;
+    if (n > stack_cells) {
+      heap_buf.resize(static_cast<std::size_t>(n));
+      buf = heap_buf.data();
+    }
+    // The left-out cells get +inf (lower_row keeps them); a gap of a few cells
+    // costs more (a second row_heights call) than it saves.
     if (e1 - e0 < 4 || (e0 > i0 && e1 < i1 && e1 - e0 < 12)) {
-      cells(j, y, i0, i1);
+      s.row_heights(y, g.x0_mm, g.cell_mm, i0, n, buf);
+      removed += z.lower_row(j, i0, n, buf);
     } else {
-      cells(j, y, i0, e0 - 1);
-      cells(j, y, e1 + 1, i1);
+      s.row_heights(y, g.x0_mm, g.cell_mm, i0, e0 - i0, buf);
+      s.row_heights(y, g.x0_mm, g.cell_mm, e1 + 1, i1 - e1, buf + (e1 + 1 - i0));
+      // Only the evaluated cells reach lower_row (the gap may be most of the row),
+      // as one call across a short gap.
+      const int lead = e0 - i0, tail = i1 - e1;
+      if (lead > 0 && tail > 0 && e1 - e0 + 1 <= 16) {
+        std::fill(buf + lead, buf + (e1 - i0 + 1), std::numeric_limits<float>::infinity());
+        removed += z.lower_row(j, i0, n, buf);
+      } else {
+        if (lead > 0) removed += z.lower_row(j, i0, lead, buf);
+        if (tail > 0) removed += z.lower_row(j, e1 + 1, tail, buf + (e1 + 1 - i0));
+      }
     }
   }
   return removed;

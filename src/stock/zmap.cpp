@@ -73,13 +73,14 @@ namespace {
 
 // cur[k] = min(cur[k], h[k]) for k in [0, m) (no_material below the base);
 // returns the removed height summed over the cells (cells at no_material or
-// below the base contribute nothing) and sets `changed` when a cell was lowered.
-double lower_span_scalar(float* cur, const float* h, int m, float base, double base_z, bool& changed) {
+// below the base contribute nothing).
+// top: the max of the previous heights of the lowered cells (no_material if none).
+double lower_span_scalar(float* cur, const float* h, int m, float base, double base_z, float& top) {
   double removed = 0;
   for (int k = 0; k < m; ++k) {
     const float old = cur[k];
     if (h[k] < old) {
-      changed = true;
+      top = std::max(top, old);
       const float nw = h[k];
       if (old > base) removed += static_cast<double>(old) - std::max(static_cast<double>(nw), base_z);
       cur[k] = nw < base ? no_material : nw;
@@ -108,10 +109,11 @@ bool cpu_has_avx2() {
 // The same, 8 cells at a time; the per-cell removed heights are the scalar ones
 // (only their summation order differs).
 __attribute__((target("avx2"))) double lower_span_avx2(float* cur, const float* h, int m, float base, double base_z,
-                                                       bool& changed) {
+                                                       float& top) {
   const __m256 basef = _mm256_set1_ps(base), nomat = _mm256_set1_ps(no_material);
   const __m256d based = _mm256_set1_pd(base_z), basefd = _mm256_set1_pd(static_cast<double>(base));
   __m256d acc = _mm256_setzero_pd();
+  __m256 tops = nomat;
   int any = 0, k = 0;
   for (; k + 8 <= m; k += 8) {
     const __m256 old = _mm256_loadu_ps(cur + k), nw = _mm256_loadu_ps(h + k);
@@ -119,6 +121,7 @@ __attribute__((target("avx2"))) double lower_span_avx2(float* cur, const float* 
     const int bits = _mm256_movemask_ps(low);
     if (!bits) continue;
     any |= bits;
+    tops = _mm256_max_ps(tops, _mm256_blendv_ps(nomat, old, low));
     const __m256 val = _mm256_blendv_ps(nw, nomat, _mm256_cmp_ps(nw, basef, _CMP_LT_OQ));
     _mm256_storeu_ps(cur + k, _mm256_blendv_ps(old, val, low));
     for (int half = 0; half < 2; ++half) {
@@ -131,8 +134,12 @@ __attribute__((target("avx2"))) double lower_span_avx2(float* cur, const float* 
   alignas(32) double lanes[4];
   _mm256_store_pd(lanes, acc);
   double removed = (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
-  if (any) changed = true;
-  removed += lower_span_scalar(cur + k, h + k, m - k, base, base_z, changed);
+  if (any) {
+    alignas(32) float t[8];
+    _mm256_store_ps(t, tops);
+    top = std::max({top, t[0], t[1], t[2], t[3], t[4], t[5], t[6], t[7]});
+  }
+  removed += lower_span_scalar(cur + k, h + k, m - k, base, base_z, top);
   return removed;
 }
 
@@ -179,23 +186,27 @@ double ZMap::lower_row(int j, int i0, int n, const float* h) {
     }
     float* cells = materialize(t);
     float* row = cells + static_cast<std::size_t>(r) * T;
-    bool changed = false;
+    float top = no_material;  // the highest previous height of a lowered cell
 #ifdef DEFLEX_ZMAP_AVX2
     if (avx2)
-      removed += lower_span_avx2(row + li, h, m, base, base_z_, changed);
+      removed += lower_span_avx2(row + li, h, m, base, base_z_, top);
     else
 #endif
-      removed += lower_span_scalar(row + li, h, m, base, base_z_, changed);
-    if (changed) {
+      removed += lower_span_scalar(row + li, h, m, base, base_z_, top);
+    // Heights only go down: the row maximum changes only if a lowered cell held
+    // it (top == row max), and the tile's only if that row held the tile's.
+    float& row_max = cells[T * T + r];
+    if (top != no_material && top >= row_max) {
+      const float old_row_max = row_max;
 #ifdef DEFLEX_ZMAP_AVX2
       if (avx2) {
-        cells[T * T + r] = max_of_avx2(row, T);
-        t.max = max_of_avx2(cells + T * T, T);
+        row_max = max_of_avx2(row, T);
+        if (old_row_max >= t.max && row_max != old_row_max) t.max = max_of_avx2(cells + T * T, T);
       } else
 #endif
       {
-        cells[T * T + r] = max_of(row, T);
-        t.max = max_of(cells + T * T, T);
+        row_max = max_of(row, T);
+        if (old_row_max >= t.max && row_max != old_row_max) t.max = max_of(cells + T * T, T);
       }
     }
     h += m;

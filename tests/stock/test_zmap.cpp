@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -353,6 +354,76 @@ TEST_CASE("max_height_in follows the cuts") {
   CHECK(z.max_height_in(2, 8, 18, 12) == doctest::Approx(-2));
   CHECK(z.max_height_in(2, 3, 18, 12) == 0);  // touches the uncut row y < 4
   CHECK(z.max_height_in(30, 30, 40, 40) == no_material);
+}
+
+TEST_CASE("lower_row: cells, removed volume and row / tile maxima equal a per-cell reference") {
+  // Random spans (every length 1..200, so every masked tail) over a grid whose
+  // edge cuts tiles, heights around the current ones (ties, +inf, below the base).
+  GridSpec g;
+  g.cell_mm = 0.5;
+  g.nx = 150;
+  g.ny = 70;
+  const double base = -5;
+  ZMap z(g, 0.0f, base);
+  std::vector<float> ref(static_cast<std::size_t>(g.nx) * g.ny, 0.0f);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pick(0, 9);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<float> h;
+  for (int it = 0; it < 20000; ++it) {
+    const int j = std::uniform_int_distribution<int>(0, g.ny - 1)(rng);
+    const int n = std::uniform_int_distribution<int>(1, 200)(rng);
+    const int i0 = std::uniform_int_distribution<int>(-20, g.nx - 1)(rng);
+    h.resize(static_cast<std::size_t>(n));
+    double vref = 0;
+    for (int k = 0; k < n; ++k) {
+      const int i = i0 + k;
+      const float cur = (i >= 0 && i < g.nx) ? ref[static_cast<std::size_t>(j) * g.nx + i] : 0.0f;
+      const int c = pick(rng);
+      float v = c == 0   ? std::numeric_limits<float>::infinity()
+                : c == 1 ? cur
+                : c == 2 ? static_cast<float>(base - 1)
+                         : static_cast<float>(cur == no_material ? -1 : cur - 0.3 * u(rng) + 0.05);
+      h[static_cast<std::size_t>(k)] = v;
+      if (i < 0 || i >= g.nx) continue;
+      float& r = ref[static_cast<std::size_t>(j) * g.nx + i];
+      if (v < r) {
+        if (r > static_cast<float>(base)) vref += static_cast<double>(r) - std::max(static_cast<double>(v), base);
+        r = v < static_cast<float>(base) ? no_material : v;
+      }
+    }
+    const double v = z.lower_row(j, i0, n, h.data());
+    REQUIRE(v == doctest::Approx(vref * g.cell_mm * g.cell_mm).epsilon(1e-9));
+    if (it % 500 == 0 || it + 1 == 20000) {
+      for (int jj = 0; jj < g.ny; ++jj)
+        for (int i = 0; i < g.nx; ++i)
+          REQUIRE(std::bit_cast<std::uint32_t>(z.at(i, jj)) ==
+                  std::bit_cast<std::uint32_t>(ref[static_cast<std::size_t>(jj) * g.nx + i]));
+      // Row maxima (one-row rectangles) and tile maxima (whole tiles) equal the cells'.
+      const int T = ZMap::tile_cells;
+      for (int jj = 0; jj < g.ny; ++jj)
+        for (int t0 = 0; t0 < g.nx; t0 += T) {
+          float m = no_material;
+          for (int i = t0; i < std::min(g.nx, t0 + T); ++i) m = std::max(m, z.at(i, jj));
+          if (t0 + T > g.nx) m = std::max(m, 0.0f);  // the tile's cells past the grid keep the start height
+          const float got = z.max_height_in(z.cx(t0), z.cy(jj), z.cx(std::min(g.nx, t0 + T) - 1), z.cy(jj));
+          REQUIRE(got == m);
+          REQUIRE(z.none_above(z.cx(t0), z.cy(jj), z.cx(std::min(g.nx, t0 + T) - 1), z.cy(jj), m));
+          if (m != no_material)
+            REQUIRE_FALSE(z.none_above(z.cx(t0), z.cy(jj), z.cx(std::min(g.nx, t0 + T) - 1), z.cy(jj),
+                                       std::nextafter(m, -std::numeric_limits<float>::infinity())));
+        }
+      for (int tj = 0; tj < g.ny; tj += T)
+        for (int t0 = 0; t0 < g.nx; t0 += T) {
+          float m = no_material;
+          for (int jj = tj; jj < std::min(g.ny, tj + T); ++jj)
+            for (int i = t0; i < std::min(g.nx, t0 + T); ++i) m = std::max(m, z.at(i, jj));
+          if (t0 + T > g.nx) m = std::max(m, 0.0f);
+          REQUIRE(z.max_height_in(z.cx(t0), z.cy(tj), z.cx(std::min(g.nx, t0 + T) - 1),
+                                  z.cy(std::min(g.ny, tj + T) - 1)) == m);
+        }
+    }
+  }
 }
 
 }  // TEST_SUITE
