@@ -642,6 +642,117 @@ bool cpu_has_avx2() {
 
 }  // namespace
 
+#ifdef DEFLEX_SWEEP_AVX2
+namespace {
+
+// row_range's disc and clip lambdas, four rows at a time.
+__attribute__((target("avx2"), always_inline)) inline void rr_disc(__m256d y, __m256d c0, __m256d c1, __m256d Rv,
+                                                                  __m256d R2, __m256d sign, __m256d& lo, __m256d& hi) {
+  const __m256d dy = _mm256_sub_pd(y, c1);
+  const __m256d in = _mm256_cmp_pd(_mm256_andnot_pd(sign, dy), Rv, _CMP_NGT_UQ);  // !(|dy| > R)
+  const __m256d w = _mm256_sqrt_pd(_mm256_sub_pd(R2, _mm256_mul_pd(dy, dy)));
+  lo = _mm256_blendv_pd(lo, _mm256_min_pd(_mm256_sub_pd(c0, w), lo), in);
+  hi = _mm256_blendv_pd(hi, _mm256_max_pd(_mm256_add_pd(c0, w), hi), in);
+}
+
+__attribute__((target("avx2"), always_inline)) inline void rr_clip(double coef, __m256d c0, __m256d vmin, __m256d vmax,
+                                                                  __m256d dinf, __m256d& bl, __m256d& bh) {
+  if (std::fabs(coef) < 1e-15) {
+    const __m256d out = _mm256_or_pd(_mm256_cmp_pd(c0, vmin, _CMP_LT_OQ), _mm256_cmp_pd(c0, vmax, _CMP_GT_OQ));
+    bl = _mm256_blendv_pd(bl, dinf, out);
+    return;
+  }
+  const __m256d cf = _mm256_set1_pd(coef);
+  const __m256d p = _mm256_div_pd(_mm256_sub_pd(vmin, c0), cf), q = _mm256_div_pd(_mm256_sub_pd(vmax, c0), cf);
+  const __m256d sw = _mm256_cmp_pd(p, q, _CMP_GT_OQ);
+  bl = _mm256_max_pd(_mm256_blendv_pd(p, q, sw), bl);
+  bh = _mm256_min_pd(_mm256_blendv_pd(q, p, sw), bh);
+}
+
+// LineSweep::row_range on rows y[0, n) four at a time, the same operations in the
+// same order (IEEE division and square root, std::min / std::max as min_pd / max_pd
+// with the same operand order, no FMA); returns how many rows were done.
+__attribute__((target("avx2"))) int row_ranges_avx2(const LineSweep& s, const double* ys, int n, double* x0,
+                                                    double* x1, unsigned char* ok, bool start_cut) {
+  const double R = s.tool().radius_mm, len = s.xy_length(), ex = s.dir_x(), ey = s.dir_y(), slope = s.slope();
+  const Point3 &a = s.a(), &b = s.b();
+  const __m256d Rv = _mm256_set1_pd(R), R2 = _mm256_set1_pd(R * R), sign = _mm256_set1_pd(-0.0);
+  const __m256d dinf = _mm256_set1_pd(inf), dninf = _mm256_set1_pd(-inf);
+  const bool cut = start_cut && len > 0 && (slope >= 0 || s.tool().kind != ToolKind::flat);
+  double back = 0, r1 = 0;
+  if (cut && slope < 0) {
+    const double rc = corner_of(s.tool());
+    if (s.tool().kind == ToolKind::ball) {
+      back = -slope * R;
+    } else {
+      r1 = R - 0.5 * rc;
+      back = -slope * r1 * std::sqrt(3.0);
+    }
+    back *= 1 + 1e-9;
+  }
+  const __m256d ca0 = _mm256_set1_pd(a[0]), ca1 = _mm256_set1_pd(a[1]);
+  const __m256d cb0 = _mm256_set1_pd(b[0]), cb1 = _mm256_set1_pd(b[1]);
+  const __m256d vex = _mm256_set1_pd(ex), vey = _mm256_set1_pd(ey);
+  const __m256d c1x = _mm256_set1_pd(-a[0] * ex), c2x = _mm256_set1_pd(-a[0] * ey);
+  const __m256d vzero = _mm256_setzero_pd(), vlen = _mm256_set1_pd(len), vmR = _mm256_set1_pd(-R);
+  const __m256d mback = _mm256_set1_pd(-back), vr1 = _mm256_set1_pd(r1), r1sq = _mm256_set1_pd(r1 * r1);
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256d y = _mm256_loadu_pd(ys + k);
+    __m256d lo = dinf, hi = dninf;
+    rr_disc(y, ca0, ca1, Rv, R2, sign, lo, hi);
+    rr_disc(y, cb0, cb1, Rv, R2, sign, lo, hi);
+    const __m256d wy = _mm256_sub_pd(y, ca1);
+    if (len > 0) {
+      __m256d bl = dninf, bh = dinf;
+      rr_clip(ex, _mm256_add_pd(c1x, _mm256_mul_pd(wy, vey)), vzero, vlen, dinf, bl, bh);
+      rr_clip(ey, _mm256_sub_pd(c2x, _mm256_mul_pd(wy, vex)), vmR, Rv, dinf, bl, bh);
+      const __m256d in = _mm256_cmp_pd(bl, bh, _CMP_LE_OQ);
+      lo = _mm256_blendv_pd(lo, _mm256_min_pd(bl, lo), in);
+      hi = _mm256_blendv_pd(hi, _mm256_max_pd(bh, hi), in);
+    }
+    if (cut) {
+      __m256d clo = lo, chi = hi;
+      const __m256d c = _mm256_add_pd(c1x, _mm256_mul_pd(wy, vey));
+      if (std::fabs(ex) < 1e-15) {
+        chi = _mm256_blendv_pd(chi, dninf, _mm256_cmp_pd(c, mback, _CMP_LT_OQ));
+      } else if (ex > 0) {
+        clo = _mm256_max_pd(_mm256_div_pd(_mm256_sub_pd(mback, c), vex), clo);
+      } else {
+        chi = _mm256_min_pd(_mm256_div_pd(_mm256_sub_pd(mback, c), vex), chi);
+      }
+      if (r1 > 0) {
+        const __m256d in = _mm256_cmp_pd(_mm256_andnot_pd(sign, wy), vr1, _CMP_LE_OQ);
+        const __m256d w = _mm256_sqrt_pd(_mm256_sub_pd(r1sq, _mm256_mul_pd(wy, wy)));
+        clo = _mm256_blendv_pd(clo, _mm256_min_pd(_mm256_sub_pd(ca0, w), clo), in);
+        chi = _mm256_blendv_pd(chi, _mm256_max_pd(_mm256_add_pd(ca0, w), chi), in);
+      }
+      lo = _mm256_max_pd(clo, lo);
+      hi = _mm256_min_pd(chi, hi);
+    }
+    _mm256_storeu_pd(x0 + k, lo);
+    _mm256_storeu_pd(x1 + k, hi);
+    const int good = _mm256_movemask_pd(_mm256_cmp_pd(lo, hi, _CMP_NGT_UQ));  // !(lo > hi)
+    for (int l = 0; l < 4; ++l) ok[k + l] = static_cast<unsigned char>(good >> l & 1);
+  }
+  return k;
+}
+
+}  // namespace
+#endif
+
+void LineSweep::row_ranges(const double* y, int n, double* x0, double* x1, unsigned char* ok, bool start_cut) const {
+  if (start_cut && len_ == 0 && b_[2] >= a_[2]) {  // a retract removes nothing new
+    std::fill(ok, ok + std::max(n, 0), 0);
+    return;
+  }
+  int k = 0;
+#ifdef DEFLEX_SWEEP_AVX2
+  if (cpu_has_avx2()) k = row_ranges_avx2(*this, y, n, x0, x1, ok, start_cut);
+#endif
+  for (; k < n; ++k) ok[k] = row_range(y[k], x0[k], x1[k], start_cut);
+}
+
 void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, float* out) const {
   if (n <= 0) return;
 #ifdef DEFLEX_SWEEP_AVX2
@@ -724,33 +835,56 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
   float stack_buf[stack_cells];
   thread_local std::vector<float> heap_buf;
   double removed = 0;
-  for (int j = j0; j <= j1; ++j) {
-    const double y = z.cy(j);
+  // Rows in chunks: the row ranges of this move (unless known) and of next come
+  // from row_ranges, several rows per step.
+  constexpr int chunk = ZMap::tile_cells;
+  double ys[chunk], sa[chunk], sb[chunk], ra[chunk], rb[chunk];
+  unsigned char sok[chunk], rok[chunk];
+  int nlo[chunk], nhi[chunk];
+  for (int jc = j0; jc <= j1; jc += chunk) {
+   const int jn = std::min(j1 - jc + 1, chunk);
+   for (int r = 0; r < jn; ++r) ys[r] = z.cy(jc + r);
+   if (!mine) s.row_ranges(ys, jn, sa, sb, sok, start_cut);
+   // next's rows in this chunk: [q0, q1)
+   const int q0 = h ? std::clamp(nj0 - jc, 0, jn) : 0, q1 = h ? std::clamp(nj1 - jc + 1, 0, jn) : 0;
+   if (q1 > q0) {
+     next->row_ranges(ys + q0, q1 - q0, ra + q0, rb + q0, rok + q0, true);
+     for (int r = q0; r < q1; ++r) {
+       nlo[r] = rok[r] ? first(ra[r]) : 0;
+       nhi[r] = rok[r] ? last(rb[r]) : -1;
+       if (theirs) {
+         const int t = jc + r - theirs->j0;
+         theirs->known[t] = true;
+         theirs->lo[t] = nlo[r];
+         theirs->hi[t] = nhi[r];
+       }
+     }
+   }
+   for (int r = 0; r < jn; ++r) {
+    const int j = jc + r;
+    const double y = ys[r];
     int i0, i1;
     if (mine && mine->known[j - mine->j0]) {
       i0 = mine->lo[j - mine->j0];
       i1 = mine->hi[j - mine->j0];
     } else {
       double xa, xb;
-      if (!s.row_range(y, xa, xb, start_cut)) continue;
+      if (mine) {
+        if (!s.row_range(y, xa, xb, start_cut)) continue;
+      } else {
+        if (!sok[r]) continue;
+        xa = sa[r];
+        xb = sb[r];
+      }
       i0 = first(xa);
       i1 = last(xb);
     }
     if (i1 < i0) continue;
     // Cells [e0, e1] are left to next (inside next's cells on this row).
     int e0 = i1 + 1, e1 = i1;
-    if (h && j >= nj0 && j <= nj1) {
+    if (r >= q0 && r < q1) {
       double na, nb;
-      int n0 = 0, n1 = -1;
-      if (next->row_range(y, na, nb, true)) {
-        n0 = first(na);
-        n1 = last(nb);
-      }
-      if (theirs) {
-        theirs->known[j - theirs->j0] = true;
-        theirs->lo[j - theirs->j0] = n0;
-        theirs->hi[j - theirs->j0] = n1;
-      }
+      const int n0 = nlo[r], n1 = nhi[r];
       const int c0 = std::max(i0, n0), c1 = std::min(i1, n1);
       if (c1 - c0 >= 4) {
         // Within both moves' cells (the window only picks the longest piece).
@@ -784,6 +918,7 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
         if (tail > 0) removed += z.lower_row(j, e1 + 1, tail, buf + (e1 + 1 - i0));
       }
     }
+   }
   }
   return removed;
 }

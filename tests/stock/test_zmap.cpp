@@ -426,4 +426,51 @@ TEST_CASE("lower_row: cells, removed volume and row / tile maxima equal a per-ce
   }
 }
 
+TEST_CASE("row_ranges equals row_range per row, bit for bit") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const ToolProfile tools[] = {{ToolKind::ball, 8, 8}, {ToolKind::bull, 5, 1.5}, {ToolKind::flat, 3, 0}};
+  long long rows = 0, hits = 0;
+  for (int it = 0; it < 3000; ++it) {
+    const ToolProfile& t = tools[it % 3];
+    const Point3 a{10 * u(rng), 10 * u(rng), u(rng)};
+    Point3 b{a[0] + 0.5 * u(rng), a[1] + 0.5 * u(rng), a[2] + 0.3 * u(rng)};
+    switch (it / 3 % 7) {  // axis-aligned, level, plunges, retracts, long moves
+      case 1: b[1] = a[1]; break;
+      case 2: b[0] = a[0]; break;
+      case 3: b[2] = a[2]; break;
+      case 4: b[0] = a[0], b[1] = a[1], b[2] = a[2] - 1; break;
+      case 5: b[0] = a[0], b[1] = a[1], b[2] = a[2] + 1; break;
+      case 6: b[0] = a[0] + 20 * u(rng), b[1] = a[1] + 20 * u(rng); break;
+      default: break;
+    }
+    const LineSweep s(t, a, b);
+    std::vector<double> ys, x0, x1;
+    for (double y = s.y_min() - 0.3; y <= s.y_max() + 0.3; y += 0.05 + 0.01 * u(rng)) ys.push_back(y);
+    ys.push_back(a[1]);
+    ys.push_back(b[1]);
+    ys.push_back(a[1] + t.radius_mm);
+    ys.push_back(a[1] - t.radius_mm);
+    const int n = static_cast<int>(ys.size());
+    x0.assign(ys.size(), 0);
+    x1.assign(ys.size(), 0);
+    std::vector<unsigned char> ok(ys.size());
+    for (const bool cut : {false, true}) {
+      s.row_ranges(ys.data(), n, x0.data(), x1.data(), ok.data(), cut);
+      for (int k = 0; k < n; ++k) {
+        double r0 = 0, r1 = 0;
+        const bool want = s.row_range(ys[static_cast<std::size_t>(k)], r0, r1, cut);
+        ++rows;
+        REQUIRE(static_cast<bool>(ok[static_cast<std::size_t>(k)]) == want);
+        if (!want) continue;
+        ++hits;
+        REQUIRE(std::bit_cast<std::uint64_t>(x0[static_cast<std::size_t>(k)]) == std::bit_cast<std::uint64_t>(r0));
+        REQUIRE(std::bit_cast<std::uint64_t>(x1[static_cast<std::size_t>(k)]) == std::bit_cast<std::uint64_t>(r1));
+      }
+    }
+  }
+  CHECK(hits > 100000);
+  CHECK(hits < rows);
+}
+
 }  // TEST_SUITE

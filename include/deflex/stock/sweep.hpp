@@ -50,6 +50,10 @@ class LineSweep {
   // instead of |m| R, plus the disc of radius r1 = R - r_c / 2 about `a`; a flat
   // end lowers its whole footprint. A retract (rising plunge) removes nothing.
   bool row_range(double y_mm, double& x0_mm, double& x1_mm, bool start_cut = false) const;
+  // row_range on n rows at once: ok[k] = row_range(y_mm[k], x0_mm[k], x1_mm[k],
+  // start_cut), the same operations (4 rows per step with AVX2), so the same doubles.
+  void row_ranges(const double* y_mm, int n, double* x0_mm, double* x1_mm, unsigned char* ok,
+                  bool start_cut = false) const;
   // Hand-off to the next move of a chain: narrows [x0_mm, x1_mm] (e.g. this move's
   // row_range) on the line y = y_mm to the cells this move may leave out when
   // `next` starts at b() and is swept after it with start_cut (sweep_lines), one
