@@ -365,18 +365,18 @@ int cond_row(const Cond& q, double bx, double wy, double* l, double* r) {
 }
 
 // Narrows [x0, x1] (cells both moves evaluate on row y) to one interval of cells
-// move k may leave out (the longest where the conditions split it).
-bool handoff_row(const Handoff& h, double y, double& x0, double& x1, double min_len = 0) {
-  const double wy = y - h.by;
-  double ol[2], orr[2], nl[2], nr[2];
-  int no = cond_row(h.own, h.bx, wy, ol, orr), kept = 0;
+// move k may leave out (the longest where the conditions split it), given the
+// pieces of h.own (no of them) and of h.next (nn) on the row; a piece with l > r
+// is none.
+bool handoff_pieces(const Handoff& h, double wy, double& x0, double& x1, double min_len, int no, double* ol,
+                    double* orr, int nn, const double* nl, const double* nr) {
+  int kept = 0;
   for (int i = 0; i < no; ++i)  // the cheap test first: pieces of the window as long as asked
     if (std::min(x1, orr[i]) - std::max(x0, ol[i]) >= min_len) {
       ol[kept] = ol[i];
       orr[kept++] = orr[i];
     }
   if ((no = kept) == 0) return false;
-  const int nn = cond_row(h.next, h.bx, wy, nl, nr);
   double dl = inf, dr = -inf;  // the disc's chord, left out
   if (h.r_out > 0 && std::fabs(wy) < h.r_out) {
     const double w = std::sqrt(h.r_out * h.r_out - wy * wy);
@@ -404,6 +404,106 @@ bool handoff_row(const Handoff& h, double y, double& x0, double& x1, double min_
   x0 = bl;
   x1 = br;
   return true;
+}
+
+bool handoff_row(const Handoff& h, double y, double& x0, double& x1, double min_len = 0) {
+  const double wy = y - h.by;
+  double ol[2], orr[2], nl[2], nr[2];
+  const int no = cond_row(h.own, h.bx, wy, ol, orr);
+  bool any = false;  // (as before: next's pieces only when some of own's is long enough)
+  for (int i = 0; i < no; ++i) any |= std::min(x1, orr[i]) - std::max(x0, ol[i]) >= min_len;
+  if (!any) return false;
+  const int nn = cond_row(h.next, h.bx, wy, nl, nr);
+  return handoff_pieces(h, wy, x0, x1, min_len, no, ol, orr, nn, nl, nr);
+}
+
+// cond_row on rows wy[0, n) into two fixed slots per row (l0, r0), (l1, r1), in
+// cond_row's order, an absent piece as (inf, -inf); four rows at a time with AVX2,
+// the same operations, so the same doubles.
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2"))) int cond_rows_avx2(const Cond& q, double bx, const double* wys, int n, double* L0,
+                                                   double* R0, double* L1, double* R1) {
+  const __m256d vinf = _mm256_set1_pd(inf), vninf = _mm256_set1_pd(-inf), zero = _mm256_setzero_pd();
+  const __m256d vbx = _mm256_set1_pd(bx), vc = _mm256_set1_pd(q.c), vey = _mm256_set1_pd(q.ey),
+                vex = _mm256_set1_pd(q.ex), vinv = _mm256_set1_pd(q.inv_ex), sign = _mm256_set1_pd(-0.0);
+  const __m256d two = _mm256_set1_pd(2.0), K2 = _mm256_set1_pd(q.K2), K2ey = _mm256_set1_pd(q.K2 * q.ey),
+                RR = _mm256_set1_pd(q.R * q.R), A4 = _mm256_set1_pd(4 * q.A), inv2a = _mm256_set1_pd(q.inv_2a);
+  int k = 0;
+  for (; k + 4 <= n; k += 4) {
+    const __m256d wy = _mm256_loadu_pd(wys + k);
+    const __m256d rest = _mm256_sub_pd(vc, _mm256_mul_pd(wy, vey));
+    __m256d hl = vninf, hr = vinf;
+    if (q.inv_ex == 0) {
+      hl = _mm256_blendv_pd(vninf, vinf, _mm256_cmp_pd(rest, zero, _CMP_GT_OQ));
+    } else if (q.ex > 0) {
+      hl = _mm256_add_pd(vbx, _mm256_mul_pd(rest, vinv));
+    } else {
+      hr = _mm256_add_pd(vbx, _mm256_mul_pd(rest, vinv));
+    }
+    __m256d l0 = hl, r0 = hr, l1 = vinf, r1 = vninf;
+    if (q.K != 0) {
+      const __m256d p0 = _mm256_sub_pd(_mm256_mul_pd(wy, vey), vc);
+      const __m256d q0 = _mm256_mul_pd(_mm256_xor_pd(wy, sign), vex);
+      const __m256d B = _mm256_mul_pd(two, _mm256_add_pd(_mm256_mul_pd(vex, p0), _mm256_mul_pd(K2ey, q0)));
+      const __m256d C =
+          _mm256_add_pd(_mm256_mul_pd(p0, p0), _mm256_mul_pd(K2, _mm256_sub_pd(_mm256_mul_pd(q0, q0), RR)));
+      const __m256d D = _mm256_sub_pd(_mm256_mul_pd(B, B), _mm256_mul_pd(A4, C));
+      const __m256d pos = _mm256_cmp_pd(D, zero, _CMP_GT_OQ);
+      const __m256d sd = _mm256_sqrt_pd(D), nB = _mm256_xor_pd(B, sign);
+      const __m256d e0 = _mm256_add_pd(vbx, _mm256_mul_pd(_mm256_sub_pd(nB, sd), inv2a));
+      const __m256d e1 = _mm256_add_pd(vbx, _mm256_mul_pd(_mm256_add_pd(nB, sd), inv2a));
+      __m256d nl0, nr0, nl1, nr1;
+      if (q.K > 0) {
+        nl0 = hl;
+        nr0 = _mm256_min_pd(e0, hr);
+        nl1 = _mm256_max_pd(e1, hl);
+        nr1 = hr;
+      } else {
+        const __m256d sep = _mm256_or_pd(_mm256_cmp_pd(e1, hl, _CMP_LT_OQ), _mm256_cmp_pd(e0, hr, _CMP_GT_OQ));
+        nl0 = _mm256_blendv_pd(_mm256_min_pd(e0, hl), hl, sep);
+        nr0 = _mm256_blendv_pd(_mm256_max_pd(e1, hr), hr, sep);
+        nl1 = _mm256_blendv_pd(vinf, e0, sep);
+        nr1 = _mm256_blendv_pd(vninf, e1, sep);
+      }
+      l0 = _mm256_blendv_pd(l0, nl0, pos);
+      r0 = _mm256_blendv_pd(r0, nr0, pos);
+      l1 = _mm256_blendv_pd(l1, nl1, pos);
+      r1 = _mm256_blendv_pd(r1, nr1, pos);
+    }
+    _mm256_storeu_pd(L0 + k, l0);
+    _mm256_storeu_pd(R0 + k, r0);
+    _mm256_storeu_pd(L1 + k, l1);
+    _mm256_storeu_pd(R1 + k, r1);
+  }
+  return k;
+}
+#endif
+
+bool cpu_avx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = [] {
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx2") != 0;
+  }();
+  return has;
+#else
+  return false;
+#endif
+}
+
+void cond_rows(const Cond& q, double bx, const double* wy, int n, double* L0, double* R0, double* L1, double* R1) {
+  int k = 0;
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (cpu_avx2()) k = cond_rows_avx2(q, bx, wy, n, L0, R0, L1, R1);
+#endif
+  for (; k < n; ++k) {
+    double l[2], r[2];
+    const int c = cond_row(q, bx, wy[k], l, r);
+    L0[k] = c > 0 ? l[0] : inf;
+    R0[k] = c > 0 ? r[0] : -inf;
+    L1[k] = c > 1 ? l[1] : inf;
+    R1[k] = c > 1 ? r[1] : -inf;
+  }
 }
 
 }  // namespace
@@ -841,6 +941,8 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
   double ys[chunk], sa[chunk], sb[chunk], ra[chunk], rb[chunk];
   unsigned char sok[chunk], rok[chunk];
   int nlo[chunk], nhi[chunk];
+  // The hand-off conditions' pieces per row (cond_rows): own's, then next's.
+  double wys[chunk], ol0[chunk], or0[chunk], ol1[chunk], or1[chunk], pl0[chunk], pr0[chunk], pl1[chunk], pr1[chunk];
   for (int jc = j0; jc <= j1; jc += chunk) {
    const int jn = std::min(j1 - jc + 1, chunk);
    for (int r = 0; r < jn; ++r) ys[r] = z.cy(jc + r);
@@ -849,6 +951,9 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
    const int q0 = h ? std::clamp(nj0 - jc, 0, jn) : 0, q1 = h ? std::clamp(nj1 - jc + 1, 0, jn) : 0;
    if (q1 > q0) {
      next->row_ranges(ys + q0, q1 - q0, ra + q0, rb + q0, rok + q0, true);
+     for (int r = q0; r < q1; ++r) wys[r] = ys[r] - h->by;
+     cond_rows(h->own, h->bx, wys + q0, q1 - q0, ol0 + q0, or0 + q0, ol1 + q0, or1 + q0);
+     cond_rows(h->next, h->bx, wys + q0, q1 - q0, pl0 + q0, pr0 + q0, pl1 + q0, pr1 + q0);
      for (int r = q0; r < q1; ++r) {
        nlo[r] = rok[r] ? first(ra[r]) : 0;
        nhi[r] = rok[r] ? last(rb[r]) : -1;
@@ -890,7 +995,9 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
         // Within both moves' cells (the window only picks the longest piece).
         na = g.x0_mm + c0 * g.cell_mm;
         nb = g.x0_mm + (c1 + 1) * g.cell_mm;
-        if (handoff_row(*h, y, na, nb, 4 * g.cell_mm)) inner(na, nb, c0, c1, e0, e1);
+        double ol[2] = {ol0[r], ol1[r]}, orr[2] = {or0[r], or1[r]};
+        const double nl[2] = {pl0[r], pl1[r]}, nr[2] = {pr0[r], pr1[r]};
+        if (handoff_pieces(*h, wys[r], na, nb, 4 * g.cell_mm, 2, ol, orr, 2, nl, nr)) inner(na, nb, c0, c1, e0, e1);
       }
     }
     const int n = i1 - i0 + 1;
