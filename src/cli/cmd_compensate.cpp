@@ -239,18 +239,25 @@ const char* kCompensateHelp =
     "material as cut so far, mean cutting force over a revolution, deflection of tool,\n"
     "holder, spindle and machine C(h)F - and moves each cutting point by the mirror\n"
     "method (P_comp = P_nom - gain e n, iterated to a fixed point) so that the deflected\n"
-    "tool lands on the programmed surface. Only the X/Y/Z numbers of cutting blocks\n"
-    "change (an axis word is added where a modal value would carry an offset into the\n"
-    "next block); rapids, canned cycles, subprograms, G91 and G41/G42 moves, and points\n"
-    "predicted inside +-tolerance stay as programmed. Offsets are capped at the machine\n"
-    "profile's max_offset_mm. The written program is read back and checked against the\n"
-    "original before anything is written; with --gain 0 the output is the input.\n"
+    "tool lands on the programmed surface. The fixed point is found in one pass in\n"
+    "program order: each move end is solved (secant steps, one engagement evaluation\n"
+    "each) with the moves before it already cut where they will run.\n"
+    "Only the X/Y/Z (and a re-aimed arc's I/J/K) numbers of cutting blocks change (an\n"
+    "axis word is added where a modal value would carry an offset into the next\n"
+    "block); rapids, canned cycles, subprograms, G91 and G41/G42 moves, and points\n"
+    "predicted inside +-tolerance stay as programmed. A long G1 whose error varies\n"
+    "along it gets G1 blocks inserted before it; an arc whose compensation varies is\n"
+    "linearised (G1 chords within 1 um, the arc block keeps the last piece) when its\n"
+    "block has its own G2/G3 and I/J/K, else moved whole with a warning. Offsets are\n"
+    "capped at the machine profile's max_offset_mm. The written program is read back\n"
+    "and checked against the original before anything is written; with --gain 0 the\n"
+    "output is the input.\n"
     "--report DIR writes points.csv, summary.json and top-view maps of the error\n"
     "(error_as_written.svg, error_compensated.svg; one colour scale).\n"
     "--feed-limit N also lowers F (by the ratio of N to the predicted peak force) on\n"
     "cutting blocks whose peak force would exceed N, restoring the programmed F after.\n"
-    "The surface normal comes from the tool and the local path: the wall for a flat\n"
-    "or bull-nose flank, else the normal to the travel in its vertical plane.\n";
+    "The surface normal comes from the tool and the programmed path: the wall for a\n"
+    "flat or bull-nose flank, else the normal to the travel in its vertical plane.\n";
 
 void summary_line(Io& io, const char* what, const Stats& s, double tol) {
   char buf[256];
