@@ -549,7 +549,11 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   } else {
     nominal = std::thread([&] {
       try {
-        r.nominal = simulate(motions, {}, ph, s);
+        // One thread of its own: TBB's workers are left to the pass, whose
+        // wall time is the run's.
+        Settings one = s;
+        one.threads = 1;
+        r.nominal = simulate(motions, {}, ph, one);
       } catch (...) {
         nominal_failed = std::current_exception();
       }
