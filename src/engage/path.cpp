@@ -55,6 +55,21 @@ Point3 motion_direction(const interp::Motion& m, std::span<const Point3> verts, 
   return unit({m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1], m.end_mm[2] - m.start_mm[2]});
 }
 
+CLSample cl_sample(const interp::Motion& m, std::span<const Point3> v, std::size_t k, std::array<double, 2>& feed) {
+  CLSample s;
+  s.point.tip_mm = v[k];
+  s.point.dir = motion_direction(m, v, k);
+  const double h = std::hypot(s.point.dir[0], s.point.dir[1]);
+  if (h > 1e-6) feed = {s.point.dir[0] / h, s.point.dir[1] / h};
+  s.point.feed_x = feed[0];
+  s.point.feed_y = feed[1];
+  s.line = m.line;
+  s.index = static_cast<int>(k);
+  s.count = static_cast<int>(v.size()) - 1;
+  s.rapid = m.kind == interp::MotionKind::rapid;
+  return s;
+}
+
 std::vector<CLSample> cl_samples(std::span<const interp::Motion> motions, const PathOptions& o,
                                  std::array<double, 2>* last_feed) {
   std::array<double, 2> feed = last_feed ? *last_feed : std::array<double, 2>{1, 0};
@@ -64,19 +79,8 @@ std::vector<CLSample> cl_samples(std::span<const interp::Motion> motions, const 
     const std::vector<Point3> v = motion_vertices(m, o);
     const int n = static_cast<int>(v.size()) - 1;
     for (int k = 1; k <= n; ++k) {
-      CLSample s;
-      s.point.tip_mm = v[static_cast<std::size_t>(k)];
-      s.point.dir = motion_direction(m, v, static_cast<std::size_t>(k));
-      const double h = std::hypot(s.point.dir[0], s.point.dir[1]);
-      if (h > 1e-6) feed = {s.point.dir[0] / h, s.point.dir[1] / h};
-      s.point.feed_x = feed[0];
-      s.point.feed_y = feed[1];
-      s.motion = mi;
-      s.line = m.line;
-      s.index = k;
-      s.count = n;
-      s.rapid = m.kind == interp::MotionKind::rapid;
-      out.push_back(s);
+      out.push_back(cl_sample(m, v, static_cast<std::size_t>(k), feed));
+      out.back().motion = mi;
     }
   }
   if (last_feed) *last_feed = feed;

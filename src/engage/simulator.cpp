@@ -123,21 +123,10 @@ void Simulator::run(const interp::Motion& m) {
     const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
     // The XY feed direction is carried across plunges whether sampled or not
     // (probe() reads it).
-    const Point3 dir = motion_direction(m, v, static_cast<std::size_t>(k));
-    const double h = std::hypot(dir[0], dir[1]);
-    if (h > 1e-6) feed_ = {dir[0] / h, dir[1] / h};
+    const CLSample cl = cl_sample(m, v, static_cast<std::size_t>(k), feed_);
     if (sample) {
-      Sample s{CLSample{}, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()};
-      s.cl.point.tip_mm = vk;
-      s.cl.point.dir = dir;
-      s.cl.point.feed_x = feed_[0];
-      s.cl.point.feed_y = feed_[1];
-      s.cl.motion = motion_index;
-      s.cl.line = m.line;
-      s.cl.index = k;
-      s.cl.count = n;
-      s.cl.rapid = m.kind == interp::MotionKind::rapid;
-      batch_.push_back(std::move(s));
+      batch_.push_back(Sample{cl, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()});
+      batch_.back().cl.motion = motion_index;
     }
     s_ += dist(v[static_cast<std::size_t>(k - 1)], vk);
     if (!line) {
@@ -167,22 +156,11 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
   const std::size_t keep = pend_.size();
   if (!line)
     for (int c = 1; c < k; ++c) pend_.emplace_back(tool, v[static_cast<std::size_t>(c - 1)], v[static_cast<std::size_t>(c)]);
-  // The feed direction run() would have at this sample.
+  // The sample as run() would make it, the feed direction carried over the
+  // vertices before it.
   std::array<double, 2> feed = feed_;
-  for (int c = 1; c <= k; ++c) {
-    const Point3 d = motion_direction(m, v, static_cast<std::size_t>(c));
-    const double h = std::hypot(d[0], d[1]);
-    if (h > 1e-6) feed = {d[0] / h, d[1] / h};
-    if (c == k) cl.point.dir = d;
-  }
-  cl.point.tip_mm = vk;
-  cl.point.feed_x = feed[0];
-  cl.point.feed_y = feed[1];
+  for (int c = 1; c <= k; ++c) cl = cl_sample(m, v, static_cast<std::size_t>(c), feed);
   cl.motion = motions_;
-  cl.line = m.line;
-  cl.index = k;
-  cl.count = n;
-  cl.rapid = m.kind == interp::MotionKind::rapid;
   const double t0 = now_s();
   const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), pend_.size()), &current};
   Metrics mt;

@@ -8,6 +8,7 @@
 // motion end point is a CL point and consecutive samples are at most cl_spacing_mm
 // apart. Arc samples lie on the exact arc with its exact tangent.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -39,6 +40,11 @@ std::vector<Point3> motion_vertices(const interp::Motion& m, const PathOptions& 
 
 // Unit direction of travel at vertex k of those vertices (exact arc tangent).
 Point3 motion_direction(const interp::Motion& m, std::span<const Point3> verts, std::size_t k);
+
+// CL sample k (1..count) of motion m, whose vertices are v; `feed` carries the
+// XY feed direction across plunges (in: at the sample before; out: at this one).
+// CLSample::motion is left 0 for the caller.
+CLSample cl_sample(const interp::Motion& m, std::span<const Point3> v, std::size_t k, std::array<double, 2>& feed);
 
 // CL samples of a motion sequence, without a stock. `last_feed` carries the XY
 // feed direction across plunges (in: the one before the sequence; out: updated).
