@@ -46,6 +46,17 @@ inline Interpreted interpret_text(const std::string& text, const std::string& di
   return r;
 }
 
+// A compensable G1 from a to b (mm) at `feed_mm_per_min`.
+inline interp::Motion linear_motion(interp::Vec3 a, interp::Vec3 b, double feed_mm_per_min = 1000) {
+  interp::Motion m;
+  m.kind = interp::MotionKind::linear;
+  m.fixed = interp::Fixed::no;
+  m.start_mm = a;
+  m.end_mm = b;
+  m.feed_mm_per_min = feed_mm_per_min;
+  return m;
+}
+
 struct CliResult {
   int rc;
   std::string out, err;

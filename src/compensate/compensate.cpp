@@ -537,7 +537,6 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   r.offsets.assign(n, V3::Zero());
   r.feeds_mm_per_min.resize(n);
   for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
-  if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
   std::vector<double> feeds = r.feeds_mm_per_min;
   // The program as written is simulated for the report beside the stream, on
   // its own thread, unless the feed limit needs its forces first (or one

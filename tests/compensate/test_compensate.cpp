@@ -213,13 +213,9 @@ TEST_CASE("one causal pass is the fixed point: a fresh simulation of its output 
   }
   text += "N" + std::to_string(n) + " G00 Z5.\nN" + std::to_string(n + 1) + " M30\n%\n";
   Fixture f;
-  gcode::Program prog{SourceText("raster.nc", text)};
-  std::vector<interp::Motion> motions;
-  Diagnostics d(nullptr, 0);
-  test::Collect c;
-  c.out = &motions;
-  interp::interpret(prog, f.opt, d, c);
-  REQUIRE(d.errors() == 0);
+  const test::Interpreted in = test::interpret_text(text);
+  REQUIRE(in.errors == 0);
+  const std::vector<interp::Motion>& motions = in.motions;
   stock::ZMap box = stock::make_stock("box:-10,-10,-10,30,10,1.3", {});
   f.ph.stock = &box;
   f.s.tolerance_mm = 0.005;
@@ -292,12 +288,9 @@ TEST_CASE("an arc whose compensation varies is linearised: G1 chords, the arc bl
       "N5 G01 Z-10. F800.\nN6 X20.\nN7 G3 X50. Y-3. I15. J57.25\nN8 G1 X80.\nN9 X110.\nN10 G00 Z5.\nN11 M30\n%\n";
   Fixture f;
   gcode::Program prog{SourceText("arc.nc", kArc)};
-  std::vector<interp::Motion> motions;
-  Diagnostics d(nullptr, 0);
-  test::Collect c;
-  c.out = &motions;
-  interp::interpret(prog, f.opt, d, c);
-  REQUIRE(d.errors() == 0);
+  const test::Interpreted in = test::interpret_text(kArc);
+  REQUIRE(in.errors == 0);
+  const std::vector<interp::Motion>& motions = in.motions;
   const std::vector<bool> split_ok = compensate::splittable(prog, motions);
   std::size_t arc = 0;
   while (motions[arc].kind != interp::MotionKind::arc_ccw) ++arc;
@@ -341,14 +334,10 @@ TEST_CASE("an arc whose compensation varies is linearised: G1 chords, the arc bl
   // Read back: the arc block is still a G3 whose start and end are on one circle
   // (a control alarms when they are not), about the nominal centre moved by at
   // most the offset.
-  gcode::Program back{SourceText("back.nc", out)};
-  std::vector<interp::Motion> bm;
-  test::Collect cb;
-  cb.out = &bm;
-  interp::interpret(back, f.opt, d, cb);
-  REQUIRE(d.errors() == 0);
+  const test::Interpreted back = test::interpret_text(out);
+  REQUIRE(back.errors == 0);
   const interp::Motion* a = nullptr;
-  for (const auto& m : bm)
+  for (const auto& m : back.motions)
     if (m.kind == interp::MotionKind::arc_ccw) a = &m;
   REQUIRE(a);
   auto radius = [&](const interp::Vec3& p) { return std::hypot(p[0] - a->center_mm[0], p[1] - a->center_mm[1]); };

@@ -5,6 +5,8 @@
 // revolution (360 steps, 400 slices of 0.05 mm) at every CL point.
 #include <doctest/doctest.h>
 
+#include "../support.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,15 +24,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-interp::Motion g1(stock::Point3 a, stock::Point3 b) {
-  interp::Motion m;
-  m.kind = interp::MotionKind::linear;
-  m.fixed = interp::Fixed::no;
-  m.start_mm = a;
-  m.end_mm = b;
-  m.feed_mm_per_min = 2000;
-  return m;
-}
+interp::Motion g1(stock::Point3 a, stock::Point3 b) { return test::linear_motion(a, b, 2000); }
 
 // Zig-zag passes; `seg_mm` > 0 splits each pass into CAM-like short G1 moves
 // following a gentle wave z = -a_p + 0.2 sin(x / 5) (a finishing path over a

@@ -3,6 +3,8 @@
 // plunges, air cuts, and the order "engage on the stock as cut so far, then cut".
 #include <doctest/doctest.h>
 
+#include "../support.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -30,15 +32,7 @@ force::Cutter cutter(force::CutterType t, double D = 10) {
   return c;
 }
 
-interp::Motion line(stock::Point3 a, stock::Point3 b) {
-  interp::Motion m;
-  m.kind = interp::MotionKind::linear;
-  m.fixed = interp::Fixed::no;
-  m.start_mm = a;
-  m.end_mm = b;
-  m.feed_mm_per_min = 1000;
-  return m;
-}
+interp::Motion line(stock::Point3 a, stock::Point3 b) { return test::linear_motion(a, b, 1000); }
 
 struct Last {
   CLSample cl;

@@ -5,6 +5,8 @@
 // Metrics and engagement intervals, bit for bit.
 #include <doctest/doctest.h>
 
+#include "../support.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -23,15 +25,7 @@ using namespace deflex::engage;
 
 namespace {
 
-interp::Motion g1(stock::Point3 a, stock::Point3 b) {
-  interp::Motion m;
-  m.kind = interp::MotionKind::linear;
-  m.fixed = interp::Fixed::no;
-  m.start_mm = a;
-  m.end_mm = b;
-  m.feed_mm_per_min = 1000;
-  return m;
-}
+interp::Motion g1(stock::Point3 a, stock::Point3 b) { return test::linear_motion(a, b, 1000); }
 
 bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
