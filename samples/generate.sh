@@ -51,7 +51,7 @@ set -eu
 LC_ALL=C
 export LC_ALL
 here=${1:-$(cd "$(dirname "$0")" && pwd)}
-mkdir -p "$here/programs" "$here/stock"
+mkdir -p "$here/programs" "$here/stock" "$here/parts"
 
 # ---------------------------------------------------------------------------
 # Shared awk functions: number formatting, block output, thinning, STL facets.
@@ -115,7 +115,8 @@ function facet(ax, ay, az, bx, by, bz, cx, cy, cz,   ux, uy, uz, vx, vy, vz, nx,
 
 # ---------------------------------------------------------------------------
 # 1. Six-surface part (Smaoui, Bouaziz, Zghal, Dessein, Baili 2011, paper 001 §4).
-awk -v OUT="$here/programs/six_surfaces.nc" -v STL="$here/stock/six_surfaces_stock.stl" "$common"'
+awk -v OUT="$here/programs/six_surfaces.nc" -v STOCK="$here/stock/six_surfaces_stock.stl" \
+    -v PART="$here/parts/six_surfaces.stl" "$common"'
 # Profile z = f(x), extruded along Y over [0, W]. Primitives: lines (LX0..LZ1) and
 # arcs (centre AX, AZ, radius AR, x range AXA..AXB, ACV = 1 convex / 0 concave);
 # the end planes are extended beyond the part so the tool runs on in air.
@@ -126,6 +127,48 @@ function arc(cx, cz, r, xa, xb, convex,   s) {
   vert(xa, cz + s * sqrt(r * r - (xa - cx) ^ 2)); vert(xb, cz + s * sqrt(r * r - (xb - cx) ^ 2)); na++
 }
 function vert(x, z) { VX[nv] = x; VZ[nv] = z; nv++ }
+# Height of the profile itself at x (the highest primitive over x).
+function profile(x,   best, i, m, d, z) {
+  best = -1e9
+  for (i = 0; i < nl; i++)
+    if (x >= LX0[i] && x <= LX1[i]) { m = (LZ1[i] - LZ0[i]) / (LX1[i] - LX0[i]); if (LZ0[i] + m * (x - LX0[i]) > best) best = LZ0[i] + m * (x - LX0[i]) }
+  for (i = 0; i < na; i++) {
+    d = x - AX[i]
+    if (x < AXA[i] || x > AXB[i]) continue
+    z = ACV[i] ? AZ[i] + sqrt(AR[i] ^ 2 - d * d) : AZ[i] - sqrt(AR[i] ^ 2 - d * d)
+    if (z > best) best = z
+  }
+  return best
+}
+# The solid under the profile offset by off along its normal (0: the part
+# itself), over x 0..220, y 0..78, bottom ZB, as a closed ASCII STL.
+function solid(off, out, name,   n, i, nk, k, x0, x1, z0, z1, nb, kk) {
+  STL = out
+  n = int(L / 0.05 + 0.5)
+  for (i = 0; i <= n; i++) { PX[i] = i * 0.05; PZ[i] = off > 0 ? drop(PX[i], off) : profile(PX[i]) }
+  nk = thin(n, 5, 0.002)
+  for (k = 0; k < nk; k++) { SX[k] = PX[KEEP[k]]; SZ[k] = PZ[KEEP[k]] }
+  printf "solid %s\n", name > STL
+  for (k = 0; k + 1 < nk; k++) {
+    x0 = SX[k]; x1 = SX[k + 1]; z0 = SZ[k]; z1 = SZ[k + 1]
+    facet(x0, 0, z0, x1, 0, z1, x1, W, z1); facet(x0, 0, z0, x1, W, z1, x0, W, z0)       # top
+    facet(x0, 0, ZB, x1, 0, ZB, x1, 0, z1); facet(x0, 0, ZB, x1, 0, z1, x0, 0, z0)       # front y = 0
+    facet(x1, W, ZB, x0, W, ZB, x0, W, z0); facet(x1, W, ZB, x0, W, z0, x1, W, z1)       # back y = W
+  }
+  facet(0, W, ZB, 0, 0, ZB, 0, 0, SZ[0]); facet(0, W, ZB, 0, 0, SZ[0], 0, W, SZ[0])      # left x = 0
+  facet(L, 0, ZB, L, W, ZB, L, W, SZ[nk - 1]); facet(L, 0, ZB, L, W, SZ[nk - 1], L, 0, SZ[nk - 1])
+  # bottom: fan from its centre to every boundary vertex (conforming with the sides)
+  nb = 0
+  for (k = 0; k < nk; k++) { BX[nb] = SX[k]; BY[nb] = 0; nb++ }
+  for (k = nk - 1; k >= 0; k--) { BX[nb] = SX[k]; BY[nb] = W; nb++ }
+  for (k = 0; k < nb; k++) {
+    kk = (k + 1) % nb
+    facet(L / 2, W / 2, ZB, BX[kk], BY[kk], ZB, BX[k], BY[k], ZB)
+  }
+  printf "endsolid %s\n", name > STL
+  close(STL)
+}
+
 # Height of the centre of a ball of radius r dropped onto the profile at x.
 function drop(x, r,   best, i, m, s, u, z, d, rr) {
   best = -1e9
@@ -214,30 +257,8 @@ BEGIN {
   printf "%%\n" > OUT
   close(OUT)
 
-  # --- stock: the profile offset by A along its normal, over x 0..220, y 0..78
-  n = int(L / 0.05 + 0.5)
-  for (i = 0; i <= n; i++) { PX[i] = i * 0.05; PZ[i] = drop(PX[i], A) }
-  nk = thin(n, 5, 0.002)
-  for (k = 0; k < nk; k++) { SX[k] = PX[KEEP[k]]; SZ[k] = PZ[KEEP[k]] }
-  printf "solid six_surfaces_stock\n" > STL
-  for (k = 0; k + 1 < nk; k++) {
-    x0 = SX[k]; x1 = SX[k + 1]; z0 = SZ[k]; z1 = SZ[k + 1]
-    facet(x0, 0, z0, x1, 0, z1, x1, W, z1); facet(x0, 0, z0, x1, W, z1, x0, W, z0)       # top
-    facet(x0, 0, ZB, x1, 0, ZB, x1, 0, z1); facet(x0, 0, ZB, x1, 0, z1, x0, 0, z0)       # front y = 0
-    facet(x1, W, ZB, x0, W, ZB, x0, W, z0); facet(x1, W, ZB, x0, W, z0, x1, W, z1)       # back y = W
-  }
-  facet(0, W, ZB, 0, 0, ZB, 0, 0, SZ[0]); facet(0, W, ZB, 0, 0, SZ[0], 0, W, SZ[0])      # left x = 0
-  facet(L, 0, ZB, L, W, ZB, L, W, SZ[nk - 1]); facet(L, 0, ZB, L, W, SZ[nk - 1], L, 0, SZ[nk - 1])
-  # bottom: fan from its centre to every boundary vertex (conforming with the sides)
-  nb = 0
-  for (k = 0; k < nk; k++) { BX[nb] = SX[k]; BY[nb] = 0; nb++ }
-  for (k = nk - 1; k >= 0; k--) { BX[nb] = SX[k]; BY[nb] = W; nb++ }
-  for (k = 0; k < nb; k++) {
-    kk = (k + 1) % nb
-    facet(L / 2, W / 2, ZB, BX[kk], BY[kk], ZB, BX[k], BY[k], ZB)
-  }
-  printf "endsolid six_surfaces_stock\n" > STL
-  close(STL)
+  solid(A, STOCK, "six_surfaces_stock")
+  solid(0, PART, "six_surfaces_part")
   printf "six_surfaces.nc: %d blocks, %d passes of %d points; stock %d facets\n", blocks, npass, ncl, facets
 }'
 
@@ -292,8 +313,43 @@ YAML
 #    over X 0..120, Y 0..80 (two waves along X, one along Y); ball end D10,
 #    Al 7075-T6, S10000, f_z 0.08 -> F1600; zig-zag along X, step-over 0.8 mm;
 #    stock = surface offset 0.3 mm along its normal, bottom z = -30.
-awk -v OUT="$here/programs/freeform.nc" -v STL="$here/stock/freeform_stock.stl" "$common"'
+awk -v OUT="$here/programs/freeform.nc" -v STOCK="$here/stock/freeform_stock.stl" \
+    -v PART="$here/parts/freeform.stl" "$common"'
 function f(x, y) { return AMP * sin(KX * x) * cos(KY * y) }
+# The solid under the surface offset by off along its normal (0: the part
+# itself), bottom ZB, as a closed ASCII STL. Top grid: 1.5 x 2 mm for the
+# stock; 0.75 x 1 mm for the part, whose facets then lie within 0.011 mm of the
+# surface (sagitta of the grid diagonal at the largest curvature, 1/18.2 mm).
+function solid(off, out, name,   GX, GY, nx, ny, i, j, x0, x1, y0, y1, nb, k, kk) {
+  STL = out
+  GX = off > 0 ? 1.5 : 0.75; GY = off > 0 ? 2 : 1; nx = int(L / GX + 0.5); ny = int(W / GY + 0.5)
+  for (j = 0; j <= ny; j++) for (i = 0; i <= nx; i++) T[i, j] = off > 0 ? offset(i * GX, j * GY, off) : f(i * GX, j * GY)
+  printf "solid %s\n", name > STL
+  for (j = 0; j < ny; j++) for (i = 0; i < nx; i++) {
+    x0 = i * GX; x1 = x0 + GX; y0 = j * GY; y1 = y0 + GY
+    facet(x0, y0, T[i, j], x1, y0, T[i + 1, j], x1, y1, T[i + 1, j + 1])
+    facet(x0, y0, T[i, j], x1, y1, T[i + 1, j + 1], x0, y1, T[i, j + 1])
+  }
+  for (i = 0; i < nx; i++) {
+    x0 = i * GX; x1 = x0 + GX
+    facet(x0, 0, ZB, x1, 0, ZB, x1, 0, T[i + 1, 0]); facet(x0, 0, ZB, x1, 0, T[i + 1, 0], x0, 0, T[i, 0])
+    facet(x1, W, ZB, x0, W, ZB, x0, W, T[i, ny]); facet(x1, W, ZB, x0, W, T[i, ny], x1, W, T[i + 1, ny])
+  }
+  for (j = 0; j < ny; j++) {
+    y0 = j * GY; y1 = y0 + GY
+    facet(0, y1, ZB, 0, y0, ZB, 0, y0, T[0, j]); facet(0, y1, ZB, 0, y0, T[0, j], 0, y1, T[0, j + 1])
+    facet(L, y0, ZB, L, y1, ZB, L, y1, T[nx, j + 1]); facet(L, y0, ZB, L, y1, T[nx, j + 1], L, y0, T[nx, j])
+  }
+  nb = 0                                    # bottom: fan over the boundary, counter-clockwise from above
+  for (i = 0; i < nx; i++) { BX[nb] = i * GX; BY[nb] = 0; nb++ }
+  for (j = 0; j < ny; j++) { BX[nb] = L; BY[nb] = j * GY; nb++ }
+  for (i = nx; i > 0; i--) { BX[nb] = i * GX; BY[nb] = W; nb++ }
+  for (j = ny; j > 0; j--) { BX[nb] = 0; BY[nb] = j * GY; nb++ }
+  for (k = 0; k < nb; k++) { kk = (k + 1) % nb; facet(L / 2, W / 2, ZB, BX[kk], BY[kk], ZB, BX[k], BY[k], ZB) }
+  printf "endsolid %s\n", name > STL
+  close(STL)
+}
+
 # Centre height of a ball of radius r on the offset surface above (x, y): solves
 # (u, v) + r n_xy(u, v) = (x, y) for the contact point by fixed-point iteration.
 function offset(x, y, r,   u, v, fx, fy, s, un, vn, it) {
@@ -351,33 +407,8 @@ BEGIN {
   printf "%%\n" > OUT
   close(OUT)
 
-  # --- stock: the surface offset by A along its normal; top grid 1.5 x 2 mm
-  GX = 1.5; GY = 2; nx = int(L / GX + 0.5); ny = int(W / GY + 0.5)
-  for (j = 0; j <= ny; j++) for (i = 0; i <= nx; i++) T[i, j] = offset(i * GX, j * GY, A)
-  printf "solid freeform_stock\n" > STL
-  for (j = 0; j < ny; j++) for (i = 0; i < nx; i++) {
-    x0 = i * GX; x1 = x0 + GX; y0 = j * GY; y1 = y0 + GY
-    facet(x0, y0, T[i, j], x1, y0, T[i + 1, j], x1, y1, T[i + 1, j + 1])
-    facet(x0, y0, T[i, j], x1, y1, T[i + 1, j + 1], x0, y1, T[i, j + 1])
-  }
-  for (i = 0; i < nx; i++) {
-    x0 = i * GX; x1 = x0 + GX
-    facet(x0, 0, ZB, x1, 0, ZB, x1, 0, T[i + 1, 0]); facet(x0, 0, ZB, x1, 0, T[i + 1, 0], x0, 0, T[i, 0])
-    facet(x1, W, ZB, x0, W, ZB, x0, W, T[i, ny]); facet(x1, W, ZB, x0, W, T[i, ny], x1, W, T[i + 1, ny])
-  }
-  for (j = 0; j < ny; j++) {
-    y0 = j * GY; y1 = y0 + GY
-    facet(0, y1, ZB, 0, y0, ZB, 0, y0, T[0, j]); facet(0, y1, ZB, 0, y0, T[0, j], 0, y1, T[0, j + 1])
-    facet(L, y0, ZB, L, y1, ZB, L, y1, T[nx, j + 1]); facet(L, y0, ZB, L, y1, T[nx, j + 1], L, y0, T[nx, j])
-  }
-  nb = 0                                    # bottom: fan over the boundary, counter-clockwise from above
-  for (i = 0; i < nx; i++) { BX[nb] = i * GX; BY[nb] = 0; nb++ }
-  for (j = 0; j < ny; j++) { BX[nb] = L; BY[nb] = j * GY; nb++ }
-  for (i = nx; i > 0; i--) { BX[nb] = i * GX; BY[nb] = W; nb++ }
-  for (j = ny; j > 0; j--) { BX[nb] = 0; BY[nb] = j * GY; nb++ }
-  for (k = 0; k < nb; k++) { kk = (k + 1) % nb; facet(L / 2, W / 2, ZB, BX[kk], BY[kk], ZB, BX[k], BY[k], ZB) }
-  printf "endsolid freeform_stock\n" > STL
-  close(STL)
+  solid(A, STOCK, "freeform_stock")
+  solid(0, PART, "freeform_part")
   printf "freeform.nc: %d blocks, %d passes, %d CL points; stock %d facets\n", blocks, npass, cl, facets
 }'
 cat > "$here/stock/six_surfaces.yaml" <<'YAML'

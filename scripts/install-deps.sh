@@ -9,7 +9,7 @@ set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-libocct-data-exchange-dev libgmsh-dev"
+libocct-data-exchange-dev libgmsh-dev libcgal-dev"
 for a in "$@"; do
   case "$a" in
     --test)  pkgs="$pkgs linuxcnc-uspace" ;;

@@ -25,6 +25,7 @@ using compensate::V3;
 struct Args {
   ReadOptions read;
   MaterialOptions mat;
+  PartOptions part;
   std::string file, output, reference, tool_file, tool, stock, report;
   std::optional<double> tolerance, gain;
   double feed_limit_N = 0;
@@ -52,23 +53,9 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
       ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
       ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
+  add_part_options(d, a.part);
   add_material_options(d, a.mat);
   add_read_options(d, a.read);
-}
-
-std::string config_string(const profile::Config& c, const char* key) {
-  if (c.root && c.root[key] && c.root[key].IsScalar()) return c.root[key].as<std::string>();
-  return {};
-}
-// A file named in config.yaml is relative to the folder of config.yaml.
-std::string config_path(const profile::Config& c, const char* key) {
-  std::string v = config_string(c, key);
-  if (v.empty() || fs::path(v).is_absolute() || v.starts_with("box:")) return v;
-  return (fs::path(c.file).parent_path() / v).lexically_normal().string();
-}
-double config_number(const profile::Config& c, const char* key, double dflt) {
-  if (c.root && c.root[key]) return profile::get_number(c.root, c.file, key);
-  return dflt;
 }
 
 struct Job {
@@ -78,6 +65,7 @@ struct Job {
   compensate::Physics physics;
   compensate::Settings settings;
   std::unique_ptr<stock::ZMap> stock;
+  std::unique_ptr<part::PartModel> part;
 };
 
 struct Collect : interp::MotionSink {
@@ -98,9 +86,7 @@ Job prepare(Args& a, Io& io, bool compensating) {
   if (diags.errors())
     throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
-  std::string tool_file = !a.tool_file.empty() ? a.tool_file : config_path(cfg, "tool_file");
-  if (tool_file.empty()) tool_file = default_library("samples/tools.yaml");
-  j.physics.tools = stiffness::load_tool_library(tool_file);
+  j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = a.tool_only;
   MaterialOptions mat = a.mat;
@@ -115,6 +101,11 @@ Job prepare(Args& a, Io& io, bool compensating) {
   j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
   j.physics.stock = j.stock.get();
   compensate::Settings& st = j.settings;
+  const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
+  if (!part.empty()) {
+    j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
+    j.physics.part = j.part.get();
+  }
   st.tolerance_mm = a.tolerance ? *a.tolerance : config_number(cfg, "tolerance_mm", 0.01);
   st.gain = a.gain ? *a.gain : config_number(cfg, "gain", 1.0);
   st.max_offset_mm = j.setup.machine->max_offset_mm;
@@ -128,6 +119,17 @@ Job prepare(Args& a, Io& io, bool compensating) {
   if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
   if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
   if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
+  if (j.part) {
+    // The gouge check runs before the simulation: it needs no stock and no forces.
+    const double gap = a.part.gap_mm ? *a.part.gap_mm : config_number(cfg, "part_gap_mm", 0.02);
+    if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+    engage::PathOptions po;
+    po.cl_spacing_mm = st.cl_spacing_mm;
+    const compensate::PartGaps g = compensate::part_gaps(
+        j.motions, *j.part, j.physics.tools, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); }, po,
+        gap, st.part_reach_mm);
+    report_part_gaps(g, j.prog.source(), gap, diags);
+  }
   return j;
 }
 
@@ -218,16 +220,25 @@ void write_report(const std::string& dir, const std::vector<compensate::Point>& 
   fs::create_directories(dir, ec);
   if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
   writer::write_file_atomically((fs::path(dir) / "points.csv").string(), "", [&](std::ostream& o) {
-    o << "line,x_mm,y_mm,z_mm,ap_mm,ae_mm,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,dz_mm,surface_error_mm,offset_mm\n";
-    char buf[400];
+    o << "line,x_mm,y_mm,z_mm,ap_mm,ae_mm,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,dz_mm,surface_error_mm,offset_mm,nx,ny,nz,"
+         "normal_source,part_gap_mm\n";
+    char buf[480];
     for (const auto& p : pts) {
       if (p.air) continue;
       const V3 off = offset_at(p, offsets);
       const double err = (off + p.delta_mm).dot(p.normal);
-      std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f\n", p.line,
+      std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f", p.line,
                     p.tip_mm.x(), p.tip_mm.y(), p.tip_mm.z(), p.ap_mm, p.ae_mm, p.force_N.x(), p.force_N.y(),
                     p.force_N.z(), p.delta_mm.x(), p.delta_mm.y(), p.delta_mm.z(), err, off.dot(p.normal));
       o << buf;
+      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%s,", p.normal.x(), p.normal.y(), p.normal.z(),
+                    compensate::to_string(p.normal_source));
+      o << buf;
+      if (p.normal_source == compensate::NormalSource::part) {
+        std::snprintf(buf, sizeof buf, "%.6f", p.part_gap_mm);
+        o << buf;
+      }
+      o << "\n";
     }
   });
   writer::write_file_atomically((fs::path(dir) / "summary.json").string(), "",

@@ -1,5 +1,6 @@
 #include "common.hpp"
 
+#include <cstdio>
 #include <filesystem>
 #include <ostream>
 
@@ -69,6 +70,56 @@ void add_material_options(po::options_description& d, MaterialOptions& m) {
       ("kte", opt(m.kte), "K_te, tangential edge coefficient, N/mm (default 0)")
       ("kre", opt(m.kre), "K_re, radial edge coefficient, N/mm (default 0)")
       ("kae", opt(m.kae), "K_ae, axial edge coefficient, N/mm (default 0)");
+}
+
+std::string config_string(const profile::Config& c, const char* key) {
+  if (c.root && c.root[key] && c.root[key].IsScalar()) return c.root[key].as<std::string>();
+  return {};
+}
+std::string config_path(const profile::Config& c, const char* key) {
+  std::string v = config_string(c, key);
+  if (v.empty() || std::filesystem::path(v).is_absolute() || v.starts_with("box:")) return v;
+  return (std::filesystem::path(c.file).parent_path() / v).lexically_normal().string();
+}
+double config_number(const profile::Config& c, const char* key, double dflt) {
+  if (c.root && c.root[key]) return profile::get_number(c.root, c.file, key);
+  return dflt;
+}
+
+void add_part_options(po::options_description& d, PartOptions& p) {
+  d.add_options()
+      ("part", po::value(&p.part), "the part model (design surface): STL, STEP or IGES, work frame, mm (default: config part). "
+       "Gives the surface normals and the gouge check")
+      ("part-gap", po::value<double>()->notifier([&p](double v) { p.gap_mm = v; }),
+       "warn where the programmed cutter cuts into the part or stands off a face of it by more than this, mm "
+       "(default: config part_gap_mm, else 0.02)");
+}
+
+std::string tool_library_path(const std::string& option, const profile::Config& c) {
+  if (!option.empty()) return option;
+  const std::string f = config_path(c, "tool_file");
+  return f.empty() ? default_library("samples/tools.yaml") : f;
+}
+
+void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags) {
+  auto lines = [](const std::vector<std::uint32_t>& l) {
+    std::string s;
+    for (std::size_t i = 0; i < l.size() && i < 12; ++i) s += (i ? ", " : "") + std::to_string(l[i]);
+    return l.size() > 12 ? s + ", ..." : s;
+  };
+  char buf[160];
+  if (g.overcut.points) {
+    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %zu CL points "
+                  "beyond the %.4f mm gap", g.overcut.worst_mm, g.overcut.points, gap_mm);
+    diags.report(Severity::warning, src, g.overcut.worst_line, 1,
+                 std::string(buf) + " (" + std::to_string(g.overcut.lines.size()) + " lines: " + lines(g.overcut.lines) + ")");
+  }
+  if (g.standoff.points) {
+    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %zu "
+                  "CL points beyond the %.4f mm gap", g.standoff.worst_mm, g.standoff.points, gap_mm);
+    diags.report(Severity::warning, src, g.standoff.worst_line, 1,
+                 std::string(buf) + " (" + std::to_string(g.standoff.lines.size()) + " lines: " + lines(g.standoff.lines) + ")");
+  }
 }
 
 std::string default_library(const char* rel) {

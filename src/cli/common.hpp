@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/compensate/gouge.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/coefficients.hpp"
 #include "deflex/gcode/program.hpp"
@@ -62,6 +63,22 @@ force::Coefficients coefficients_of(const MaterialOptions& m, const std::string&
 // A library file given relative to the source tree (samples/...), for defaults.
 std::string default_library(const char* rel);
 
+// config.yaml values: a string, a path (relative to config.yaml's folder; a
+// "box:" spec as it is) and a number; empty / dflt when the key is absent.
+std::string config_string(const profile::Config& c, const char* key);
+std::string config_path(const profile::Config& c, const char* key);
+double config_number(const profile::Config& c, const char* key, double dflt);
+
+// The part model (design surface) options of compensate, simulate and check:
+// --part FILE (config part:), --part-gap MM (config part_gap_mm, default 0.02).
+struct PartOptions {
+  std::string part;
+  std::optional<double> gap_mm;
+};
+void add_part_options(po::options_description& d, PartOptions& p);
+// The tool library the options or config name (samples/tools.yaml by default).
+std::string tool_library_path(const std::string& option, const profile::Config& c);
+
 // Parses args whose positional words are program files (up to max_files of
 // them) into `files`; the named options go to `desc`. Throws Error(usage).
 void parse_with_files(const std::vector<std::string>& args, const po::options_description& desc,
@@ -70,5 +87,9 @@ void parse_with_files(const std::vector<std::string>& args, const po::options_de
 // Prints the subcommand's help: usage line, explanation, options.
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
                 const po::options_description& desc);
+
+// The gouge check's findings as warnings at the line of the largest gap of
+// each side, naming the lines (compiler style, through diags).
+void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags);
 
 }  // namespace deflex::cli

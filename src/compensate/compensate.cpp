@@ -61,51 +61,15 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   return cache.emplace(id, std::move(m)).first->second;
 }
 
-std::string tool_id(const interp::Motion& m, const Settings& s) {
-  return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(m.tool);
-}
-
-// The outward normal of the surface generated at a CL point (see compensate.hpp).
-V3 surface_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t) {
-  const auto& p = cl.point;
-  const V3 yf(-p.feed_y, p.feed_x, 0.0);  // Y' of the feed frame
-  const bool flank = t.type != stiffness::ToolType::ball &&
-                     mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) && mt.ae_mm < 0.95 * t.diameter_mm;
-  if (flank) return mt.up_share > 0.5 ? V3(-yf) : yf;  // wall on the side that cuts
-  V3 dir(p.dir[0], p.dir[1], p.dir[2]);
-  V3 n = V3::UnitZ() - dir.dot(V3::UnitZ()) * dir;
-  double len = n.norm();
-  return len > 1e-9 ? V3(n / len) : V3::UnitZ();
-}
-
-// The normal of the design surface at a CL sample of `design` (the motion as
-// programmed, before any offset): a compensated move's own direction differs
-// from the design's by the change of offset along it (on a 0.4 mm move a 20 um
-// step tilts it by 3 degrees, which is 10 um of error where the tool deflects
-// 0.2 mm along the feed), and the error is measured against the design surface.
-V3 design_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
-                 const interp::Motion& design) {
-  if (design.kind != interp::MotionKind::linear && design.kind != interp::MotionKind::rapid)
-    return surface_normal(cl, mt, t);  // arcs move whole: the same tangent
-  V3 d(design.end_mm[0] - design.start_mm[0], design.end_mm[1] - design.start_mm[1], design.end_mm[2] - design.start_mm[2]);
-  if (d.norm() == 0) return surface_normal(cl, mt, t);
-  d.normalize();
-  engage::CLSample c = cl;
-  c.point.dir = {d.x(), d.y(), d.z()};
-  const double h = std::hypot(d.x(), d.y());
-  if (h > 1e-6) {
-    c.point.feed_x = d.x() / h;
-    c.point.feed_y = d.y() / h;
-  }
-  return surface_normal(c, mt, t);
-}
 
 // The per-point physics of one CL sample: forces, deflection, surface error.
 // Shared by simulate() and the mirror stream, so both report the same numbers.
 // m: the motion as run; design: as programmed (the surface normal's).
+// a, b: the offsets of the run motion's start and end from the design's, so
+// that the design tip of the sample (the surface normal's) is known.
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
-               const interp::Motion& m, const interp::Motion& design, const force::Coefficients& k,
-               std::vector<force::Vec3>& rev) {
+               const interp::Motion& m, const interp::Motion& design, const V3& a, const V3& b,
+               const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev) {
   Point p;
   p.line = cl.line;
   p.index = cl.index;
@@ -115,7 +79,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.ae_mm = mt.ae_mm;
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
-  p.normal = design_normal(cl, mt, tm.tool, design);
+  const double u = cl.count ? static_cast<double>(cl.index) / cl.count : 1.0;
+  const SurfaceNormal sn = normals.at(cl, mt, tm.tool, design, p.tip_mm - (a + u * (b - a)));
+  p.normal = sn.n;
+  p.normal_source = sn.source;
+  p.part_gap_mm = sn.part_gap_mm;
   if (p.air || p.plunge) return p;
   const int flutes = tm.slices.cutter.flutes;
   const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
@@ -203,8 +171,26 @@ interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
 
 }  // namespace
 
+std::string tool_id(const interp::Motion& m, const Settings& s) {
+  return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(m.tool);
+}
+
+std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>& motions, const Physics& ph,
+                                              const Settings& s) {
+  engage::PathOptions po;
+  po.cl_spacing_mm = s.cl_spacing_mm;
+  return std::make_unique<DesignNormals>(motions, ph.part, ph.tools, po, s.part_reach_mm,
+                                         [&s](const interp::Motion& m) { return tool_id(m, s); });
+}
+
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
-                            const Physics& ph, const Settings& s, const Progress& progress) {
+                            const Physics& ph, const Settings& s, const Progress& progress,
+                            const DesignNormals* normals) {
+  std::unique_ptr<DesignNormals> own;
+  if (!normals) {
+    own = design_normals(motions, ph, s);
+    normals = own.get();
+  }
   std::vector<Point> out;
   out.reserve(motions.size() * 2);
   std::vector<force::Vec3> rev;
@@ -217,7 +203,9 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
     if (cl.rapid) return;
     const std::size_t gi = ran.at(cl.motion);
     const interp::Motion& design = motions[gi];
-    Point p = point_of(cl, mt, eng, *tm, design, design, ph.k, rev);
+    const V3 a = gi && !offsets.empty() ? offsets[gi - 1] : V3(V3::Zero());
+    const V3 b = offsets.empty() ? V3(V3::Zero()) : offsets[gi];
+    Point p = point_of(cl, mt, eng, *tm, design, design, a, b, *normals, ph.k, rev);
     p.motion = static_cast<std::uint32_t>(gi);
     out.push_back(p);
   };
@@ -282,8 +270,8 @@ namespace {
 class Stream {
  public:
   Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
-         const std::vector<bool>* splittable, const Progress& progress)
-      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), progress_(progress), run_(ph, s) {}
+         const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress)
+      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress), run_(ph, s) {}
 
   // Fills r.motions (and the rest of the result) anew; `motions` must not be r.motions.
   void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
@@ -343,7 +331,7 @@ class Stream {
     engage::CLSample cl;
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, m, ph_.k, rev_);
+    return point_of(cl, mt, eng_, run_.tool(), mm, m, a, b, normals_, ph_.k, rev_);
   }
 
   // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
@@ -513,6 +501,7 @@ class Stream {
   Result& r_;
   const std::vector<bool>& can_;
   const std::vector<bool>* split_;
+  const DesignNormals& normals_;
   const Progress& progress_;
   Run run_;
   force::Engagement eng_;
@@ -541,10 +530,11 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   // The program as written is simulated for the report beside the stream, on
   // its own thread, unless the feed limit needs its forces first (or one
   // thread was asked for).
+  const std::unique_ptr<DesignNormals> normals = design_normals(motions, ph, s);
   std::exception_ptr nominal_failed;
   std::thread nominal;
   if (s.feed_limit_N > 0 || s.gain == 0.0 || s.threads == 1) {
-    r.nominal = simulate(motions, {}, ph, s, progress);
+    r.nominal = simulate(motions, {}, ph, s, progress, normals.get());
   } else {
     nominal = std::thread([&] {
       try {
@@ -552,7 +542,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
         // wall time is the run's.
         Settings one = s;
         one.threads = 1;
-        r.nominal = simulate(motions, {}, ph, one);
+        r.nominal = simulate(motions, {}, ph, one, {}, normals.get());
       } catch (...) {
         nominal_failed = std::current_exception();
       }
@@ -582,12 +572,12 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   }
   r.feeds_mm_per_min = feeds;
   if (s.gain == 0.0) {
-    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress);
+    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress, normals.get());
     r.converged = true;
     return r;
   }
   const std::vector<bool> can = movable(motions);
-  Stream(ph, s, r, can, splittable, progress).go(motions, feeds);
+  Stream(ph, s, r, can, splittable, *normals, progress).go(motions, feeds);
   if (nominal.joinable()) nominal.join();
   if (nominal_failed) std::rethrow_exception(nominal_failed);
   for (std::size_t i = 0; i < r.motions.size(); ++i)

@@ -7,13 +7,9 @@
 //   flutes where the engaged edge length is centred -> surface error
 //   e = delta . n, n the outward normal of the surface being generated.
 //
-// Surface normal, from the tool geometry and the local path (no part model):
-//   - flat or bull-nose end cutting with its flank (a_p above the corner, a_e
-//     below D): the wall, horizontal, on the side the engaged edge cuts
-//     (Morelli 2021: down-milling leaves the wall on the -Y' side);
-//   - otherwise (ball ends, floors): perpendicular to the direction of travel in
-//     its vertical plane, upward. The slope across the feed direction is not
-//     seen from the path alone: a documented limit.
+// Surface normal n: from the part model where one is given, else (ball ends)
+// fitted through the neighbouring CL points, else the rule of the tool and the
+// travel (compensate/normals.hpp). The offset acts along it in 3D.
 // e > 0: the tool stands off the surface (material left); e < 0: it digs in.
 //
 // Mirror method (Smaoui 2011 §4): P_comp = P_nom - gain e(P_comp) n. The
@@ -32,10 +28,12 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "deflex/compensate/normals.hpp"
 #include "deflex/force/coefficients.hpp"
 #include "deflex/interp/motion.hpp"
 #include "deflex/stiffness/machine.hpp"
@@ -60,6 +58,7 @@ struct Settings {
   double chord_tol_mm = 0.001;  // sagitta of the chords of a linearised arc
   double feed_limit_N = 0;      // > 0: lower F where the peak force would exceed it
   std::string tool_override;    // use this tool whatever the T words say
+  double part_reach_mm = 1.0;   // a part contact farther than this is not the surface being cut
 };
 
 // What does not change with the path: tools, machine, material, stock.
@@ -69,6 +68,7 @@ struct Physics {
   bool tool_only = false;       // no holder/spindle/structure in C(h)
   force::Coefficients k;
   const stock::ZMap* stock = nullptr;  // initial stock; copied per simulation
+  const part::PartModel* part = nullptr;  // the design surface (may be null)
 };
 
 // One CL sample of one simulation.
@@ -84,6 +84,8 @@ struct Point {
   double height_mm = 0;         // where along the flutes the force acts
   V3 delta_mm = V3::Zero();     // deflection of the tool at that height
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated
+  NormalSource normal_source = NormalSource::travel;
+  double part_gap_mm = 0;       // normal_source part: the programmed cutter's gap to the part
   double error_mm = 0;          // delta . normal
 };
 
@@ -93,8 +95,17 @@ using Progress = std::function<void(const std::string& stage, double fraction)>;
 // (empty: none), and returns every CL sample of the cutting moves (rapids are
 // cut into the stock but not reported). The motions are the design: surface
 // normals follow their directions, not those of the displaced path.
+// normals (may be null: built from `motions`): the design surface's normals.
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
-                            const Physics& ph, const Settings& s, const Progress& progress = {});
+                            const Physics& ph, const Settings& s, const Progress& progress = {},
+                            const DesignNormals* normals = nullptr);
+
+// The tool id a motion cuts with: Settings::tool_override, else "T<n>".
+std::string tool_id(const interp::Motion& m, const Settings& s);
+
+// The normals of the design `motions` with the physics' part model or path.
+std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>& motions, const Physics& ph,
+                                              const Settings& s);
 
 struct Result {
   // The motions as written: the program's, with the blocks inserted where a

@@ -1,0 +1,62 @@
+#include "deflex/compensate/gouge.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace deflex::compensate {
+
+using V3 = Eigen::Vector3d;
+
+namespace {
+
+void note(GapSide& g, std::uint32_t line, double gap_mm) {
+  ++g.points;
+  if (g.lines.empty() || g.lines.back() != line) g.lines.push_back(line);
+  if (std::fabs(gap_mm) > g.worst_mm) {
+    g.worst_mm = std::fabs(gap_mm);
+    g.worst_line = line;
+  }
+}
+
+// The contact with the smallest gap: from below, and for flat and bull-nose
+// ends also from the four sides of the feed frame at mid-flank.
+part::Contact nearest(const part::PartModel& part, const stiffness::Tool& t, const V3& tip, const V3& feed) {
+  const part::CutterShape shape = part::cutter_shape(t);
+  part::Contact best = part.contact(shape, tip, V3::Zero());
+  if (t.type == stiffness::ToolType::ball) return best;
+  const V3 side(-feed.y(), feed.x(), 0.0);
+  const double r = 0.5 * t.diameter_mm, up = 0.5 * std::min(t.flute_length_mm, t.diameter_mm);
+  for (const V3& d : {feed, V3(-feed), side, V3(-side)}) {
+    const part::Contact c = part.contact(shape, tip, r * d + up * V3::UnitZ());
+    if (c.gap_mm < best.gap_mm) best = c;
+  }
+  return best;
+}
+
+}  // namespace
+
+PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartModel& part,
+                   const stiffness::ToolLibrary& tools, const std::function<std::string(const interp::Motion&)>& tool_of,
+                   const engage::PathOptions& path, double gap_mm, double reach_mm) {
+  PartGaps g;
+  V3 feed = V3::UnitX();
+  for (const interp::Motion& m : motions) {
+    if (m.kind == interp::MotionKind::rapid) continue;
+    auto it = tools.tools.find(tool_of(m));
+    if (it == tools.tools.end()) continue;  // the simulation reports a missing tool
+    const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
+    for (std::size_t k = 1; k < v.size(); ++k) {
+      const V3 tip(v[k][0], v[k][1], v[k][2]), prev(v[k - 1][0], v[k - 1][1], v[k - 1][2]);
+      V3 d = tip - prev;
+      d.z() = 0;
+      if (d.norm() > 1e-9) feed = d.normalized();
+      const part::Contact c = nearest(part, it->second, tip, feed);
+      ++g.points;
+      if (c.gap_mm < -gap_mm) note(g.overcut, m.line, c.gap_mm);
+      else if (c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face) note(g.standoff, m.line, c.gap_mm);
+    }
+  }
+  return g;
+}
+
+}  // namespace deflex::compensate

@@ -1,0 +1,109 @@
+#include "deflex/compensate/normals.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace deflex::compensate {
+
+using V3 = Eigen::Vector3d;
+
+const char* to_string(NormalSource s) {
+  switch (s) {
+    case NormalSource::part: return "part";
+    case NormalSource::path: return "path";
+    case NormalSource::travel: break;
+  }
+  return "travel";
+}
+
+namespace {
+
+bool flank_cut(const engage::Metrics& mt, const stiffness::Tool& t) {
+  return t.type != stiffness::ToolType::ball && mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) &&
+         mt.ae_mm < 0.95 * t.diameter_mm;
+}
+
+// The travel rule at a sample with direction dir and XY feed direction (fx, fy).
+V3 rule_normal(const V3& dir, double fx, double fy, const engage::Metrics& mt, const stiffness::Tool& t) {
+  const V3 yf(-fy, fx, 0.0);  // Y' of the feed frame
+  // Morelli 2021: down-milling leaves the wall on the -Y' side.
+  if (flank_cut(mt, t)) return mt.up_share > 0.5 ? V3(-yf) : yf;
+  V3 n = V3::UnitZ() - dir.dot(V3::UnitZ()) * dir;
+  const double len = n.norm();
+  return len > 1e-9 ? V3(n / len) : V3::UnitZ();
+}
+
+}  // namespace
+
+// The direction is the design's, not the displaced trial motion's: on a 0.4 mm
+// move a 20 um change of offset tilts it by 3 degrees, which is 10 um of error
+// where the tool deflects 0.2 mm along the feed.
+V3 travel_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
+                 const interp::Motion& design) {
+  const auto& p = cl.point;
+  V3 dir(p.dir[0], p.dir[1], p.dir[2]);
+  double fx = p.feed_x, fy = p.feed_y;
+  if (design.kind == interp::MotionKind::linear || design.kind == interp::MotionKind::rapid) {
+    const V3 d(design.end_mm[0] - design.start_mm[0], design.end_mm[1] - design.start_mm[1],
+               design.end_mm[2] - design.start_mm[2]);
+    if (d.norm() > 0) {
+      dir = d.normalized();
+      const double h = std::hypot(dir.x(), dir.y());
+      if (h > 1e-6) fx = dir.x() / h, fy = dir.y() / h;
+    }
+  }  // arcs move whole: the same tangent
+  return rule_normal(dir, fx, fy, mt, t);
+}
+
+DesignNormals::DesignNormals(const std::vector<interp::Motion>& design, const part::PartModel* part,
+                             const stiffness::ToolLibrary& tools, const engage::PathOptions& path,
+                             double part_reach_mm, const std::function<std::string(const interp::Motion&)>& tool_of)
+    : part_(part), reach_mm_(part_reach_mm) {
+  if (part_) return;
+  // The tip points of each ball-end tool's cutting moves. Plunges and moves
+  // steeper than 80 degrees are left out: they stack points over one XY and
+  // the tip surface is a height field.
+  std::map<std::string, std::vector<V3>> clouds;
+  for (const interp::Motion& m : design) {
+    if (m.kind == interp::MotionKind::rapid) continue;
+    const std::string id = tool_of(m);
+    auto t = tools.tools.find(id);
+    if (t == tools.tools.end() || t->second.type != stiffness::ToolType::ball) continue;
+    const double dxy = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
+    const double dz = std::fabs(m.end_mm[2] - m.start_mm[2]);
+    if (m.kind == interp::MotionKind::linear && dz > 5.67 * dxy) continue;
+    std::vector<V3>& c = clouds[id];
+    const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
+    for (std::size_t k = 1; k < v.size(); ++k) c.emplace_back(v[k][0], v[k][1], v[k][2]);
+  }
+  for (auto& [id, pts] : clouds) path_[id] = std::make_unique<part::PathNormals>(std::move(pts));
+}
+
+SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
+                                const interp::Motion& design, const V3& design_tip_mm) const {
+  SurfaceNormal s;
+  s.n = travel_normal(cl, mt, t, design);
+  if (part_) {
+    // Flank cuts: search from the wall side at mid-flank; else from below.
+    V3 hint = V3::Zero();
+    if (flank_cut(mt, t)) hint = 0.5 * t.diameter_mm * s.n + 0.5 * mt.ap_mm * V3::UnitZ();
+    const part::Contact c = part_->contact(part::cutter_shape(t), design_tip_mm, hint);
+    if (c.found && std::fabs(c.gap_mm) <= reach_mm_) {
+      s.n = c.normal;
+      s.source = NormalSource::part;
+      s.part_gap_mm = c.gap_mm;
+    }
+    return s;
+  }
+  if (t.type == stiffness::ToolType::ball) {
+    auto it = path_.find(t.id);
+    if (it != path_.end())
+      if (auto n = it->second->normal_at(design_tip_mm)) {
+        s.n = *n;
+        s.source = NormalSource::path;
+      }
+  }
+  return s;
+}
+
+}  // namespace deflex::compensate

@@ -1,0 +1,193 @@
+// The design surface: part-model contacts and normals, path-fitted normals, and
+// the surface error along the part's normal, on analytic surfaces whose
+// normals are known in closed form.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "../support.hpp"
+#include "deflex/compensate/compensate.hpp"
+#include "deflex/compensate/gouge.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/part/part.hpp"
+#include "deflex/part/path_normals.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stock/build.hpp"
+
+using namespace deflex;
+using V3 = Eigen::Vector3d;
+
+namespace {
+
+constexpr double deg = 180.0 / std::numbers::pi;
+
+// An analytic surface z = f(x, y) with its gradient.
+struct Surface {
+  std::string name;
+  std::function<double(double, double)> f;
+  std::function<V3(double, double)> normal;  // outward (upward) unit normal
+};
+
+Surface plane_across(double slope_deg) {
+  const double t = std::tan(slope_deg / deg);
+  return {"plane " + std::to_string(static_cast<int>(slope_deg)) + " deg across the feed",
+          [t](double, double y) { return t * y; }, [t](double, double) { return V3(0, -t, 1).normalized(); }};
+}
+Surface sphere(double r) {
+  return {"sphere R" + std::to_string(static_cast<int>(r)),
+          [r](double x, double y) { return std::sqrt(r * r - x * x - y * y) - r; },
+          [r](double x, double y) { return V3(x, y, std::sqrt(r * r - x * x - y * y)).normalized(); }};
+}
+Surface cylinder_along_x(double r) {
+  return {"cylinder R" + std::to_string(static_cast<int>(r)) + " along X",
+          [r](double, double y) { return std::sqrt(r * r - y * y) - r; },
+          [r](double, double y) { return V3(0, y, std::sqrt(r * r - y * y)).normalized(); }};
+}
+
+// The height field over [-a, a]^2 as triangles (counter-clockwise from above), grid h.
+std::vector<stock::Triangle> mesh(const Surface& s, double a, double h) {
+  std::vector<stock::Triangle> t;
+  const int n = static_cast<int>(std::lround(2 * a / h));
+  auto p = [&](int i, int j) {
+    const double x = -a + i * h, y = -a + j * h;
+    return std::array<double, 3>{x, y, s.f(x, y)};
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      t.push_back({{p(i, j), p(i + 1, j), p(i + 1, j + 1)}});
+      t.push_back({{p(i, j), p(i + 1, j + 1), p(i, j + 1)}});
+    }
+  return t;
+}
+
+double angle_deg(const V3& a, const V3& b) { return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0)) * deg; }
+
+// The tip of a ball of radius R touching the surface at (u, v).
+V3 ball_tip(const Surface& s, double u, double v, double R) {
+  return V3(u, v, s.f(u, v)) + R * s.normal(u, v) - R * V3::UnitZ();
+}
+
+std::vector<Surface> analytic() { return {plane_across(0), plane_across(20), plane_across(45), sphere(30), cylinder_along_x(25)}; }
+
+}  // namespace
+
+TEST_SUITE("part") {
+
+TEST_CASE("part model: ball contacts on analytic surfaces give their normals within 0.2 deg, gaps within the mesh sagitta") {
+  stiffness::Tool ball;
+  ball.type = stiffness::ToolType::ball;
+  ball.diameter_mm = 10;
+  ball.corner_radius_mm = 5;
+  ball.flute_length_mm = 20;
+  const part::CutterShape shape = part::cutter_shape(ball);
+  for (const Surface& s : analytic()) {
+    const part::PartModel pm(mesh(s, 12, 0.5));
+    double worst_deg = 0, worst_gap = 0;
+    for (double u = -6; u <= 6; u += 0.7)
+      for (double v = -6; v <= 6; v += 0.9) {
+        const part::Contact c = pm.contact(shape, ball_tip(s, u, v, 5), V3::Zero());
+        REQUIRE(c.found);
+        worst_deg = std::max(worst_deg, angle_deg(c.normal, s.normal(c.point_mm.x(), c.point_mm.y())));
+        worst_gap = std::max(worst_gap, std::fabs(c.gap_mm));
+      }
+    INFO(s.name << ": worst normal " << worst_deg << " deg, worst gap " << worst_gap << " mm");
+    CHECK(worst_deg < 0.2);
+    CHECK(worst_gap < 0.0025);  // a facet stands off the surface by up to its sagitta: 0.707^2 / (8 x 25) = 0.0025 mm
+  }
+}
+
+TEST_CASE("part model: flat and bull-nose flank and floor contacts") {
+  // A vertical wall x <= 0 (outward normal +X) on a floor z <= 0: a closed box.
+  std::vector<stock::Triangle> box;
+  auto quad = [&](std::array<double, 3> a, std::array<double, 3> b, std::array<double, 3> c, std::array<double, 3> d) {
+    box.push_back({{a, b, c}});
+    box.push_back({{a, c, d}});
+  };
+  // The step: x in [-20, 0] up to z = 10 (the wall), x in [0, 20] up to z = 0 (the floor), y in [-20, 20], base z = -10.
+  quad({-20, -20, 10}, {0, -20, 10}, {0, 20, 10}, {-20, 20, 10});   // top of the wall block
+  quad({0, -20, 10}, {0, -20, 0}, {0, 20, 0}, {0, 20, 10});         // the wall, normal +X
+  quad({0, -20, 0}, {20, -20, 0}, {20, 20, 0}, {0, 20, 0});         // the floor
+  quad({20, -20, 0}, {20, -20, -10}, {20, 20, -10}, {20, 20, 0});   // +X side
+  quad({-20, 20, 10}, {-20, 20, -10}, {-20, -20, -10}, {-20, -20, 10});  // -X side
+  quad({-20, -20, -10}, {20, -20, -10}, {20, -20, 0}, {-20, -20, 0});    // front (with the step)
+  quad({-20, -20, 0}, {0, -20, 0}, {0, -20, 10}, {-20, -20, 10});
+  quad({20, 20, -10}, {-20, 20, -10}, {-20, 20, 0}, {20, 20, 0});        // back
+  quad({0, 20, 0}, {-20, 20, 0}, {-20, 20, 10}, {0, 20, 10});
+  quad({-20, -20, -10}, {-20, 20, -10}, {20, 20, -10}, {20, -20, -10});  // base
+  const part::PartModel pm(box);
+  for (auto type : {stiffness::ToolType::flat, stiffness::ToolType::bull}) {
+    stiffness::Tool t;
+    t.type = type;
+    t.diameter_mm = 12;
+    t.corner_radius_mm = type == stiffness::ToolType::bull ? 2 : 0;
+    t.flute_length_mm = 30;
+    const part::CutterShape shape = part::cutter_shape(t);
+    // Flank on the wall, 0.05 mm off it, tip 1 mm above the floor: contact on the wall.
+    const part::Contact w = pm.contact(shape, V3(6.05, 0, 1), V3(-6, 0, 4));
+    CHECK(angle_deg(w.normal, V3::UnitX()) < 1e-6);
+    CHECK(w.gap_mm == doctest::Approx(0.05).epsilon(1e-6));
+    // End face 0.03 mm into the floor, away from the wall: contact on the floor.
+    const part::Contact f = pm.contact(shape, V3(12, 0, -0.03), V3::Zero());
+    CHECK(angle_deg(f.normal, V3::UnitZ()) < 1e-6);
+    CHECK(f.gap_mm == doctest::Approx(-0.03).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("path normals: fitted through the tip points of a raster, within 2 deg of the analytic normal") {
+  const double R = 5, step = 1.0, spacing = 0.5;
+  for (const Surface& s : analytic()) {
+    // The tip points of a drop-cutter raster along X: the contact (u, v) that
+    // puts the ball's centre over (x, y) is found by fixed-point iteration.
+    auto tip_at = [&](double x, double y) {
+      double u = x, v = y;
+      for (int it = 0; it < 100; ++it) {
+        const V3 n = s.normal(u, v);
+        u = x - R * n.x();
+        v = y - R * n.y();
+      }
+      return std::pair{ball_tip(s, u, v, R), s.normal(u, v)};
+    };
+    std::vector<V3> tips;
+    for (double y = -8; y <= 8 + 1e-9; y += step)
+      for (double x = -8; x <= 8 + 1e-9; x += spacing) tips.push_back(tip_at(x, y).first);
+    const part::PathNormals pn(tips);
+    double worst = 0;
+    for (double y = -5; y <= 5 + 1e-9; y += step)
+      for (double x = -5; x <= 5 + 1e-9; x += 1.5) {
+        const auto [tip, n] = tip_at(x, y);
+        const auto est = pn.normal_at(tip);
+        REQUIRE(est);
+        worst = std::max(worst, angle_deg(*est, n));
+      }
+    INFO(s.name << ": worst " << worst << " deg");
+    CHECK(worst < 2.0);
+  }
+  // One pass alone spans no surface: no estimate.
+  std::vector<V3> line;
+  for (double x = 0; x <= 10; x += 0.5) line.emplace_back(x, 0, 0.1 * x);
+  CHECK_FALSE(part::PathNormals(line).normal_at(V3(5, 0, 0.5)));
+}
+
+TEST_CASE("gouge check: a pass dug into the part and a pass standing off are named, the exact pass is clean") {
+  const Surface s = plane_across(20);
+  const part::PartModel pm(mesh(s, 30, 1.0));
+  const stiffness::ToolLibrary lib = stiffness::load_tool_library("samples/tools.yaml");
+  const std::string id = "T7";  // ball D10
+  const double R = 0.5 * lib.tools.at(id).diameter_mm;
+  auto pass = [&](double y, double dz) {
+    const V3 a = ball_tip(s, -10, y, R) + dz * V3::UnitZ(), b = ball_tip(s, 10, y, R) + dz * V3::UnitZ();
+    return test::linear_motion({a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()});
+  };
+  std::vector<interp::Motion> m = {pass(0, 0), pass(2, -0.05), pass(4, 0.04)};
+  for (std::size_t i = 0; i < m.size(); ++i) m[i].line = static_cast<std::uint32_t>(10 + i);
+  const compensate::PartGaps g = compensate::part_gaps(m, pm, lib, [&](const interp::Motion&) { return id; }, {}, 0.02, 1.0);
+  REQUIRE(g.overcut.lines == std::vector<std::uint32_t>{11});
+  REQUIRE(g.standoff.lines == std::vector<std::uint32_t>{12});
+  // Moved 0.05 straight down on a 20 deg slope: 0.05 cos 20 into it.
+  CHECK(g.overcut.worst_mm == doctest::Approx(0.05 * std::cos(20 / deg)).epsilon(1e-3));
+  CHECK(g.standoff.worst_mm == doctest::Approx(0.04 * std::cos(20 / deg)).epsilon(1e-3));
+}
+
+}  // TEST_SUITE
