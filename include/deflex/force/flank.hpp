@@ -93,20 +93,22 @@ void flank_error_profile(const FlankInput& in, const SliceCompliance& c, Generat
 void summarize_profile(const Vec3& normal, FlankProfile& out);
 
 // Where the shape of a sampled profile changes (the key points of Morelli 2021
-// Table 2): a slope break is an isolated spike of the second difference
-// (a segment end of the generating force distribution with finite load density,
-// e.g. a flute's entry edge crossing the tip or the top of the cut); a curvature
-// break is an isolated step of it (a segment end at zero load density, an exit
-// edge); extrema are sign changes of the first difference.
+// Table 2). A slope break is a segment end of the generating force distribution
+// with a finite load density (a flute's entry edge crossing the tip or the top of
+// the cut: z_3, z_L, z_2m, z_H); a curvature break one at zero density (an exit
+// edge, no chip: z_M, z_m). Found by fitting a quadratic to the 6 samples on
+// each side of every sample and comparing slopes and curvatures; extrema are
+// strict over +-5 samples. Breaks within 11 samples of either end go unseen.
+// The slicing quantises breaks to the samples: expect them within half a slice.
 enum class FeatureKind { slope_break, curvature_break, minimum, maximum };
 const char* to_string(FeatureKind k);
 struct ProfileFeature {
   FeatureKind kind = FeatureKind::slope_break;
   double z_mm = 0;
-  double strength = 0;  // spike or step over the local background (dimensionless)
+  double strength = 0;  // jump over the robust background of the measure (0 for extrema)
 };
 // Points must be equally spaced in z. `min_strength`: how many times the robust
-// background a spike or step must exceed.
+// background (median) a jump must exceed.
 std::vector<ProfileFeature> profile_features(std::span<const FlankPoint> points,
                                              double min_strength = 8);
 
