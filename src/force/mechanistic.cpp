@@ -174,44 +174,85 @@ ForceSummary summarize(std::span<const Vec3> forces_N) {
   return s;
 }
 
-void surface_generating_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
-                               const Engagement& eng, double normal_phi,
-                               std::vector<SurfaceForce>& out) {
-  out.clear();
-  // Tooth 0's edge at z_i is at normal_phi when theta_i = normal_phi + psi_i (the
-  // other teeth give the same force: periodic in the pitch). At theta_i, tooth t's
-  // edge at slice m sits at phi = (normal_phi + psi_i) + (t pitch - psi_m); the
-  // sines of both parts are tabled so the double loop needs no trigonometry.
-  struct Part {
-    std::size_t slice;
-    double angle, s, c;
-  };
-  std::vector<Part> a_part, b_part;  // per engaged slice; per engaged slice and tooth
+namespace {
+
+// The tables behind the surface-generating forces. Tooth 0's edge at z_i is at
+// normal_phi when theta_i = normal_phi + psi_i (the other teeth give the same
+// force: periodic in the pitch). At theta_i, tooth t's edge at slice m sits at
+// phi = (normal_phi + psi_i) + (t pitch - psi_m); the sines of both parts are
+// tabled so the double loop needs no trigonometry.
+struct Part {
+  std::size_t slice;
+  double angle, s, c;
+};
+struct GeneratingParts {
+  std::vector<Part> a;            // per engaged slice
+  std::vector<Part> b;            // per engaged slice and tooth
+  std::vector<SliceLoad> loads;   // per engaged slice
+};
+
+void generating_parts(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                      const Engagement& eng, double normal_phi, GeneratingParts& p) {
+  p.a.clear();
+  p.b.clear();
+  p.loads.clear();
   const std::size_t n = std::min(cs.slices.size(), eng.slices.size());
   const int flutes = cs.cutter.flutes;
   for (std::size_t i = 0; i < n; ++i) {
     if (eng.slices[i].empty()) continue;
     const double x = normal_phi + cs.slices[i].lag;
-    a_part.push_back({i, x, std::sin(x), std::cos(x)});
+    p.a.push_back({i, x, std::sin(x), std::cos(x)});
     for (int t = 0; t < flutes; ++t) {
       const double y = t * cs.pitch() - cs.slices[i].lag;
-      b_part.push_back({i, y, std::sin(y), std::cos(y)});
+      p.b.push_back({i, y, std::sin(y), std::cos(y)});
     }
   }
-  std::vector<SliceLoad> loads;
-  for (const Part& p : a_part) loads.push_back(slice_load(cs.slices[p.slice], k, fz_mm));
-  for (const Part& ai : a_part) {
+  for (const Part& q : p.a) p.loads.push_back(slice_load(cs.slices[q.slice], k, fz_mm));
+}
+
+// Adds to acc the force engaged slice m (index into p.a) carries at the instant
+// the edge at `ai` passes normal_phi: all its teeth in the cut.
+inline void add_slice_at_instant(const GeneratingParts& p, const Part& ai, std::size_t m,
+                                 int flutes, const Engagement& eng, Vec3& acc) {
+  const auto& ivs = eng.slices[p.a[m].slice];
+  for (int t = 0; t < flutes; ++t) {
+    const Part& bm = p.b[m * flutes + t];
+    const double x = ai.angle + bm.angle;
+    if (!inside(ivs, x - two_pi * std::floor(x / two_pi))) continue;
+    add_element(p.loads[m], ai.s * bm.c + ai.c * bm.s, ai.c * bm.c - ai.s * bm.s, 1.0, acc);
+  }
+}
+
+}  // namespace
+
+void surface_generating_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                               const Engagement& eng, double normal_phi,
+                               std::vector<SurfaceForce>& out) {
+  out.clear();
+  GeneratingParts p;
+  generating_parts(cs, k, fz_mm, eng, normal_phi, p);
+  const int flutes = cs.cutter.flutes;
+  for (const Part& ai : p.a) {
     Vec3 f = Vec3::Zero();
-    for (std::size_t m = 0; m < a_part.size(); ++m) {
-      const auto& ivs = eng.slices[a_part[m].slice];
-      for (int t = 0; t < flutes; ++t) {
-        const Part& bm = b_part[m * flutes + t];
-        const double x = ai.angle + bm.angle;
-        if (!inside(ivs, x - two_pi * std::floor(x / two_pi))) continue;
-        add_element(loads[m], ai.s * bm.c + ai.c * bm.s, ai.c * bm.c - ai.s * bm.s, 1.0, f);
-      }
-    }
+    for (std::size_t m = 0; m < p.a.size(); ++m) add_slice_at_instant(p, ai, m, flutes, eng, f);
     out.push_back({cs.slices[ai.slice].z_mm, f});
+  }
+}
+
+void surface_generating_loads(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                              const Engagement& eng, double normal_phi, GeneratingLoads& out) {
+  GeneratingParts p;
+  generating_parts(cs, k, fz_mm, eng, normal_phi, p);
+  const std::size_t n = p.a.size();
+  const int flutes = cs.cutter.flutes;
+  out.slice.resize(n);
+  out.z_mm.resize(n);
+  out.force_N.assign(n * n, Vec3::Zero());
+  for (std::size_t i = 0; i < n; ++i) {
+    out.slice[i] = p.a[i].slice;
+    out.z_mm[i] = cs.slices[p.a[i].slice].z_mm;
+    for (std::size_t m = 0; m < n; ++m)
+      add_slice_at_instant(p, p.a[i], m, flutes, eng, out.force_N[i * n + m]);
   }
 }
 

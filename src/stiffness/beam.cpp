@@ -177,12 +177,24 @@ Eigen::SparseMatrix<double> assemble(const Chain& c, const std::vector<std::arra
 
 }  // namespace
 
-ComplianceTable beam_compliance(const Tool& t, const MachineStiffness& m, bool tool_only,
-                                const BeamOptions& opt) {
+namespace {
+
+// The chain solved for unit lateral (column 2 s) and axial (column 2 s + 1) loads
+// at each station node; x holds the displacements of every dof.
+struct StationSolve {
+  std::vector<double> stations_mm;
+  std::vector<int> w_dof, u_dof;  // the station nodes' dofs; -1: fixed
+  Eigen::MatrixXd x;
+};
+
+StationSolve solve_stations(const Tool& t, const MachineStiffness& m, bool tool_only,
+                            const BeamOptions& opt) {
   const double top = std::min(t.flute_length_mm, t.stickout_mm);
   const int steps = opt.station_steps > 0 ? opt.station_steps
                                           : std::max(2, static_cast<int>(std::ceil(top / 0.5)));
-  const std::vector<double> stations = station_heights_mm(top, steps);
+  StationSolve r;
+  r.stations_mm = station_heights_mm(top, steps);
+  const std::vector<double>& stations = r.stations_mm;
   const Chain chain = build_chain(t, m, tool_only, stations, opt.max_element_mm);
   int ndof = 0;
   const auto dofs = number_dofs(chain, ndof);
@@ -192,29 +204,58 @@ ComplianceTable beam_compliance(const Tool& t, const MachineStiffness& m, bool t
 
   // Unit lateral and axial loads at each station node; the compliance is the
   // displacement of the loaded dof.
-  std::vector<std::size_t> node_of(stations.size());
   for (std::size_t s = 0; s < stations.size(); ++s) {
     const auto it = std::lower_bound(chain.node_z_mm.begin(), chain.node_z_mm.end(),
                                      stations[s] - 1e-9);
-    node_of[s] = static_cast<std::size_t>(it - chain.node_z_mm.begin());
+    const auto node = static_cast<std::size_t>(it - chain.node_z_mm.begin());
+    r.w_dof.push_back(dofs[node][W]);
+    r.u_dof.push_back(dofs[node][U]);
   }
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(ndof, 2 * static_cast<Eigen::Index>(stations.size()));
   for (std::size_t s = 0; s < stations.size(); ++s) {
     // A station on a fixed dof (flutes up to a rigid clamp) has no compliance.
-    if (dofs[node_of[s]][W] >= 0) rhs(dofs[node_of[s]][W], 2 * s) = 1;
-    if (dofs[node_of[s]][U] >= 0) rhs(dofs[node_of[s]][U], 2 * s + 1) = 1;
+    if (r.w_dof[s] >= 0) rhs(r.w_dof[s], 2 * s) = 1;
+    if (r.u_dof[s] >= 0) rhs(r.u_dof[s], 2 * s + 1) = 1;
   }
-  const Eigen::MatrixXd x = ldlt.solve(rhs);
+  r.x = ldlt.solve(rhs);
+  return r;
+}
+
+// Displacement of dof `dof` in load case `col` (0 on a fixed dof).
+double disp(const StationSolve& r, int dof, Eigen::Index col) { return dof >= 0 ? r.x(dof, col) : 0.0; }
+
+}  // namespace
+
+ComplianceTable beam_compliance(const Tool& t, const MachineStiffness& m, bool tool_only,
+                                const BeamOptions& opt) {
+  const StationSolve r = solve_stations(t, m, tool_only, opt);
   std::vector<ComplianceRow> rows;
-  for (std::size_t s = 0; s < stations.size(); ++s) {
-    const int w = dofs[node_of[s]][W], u = dofs[node_of[s]][U];
-    const double cb = w >= 0 ? x(w, 2 * s) : 0.0;
-    const double ca = u >= 0 ? x(u, 2 * s + 1) : 0.0;
+  for (std::size_t s = 0; s < r.stations_mm.size(); ++s) {
+    const auto c = static_cast<Eigen::Index>(2 * s);
+    const double cb = disp(r, r.w_dof[s], c), ca = disp(r, r.u_dof[s], c + 1);
     Compliance C = Eigen::Vector3d(cb, cb, ca).asDiagonal();
     if (!tool_only) C += m.structure_mm_per_N;
-    rows.push_back({stations[s], C});
+    rows.push_back({r.stations_mm[s], C});
   }
   return ComplianceTable(std::move(rows));
+}
+
+CrossComplianceTable beam_cross_compliance(const Tool& t, const MachineStiffness& m, bool tool_only,
+                                           const BeamOptions& opt) {
+  // Column j of the solve is the whole deflected line under a load at station j,
+  // so the displacement at station i is read off directly: exact for the beam
+  // model at station pairs (spindle and clamp springs included through the chain).
+  const StationSolve r = solve_stations(t, m, tool_only, opt);
+  const auto n = static_cast<Eigen::Index>(r.stations_mm.size());
+  Eigen::MatrixXd lat(n, n), ax(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) {
+      lat(i, j) = disp(r, r.w_dof[static_cast<std::size_t>(i)], 2 * j);
+      ax(i, j) = disp(r, r.u_dof[static_cast<std::size_t>(i)], 2 * j + 1);
+    }
+  // The structure compliance is a rigid translation of the spindle in series.
+  const Compliance S = tool_only ? Compliance::Zero() : Compliance(m.structure_mm_per_N);
+  return CrossComplianceTable(r.stations_mm, std::move(lat), std::move(ax), S);
 }
 
 ComplianceTable add_machine(const ComplianceTable& tool_only_table, const Tool& t,

@@ -1,6 +1,7 @@
 #include "deflex/stiffness/compliance.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 namespace deflex::stiffness {
@@ -42,6 +43,92 @@ Compliance ComplianceTable::at(double h) const {
   const double h01 = t * t * (3 - 2 * t), h11 = t * t * (t - 1);
   return h00 * rows_[i].matrix_mm_per_N + h10 * dx * slope_at(rows_, i) +
          h01 * rows_[i + 1].matrix_mm_per_N + h11 * dx * slope_at(rows_, i + 1);
+}
+
+CrossComplianceTable::CrossComplianceTable(std::vector<double> heights_mm,
+                                           Eigen::MatrixXd lateral_mm_per_N,
+                                           Eigen::MatrixXd axial_mm_per_N,
+                                           const Compliance& structure_mm_per_N)
+    : h_(std::move(heights_mm)),
+      lateral_(std::move(lateral_mm_per_N)),
+      axial_(std::move(axial_mm_per_N)),
+      structure_(structure_mm_per_N) {
+  const auto n = static_cast<Eigen::Index>(h_.size());
+  if (lateral_.rows() != n || lateral_.cols() != n || axial_.rows() != n || axial_.cols() != n)
+    throw std::invalid_argument("CrossComplianceTable: matrices must be stations x stations");
+  for (std::size_t i = 1; i < h_.size(); ++i)
+    if (!(h_[i] > h_[i - 1]))
+      throw std::invalid_argument("CrossComplianceTable: heights must ascend strictly");
+}
+
+namespace {
+
+// Interpolation weights at h: value(h) = sum w_k f(idx_k), the cubic Hermite of
+// ComplianceTable::at written as a linear map of the station values (its
+// finite-difference slopes are themselves linear in them).
+struct Weights {
+  std::array<std::size_t, 8> idx{};
+  std::array<double, 8> w{};
+  int n = 0;
+  void add(std::size_t i, double v) {
+    idx[static_cast<std::size_t>(n)] = i;
+    w[static_cast<std::size_t>(n++)] = v;
+  }
+};
+
+// Adds scale * (slope at station i) as weights (slope_at above, in Lagrange form).
+void add_slope(const std::vector<double>& x, std::size_t i, double scale, Weights& out) {
+  const std::size_t n = x.size();
+  if (n == 2) {
+    const double d = 1 / (x[1] - x[0]);
+    out.add(0, -scale * d);
+    out.add(1, scale * d);
+    return;
+  }
+  const std::size_t a = i == 0 ? 0 : (i == n - 1 ? n - 3 : i - 1);
+  const double x0 = x[a], x1 = x[a + 1], x2 = x[a + 2];
+  const double q = ((x[i] - x0) + (x[i] - x1)) / (x2 - x0);  // slope = (1-q) d01 + q d12
+  out.add(a, -scale * (1 - q) / (x1 - x0));
+  out.add(a + 1, scale * ((1 - q) / (x1 - x0) - q / (x2 - x1)));
+  out.add(a + 2, scale * q / (x2 - x1));
+}
+
+Weights hermite_weights(const std::vector<double>& x, double h) {
+  Weights wt;
+  if (x.size() == 1 || h <= x.front()) {
+    wt.add(0, 1);
+    return wt;
+  }
+  if (h >= x.back()) {
+    wt.add(x.size() - 1, 1);
+    return wt;
+  }
+  const std::size_t i =
+      static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), h) - x.begin()) - 1;
+  const double dx = x[i + 1] - x[i], t = (h - x[i]) / dx;
+  wt.add(i, (1 + 2 * t) * (1 - t) * (1 - t));
+  wt.add(i + 1, t * t * (3 - 2 * t));
+  add_slope(x, i, dx * t * (1 - t) * (1 - t), wt);
+  add_slope(x, i + 1, dx * t * t * (t - 1), wt);
+  return wt;
+}
+
+}  // namespace
+
+Compliance CrossComplianceTable::at(double z_mm, double zp_mm) const {
+  if (h_.empty()) throw std::logic_error("CrossComplianceTable::at on an empty table");
+  const Weights a = hermite_weights(h_, z_mm), b = hermite_weights(h_, zp_mm);
+  double lat = 0, ax = 0;
+  for (int p = 0; p < a.n; ++p)
+    for (int q = 0; q < b.n; ++q) {
+      const double w = a.w[static_cast<std::size_t>(p)] * b.w[static_cast<std::size_t>(q)];
+      const auto i = static_cast<Eigen::Index>(a.idx[static_cast<std::size_t>(p)]);
+      const auto j = static_cast<Eigen::Index>(b.idx[static_cast<std::size_t>(q)]);
+      lat += w * lateral_(i, j);
+      ax += w * axial_(i, j);
+    }
+  Compliance c = Eigen::Vector3d(lat, lat, ax).asDiagonal();
+  return c + structure_;
 }
 
 Eigen::Vector3d deflection_mm(const ComplianceTable& c, double height_mm,

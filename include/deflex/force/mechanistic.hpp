@@ -68,6 +68,21 @@ void surface_generating_forces(const CutterSlices& cs, const Coefficients& k, do
                                const Engagement& eng, double normal_phi,
                                std::vector<SurfaceForce>& out);
 
+// The distribution behind surface_generating_forces, for the surface error
+// profile (flank.hpp): at the instant the edge at engaged slice i passes
+// normal_phi, the force engaged slice m carries (all its teeth in the cut), N,
+// same frame as above. Summed over m it is surface_generating_forces()[i]
+// (up to rounding). Same element force law (one code path).
+struct GeneratingLoads {
+  std::vector<std::size_t> slice;  // engaged slice indices into cs.slices, ascending
+  std::vector<double> z_mm;        // their mid heights above the tip
+  std::vector<Vec3> force_N;       // size() x size(), row-major: [i * size() + m]
+  std::size_t size() const { return slice.size(); }
+  const Vec3& at(std::size_t i, std::size_t m) const { return force_N[i * size() + m]; }
+};
+void surface_generating_loads(const CutterSlices& cs, const Coefficients& k, double fz_mm,
+                              const Engagement& eng, double normal_phi, GeneratingLoads& out);
+
 // The component along the in-plane unit normal (sin phi_n, cos phi_n, 0) with the
 // largest magnitude among those slices (0 when nothing is engaged).
 struct SurfaceForcePeak {

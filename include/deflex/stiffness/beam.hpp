@@ -39,6 +39,12 @@ struct BeamOptions {
 ComplianceTable beam_compliance(const Tool& t, const MachineStiffness& m, bool tool_only,
                                 const BeamOptions& opt = {});
 
+// C(z, z') from the same chain and stations as beam_compliance (its diagonal at
+// the stations is bit for bit that table's rows): one solve per station load
+// gives the deflected line, read at every station.
+CrossComplianceTable beam_cross_compliance(const Tool& t, const MachineStiffness& m, bool tool_only,
+                                           const BeamOptions& opt = {});
+
 // Adds what the machine contributes to a tool-only table (e.g. from the solid
 // model): C(h) + [C_beam(h) - C_beam,tool_only(h)]. Exact in series: the tool's
 // own deflection relative to the holder face does not depend on how the face moves.

@@ -37,6 +37,41 @@ class ComplianceTable {
   std::vector<ComplianceRow> rows_;
 };
 
+// C(z, z'): the displacement of the tool axis at height z under a unit force at
+// height z' (both above the tip, mm; machine axes, mm/N; rows displacement x, y,
+// z at z, columns force x, y, z at z'). On the diagonal it is C(h) of
+// ComplianceTable; Maxwell-Betti reciprocity gives C(z, z') = C(z', z)^T. Needed
+// where the load is spread along the flutes and the deflection is wanted at
+// another height (the flank surface error profile, force/flank.hpp).
+//
+// Stored per station pair as a lateral (x and y alike, axisymmetric chain) and an
+// axial influence coefficient plus a constant 3x3 (the machine structure in
+// series, which translates the whole tool whatever the load height).
+class CrossComplianceTable {
+ public:
+  CrossComplianceTable() = default;
+  // heights_mm ascending and distinct; lateral/axial: n x n, (i, j) = displacement
+  // at station i under a unit load at station j.
+  CrossComplianceTable(std::vector<double> heights_mm, Eigen::MatrixXd lateral_mm_per_N,
+                       Eigen::MatrixXd axial_mm_per_N,
+                       const Compliance& structure_mm_per_N = Compliance::Zero());
+
+  // Tensor-product cubic Hermite in z and z' with the slopes ComplianceTable uses
+  // (exact at station pairs; the same weights in both variables, so a reciprocal
+  // table stays reciprocal between stations). Heights outside are clamped.
+  Compliance at(double z_mm, double zp_mm) const;
+
+  const std::vector<double>& heights_mm() const { return h_; }
+  const Eigen::MatrixXd& lateral_mm_per_N() const { return lateral_; }
+  const Eigen::MatrixXd& axial_mm_per_N() const { return axial_; }
+  bool empty() const { return h_.empty(); }
+
+ private:
+  std::vector<double> h_;
+  Eigen::MatrixXd lateral_, axial_;
+  Compliance structure_ = Compliance::Zero();
+};
+
 // Deflection of the load point, mm, machine axes, under force_N at height h:
 // delta = C(h) F.
 Eigen::Vector3d deflection_mm(const ComplianceTable& c, double height_mm,
