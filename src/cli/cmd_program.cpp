@@ -129,7 +129,9 @@ namespace {
 class TravelCheck : public interp::MotionSink {
  public:
   TravelCheck(const profile::Travel& t, const SourceText& src, Diagnostics& d) : t_(t), src_(src), d_(d) {}
+  std::vector<interp::Motion>* keep = nullptr;  // collects the motions (the gouge check's)
   void motion(const interp::Motion& m) override {
+    if (keep) keep->push_back(m);
     ++count_;
     if (!t_.set) return;
     static const char axes[] = {'X', 'Y', 'Z'};
@@ -182,11 +184,15 @@ class TravelCheck : public interp::MotionSink {
 
 int cmd_check(const std::vector<std::string>& args, Io& io) {
   ReadOptions r;
-  std::string file, format = "text";
+  PartOptions part;
+  std::string file, format = "text", tool_file, tool;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
-                    ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json");
+                    ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json")
+                    ("tool-file", po::value(&tool_file), "tool library for the gouge check (default: config tool_file, else samples/tools.yaml)")
+                    ("tool", po::value(&tool), "with --part: check every cut with this tool (default: the program's T words)");
+  add_part_options(desc, part);
   add_read_options(desc, r);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
@@ -197,8 +203,12 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
                "as FILE:LINE:COL: error|warning: MESSAGE with the source line, on stderr. With a\n"
                "machine profile, every motion (arcs by their extent) is checked against the\n"
                "travel limits of the tool tip in machine coordinates (work offsets from the\n"
-               "profile; tool length not included). A summary goes to stdout. Exit 0 when\n"
-               "there is no error, 1 otherwise.\n", desc);
+               "profile; tool length not included). With --part, the gouge check: at every CL\n"
+               "point of every cutting move (0.5 mm apart) the programmed cutter is measured\n"
+               "against the part model, and where it cuts into the part or stands off a face of\n"
+               "it by more than --part-gap a warning names the lines and the largest gap (no\n"
+               "stock, no simulation). A summary goes to stdout. Exit 0 when there is no error,\n"
+               "1 otherwise.\n", desc);
     return 0;
   }
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
@@ -209,7 +219,21 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   diags.set_keep(false);
   profile::Travel none;
   TravelCheck tc(s.machine ? s.machine->travel : none, prog.source(), diags);
+  const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
+  std::vector<interp::Motion> motions;
+  tc.keep = part_file.empty() ? nullptr : &motions;
   interp::Stats st = interp::interpret(prog, s.interp(), diags, tc);
+  if (!part_file.empty() && !st.stopped) {
+    const double gap = part.gap_mm ? *part.gap_mm : config_number(s.config, "part_gap_mm", 0.02);
+    if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+    const part::PartModel pm = part::PartModel::load(part_file);
+    const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
+    if (tool.empty()) tool = config_string(s.config, "tool");
+    const compensate::PartGaps g = compensate::part_gaps(
+        motions, pm, lib, [&tool](const interp::Motion& m) { return !tool.empty() ? tool : "T" + std::to_string(m.tool); },
+        {}, gap, 1.0);
+    report_part_gaps(g, prog.source(), gap, diags);
+  }
   if (st.cutter_comp_motions)
     diags.report(Severity::note, prog.source(), st.first_cutter_comp_line, 1,
                  std::to_string(st.cutter_comp_motions) +

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "../support.hpp"
+#include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/gouge.hpp"
 #include "deflex/force/material.hpp"
@@ -188,6 +189,78 @@ TEST_CASE("gouge check: a pass dug into the part and a pass standing off are nam
   // Moved 0.05 straight down on a 20 deg slope: 0.05 cos 20 into it.
   CHECK(g.overcut.worst_mm == doctest::Approx(0.05 * std::cos(20 / deg)).epsilon(1e-3));
   CHECK(g.standoff.worst_mm == doctest::Approx(0.04 * std::cos(20 / deg)).epsilon(1e-3));
+}
+
+TEST_CASE("a raster across a 20 deg slope: e = delta . n of the part, and compensated with --part it judges inside the tolerance") {
+  // Ball D10 (T7) passes along X across a plane rising 20 deg in +Y: the
+  // travel rule's normal (perpendicular to the feed in its vertical plane) is
+  // +Z here, 20 deg off the surface's. Stock: the plane + 1 mm along Z.
+  const Surface s = plane_across(20);
+  const double R = 5, t = std::tan(20 / deg), lift = R / std::cos(20 / deg) - R;
+  std::string text = "%\nO0003\nN1 G21 G90 G17 G40 G49 G80 G54\nN2 T7 M06\nN3 S10000 M03\nN4 G00 X-6. Y0. Z8.\n";
+  int n = 5;
+  auto z_at = [&](double y) { return t * y + lift; };
+  text += "N" + std::to_string(n++) + " G01 Z" + std::to_string(z_at(0)) + " F1600.\n";
+  for (int r = 0; r < 6; ++r) {
+    const double y = 0.8 * r;
+    if (r) text += "N" + std::to_string(n++) + " Y" + std::to_string(y) + " Z" + std::to_string(z_at(y)) + "\n";
+    for (int i = 1; i <= 60; ++i)
+      text += "N" + std::to_string(n++) + " X" + std::to_string(r % 2 == 0 ? -6 + 0.5 * i : 24 - 0.5 * i) + "\n";
+  }
+  text += "N" + std::to_string(n) + " G00 Z30.\nN" + std::to_string(n + 1) + " M30\n%\n";
+  const test::Interpreted in = test::interpret_text(text);
+  REQUIRE(in.errors == 0);
+  std::vector<stock::Triangle> surface = mesh(s, 40, 2.0), raised = surface;
+  for (auto& tri : raised)
+    for (auto& v : tri.p) v[2] += 1.0;
+  const stock::ZMap zmap = stock::zmap_from_triangles(raised, 0.05);
+  const part::PartModel pm(surface);
+  compensate::Physics ph;
+  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
+  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
+  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "C35").k;
+  ph.stock = &zmap;
+  ph.part = &pm;
+  compensate::Settings st;
+  st.tolerance_mm = 0.002;
+  st.threads = 1;
+  // As the CLI runs it: moves whose error along them would leave the
+  // tolerance under the ramp of their end offsets are split.
+  const gcode::Program prog{SourceText("t.nc", text)};
+  const std::vector<bool> split = compensate::splittable(prog, in.motions);
+  const compensate::Result r = compensate::compensate(in.motions, ph, st, {}, &split);
+  CHECK(r.converged);
+  // As written: every cutting point's normal is the part's, and its error is
+  // the deflection along the analytic normal.
+  const V3 n_plane = s.normal(0, 0);
+  std::size_t cutting = 0, outside = 0;
+  double worst_de = 0;
+  for (const compensate::Point& p : r.nominal) {
+    if (p.air || p.plunge) continue;
+    ++cutting;
+    CHECK(p.normal_source == compensate::NormalSource::part);
+    worst_de = std::max(worst_de, std::fabs(p.error_mm - p.delta_mm.dot(n_plane)));
+    outside += std::fabs(p.error_mm) > st.tolerance_mm;
+  }
+  INFO("cutting points " << cutting << ", outside as written " << outside << ", worst |e - delta.n| " << worst_de);
+  CHECK(cutting > 200);
+  CHECK(worst_de <= 2e-4);
+  REQUIRE(outside > cutting / 10);
+  // Judged as simulate --reference --part does: the output simulated afresh,
+  // each point's landing (offset + deflection) along the part's normal.
+  const auto judged = compensate::simulate(r.motions, r.offsets, ph, st);
+  std::size_t after = 0;
+  double worst = 0;
+  for (const compensate::Point& p : judged) {
+    if (p.air || p.plunge) continue;
+    const V3 end = r.offsets[p.motion], start = p.motion ? r.offsets[p.motion - 1] : V3(V3::Zero());
+    const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
+    const double e = (start + u * (end - start) + p.delta_mm).dot(p.normal);
+    worst = std::max(worst, std::fabs(e));
+    after += std::fabs(e) > st.tolerance_mm * 1.01;
+  }
+  INFO("compensated: worst " << worst << " mm");
+  CHECK(after == 0);
 }
 
 }  // TEST_SUITE
