@@ -119,8 +119,10 @@ Job prepare(Args& a, Io& io, bool compensating) {
   if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
   if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
   if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
-  if (j.part) {
-    // The gouge check runs before the simulation: it needs no stock and no forces.
+  if (j.part && a.reference.empty()) {
+    // The gouge check runs before the simulation: it needs no stock and no
+    // forces. Not on a program judged against a reference: a compensated
+    // program stands off the part on purpose (the reference is the design).
     const double gap = a.part.gap_mm ? *a.part.gap_mm : config_number(cfg, "part_gap_mm", 0.02);
     if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
     engage::PathOptions po;
