@@ -167,3 +167,22 @@ TEST_CASE("pairing: two 200,000-line programs align in memory linear in their si
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("compensate") {
+
+TEST_CASE("simulate --reference: a program judged against itself gives exactly its as-written error") {
+  // Every intent offset is zero, so the judge runs the same simulation.
+  const std::vector<std::string> common = {"--stock", "box:0,0,-20,100,20,0", "--tolerance", "0.002", "--threads", "1"};
+  std::vector<std::string> plain = {"simulate", "tests/golden/wall.nc"}, judged = plain;
+  plain.insert(plain.end(), common.begin(), common.end());
+  judged.insert(judged.end(), {"--reference", "tests/golden/wall.nc"});
+  judged.insert(judged.end(), common.begin(), common.end());
+  auto p = test::run_cli(plain), j = test::run_cli(judged);
+  REQUIRE(p.rc == 0);
+  REQUIRE(j.rc == 0);
+  std::string want = p.out;
+  want.replace(want.find(" CL points:"), 11, " CL points against the reference:");
+  CHECK(j.out == want);
+}
+
+}  // TEST_SUITE
