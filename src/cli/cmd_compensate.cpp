@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
+#include "deflex/compensate/pairing.hpp"
 #include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/stiffness/machine.hpp"
@@ -388,56 +389,14 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     c.out = &rm;
     interp::interpret(ref, j.setup.interp(), diags, c);
     if (diags.errors()) throw Error(Exit::input, a.reference + ": error: the reference program has errors");
-    // Pair the motions: the same motion within `near` mm, or a piece of a
-    // reference move that deflex split (its end projects onto that move).
-    const double near = std::max(1.0, 10 * j.setup.machine->max_offset_mm);
-    intent.assign(j.motions.size(), V3::Zero());
-    std::size_t k = 0;
-    for (std::size_t i = 0; i < j.motions.size(); ++i) {
-      const interp::Motion& m = j.motions[i];
-      const V3 pe(m.end_mm[0], m.end_mm[1], m.end_mm[2]);
-      bool paired = false;
-      if (k < rm.size()) {
-        const V3 re(rm[k].end_mm[0], rm[k].end_mm[1], rm[k].end_mm[2]);
-        if (m.kind == rm[k].kind && (pe - re).norm() <= near) {
-          intent[i] = pe - re;
-          ++k;
-          paired = true;
-        } else if (m.kind == interp::MotionKind::linear && rm[k].kind != interp::MotionKind::linear &&
-                   rm[k].kind != interp::MotionKind::rapid) {
-          // A chord of a reference arc that deflex linearised: the intended
-          // point is the nearest on the arc's circle, in its plane.
-          const int normal = rm[k].plane == 17 ? 2 : rm[k].plane == 18 ? 1 : 0;
-          const V3 c(rm[k].center_mm[0], rm[k].center_mm[1], rm[k].center_mm[2]);
-          const V3 rs(rm[k].start_mm[0], rm[k].start_mm[1], rm[k].start_mm[2]);
-          V3 radial = pe - c, r0 = rs - c;
-          radial[normal] = 0;
-          r0[normal] = 0;
-          if (radial.norm() > 0) {
-            V3 q = c + radial * (r0.norm() / radial.norm());
-            q[normal] = rs[normal];
-            if ((pe - q).norm() <= near) {
-              intent[i] = pe - q;
-              paired = true;
-            }
-          }
-        } else if (m.kind == interp::MotionKind::linear && rm[k].kind == interp::MotionKind::linear) {
-          const V3 rs(rm[k].start_mm[0], rm[k].start_mm[1], rm[k].start_mm[2]);
-          const V3 ab = re - rs;
-          const double t = ab.squaredNorm() > 0 ? std::clamp((pe - rs).dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-          const V3 q = rs + t * ab;
-          if ((pe - q).norm() <= near) {
-            intent[i] = pe - q;
-            paired = true;
-          }
-        }
-      }
-      if (!paired)
-        throw Error(Exit::input, a.file + ":" + std::to_string(m.line) + ":1: error: this motion has no counterpart in " +
-                                     a.reference + ": not the same program");
-    }
-    if (k != rm.size())
-      throw Error(Exit::input, a.reference + ": error: motions of the reference have no counterpart in " + a.file);
+    // Paired by the program structure (compensate/pairing.hpp): a motion the
+    // compensation left alone has an intent offset of exactly zero; a block
+    // deflex inserted is meant to lie on the move or arc it splits. F words
+    // are left out of the skeletons: --feed-limit changes them.
+    const compensate::LinePairing lines =
+        compensate::pair_lines(compensate::line_facts(ref, rm, true), compensate::line_facts(j.prog, j.motions, true),
+                               compensate::pairing_options(j.setup.machine->max_offset_mm));
+    intent = compensate::intent_offsets(lines, rm, j.motions, a.file);
   }
   auto progress = progress_for(io);
   // The design path: this program's motions less the intent offsets (the

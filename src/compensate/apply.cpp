@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <sstream>
 
+#include "deflex/compensate/pairing.hpp"
 #include "deflex/gcode/skeleton.hpp"
 #include "deflex/writer/writer.hpp"
 
@@ -207,6 +209,98 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
   return w.str();
 }
 
+namespace {
+
+struct Collect : interp::MotionSink {
+  std::vector<interp::Motion>* out = nullptr;
+  void motion(const interp::Motion& m) override { out->push_back(m); }
+};
+
+// The line facts of the original program: its motions are those of `om` that
+// deflex did not insert.
+std::vector<LineFacts> original_facts(const gcode::Program& original, const std::vector<interp::Motion>& om,
+                                      const std::vector<bool>* inserted, bool ignore_feed) {
+  std::vector<LineFacts> f(original.line_count() + 1);
+  LineFactsSink sink;
+  sink.lines = &f;
+  // In `om` a split move starts at its last inserted point; in the original
+  // it starts where the first of them does.
+  std::size_t group = 0;  // first motion after the last one deflex did not insert
+  for (std::size_t i = 0; i < om.size(); ++i) {
+    if (inserted && (*inserted)[i]) continue;
+    interp::Motion m = om[i];
+    m.start_mm = om[group].start_mm;
+    sink.motion(m);
+    group = i + 1;
+  }
+  fill_line_text(original, f, ignore_feed);
+  return f;
+}
+
+using Fail = std::function<void(std::uint32_t line, const std::string& what)>;
+
+// How far an output motion lies from where deflex meant it: an inserted one
+// from the move or arc it splits (from that move's original start: in `om`
+// the parent starts at the last inserted point), any other from the original
+// end (and an arc's centre, which moves with it).
+double displacement_mm(const std::vector<interp::Motion>& om, const std::vector<bool>* inserted, std::size_t i,
+                       const MotionPair& p, const interp::Motion& y) {
+  const interp::Motion& x = om[p.original];
+  if (p.inserted) {
+    std::size_t s0 = i;
+    while (s0 > 0 && (*inserted)[s0 - 1]) --s0;
+    PathPiece parent = piece_of(x);
+    parent.start_mm = om[s0].start_mm;
+    return (V3(y.end_mm[0], y.end_mm[1], y.end_mm[2]) - nearest_on(parent, y.end_mm)).norm();
+  }
+  double dist = 0;
+  for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.end_mm[k] - x.end_mm[k]));
+  if (x.kind == interp::MotionKind::arc_cw || x.kind == interp::MotionKind::arc_ccw)
+    for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.center_mm[k] - x.center_mm[k]));
+  return dist;
+}
+
+// Every motion read back against the one deflex meant, through the pairing.
+void check_motions(const std::vector<interp::Motion>& om, const std::vector<interp::Motion>& ym,
+                   const LinePairing& pairing, const interp::Options& opt, const std::vector<bool>& movable,
+                   double max_offset_mm, const std::vector<bool>* inserted, const std::vector<double>* feeds,
+                   const Fail& fail) {
+  // Numbers are written with the dialect's decimals: allow their rounding.
+  const double round_mm = 0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001;
+  const double round_in = 0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001;
+  MotionPairer pairer(pairing, om, inserted);
+  for (std::size_t i = 0; i < ym.size(); ++i) {
+    const interp::Motion& y = ym[i];
+    if (i >= om.size()) fail(1, "the written program has more motions than the original");
+    const interp::Motion& x = om[i];
+    const bool ins = inserted && (*inserted)[i];
+    const MotionPair p = pairer.next(y);
+    if (p.original == MotionPair::none || p.inserted != ins || (!ins && p.original != i))
+      fail(x.line, "a motion has no counterpart in the original");
+    if (ins && om[p.original].kind == interp::MotionKind::rapid) fail(x.line, "an inserted block before a rapid");
+    if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
+    if (x.kind != interp::MotionKind::rapid) {
+      // Feeds: as programmed, or as --feed-limit lowered them (never higher).
+      const double want = feeds ? (*feeds)[i] : x.feed_mm_per_min;
+      if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0))
+        fail(x.line, "a feed rate is not the one deflex meant");
+      if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail(x.line, "a feed rate went up");
+    }
+    const double r = (x.inch ? round_in : round_mm) * std::sqrt(3.0);
+    const double allowed = movable[i] || ins ? max_offset_mm + r : r;
+    const double dist = displacement_mm(om, inserted, i, p, y);
+    if (dist > allowed) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "a %s motion moved by %.6f mm (allowed %.6f mm)",
+                    ins ? "inserted" : movable[i] ? "compensated" : "fixed", dist, allowed);
+      fail(x.line, buf);
+    }
+  }
+  if (!pairer.complete() || ym.size() != om.size()) fail(1, "the written program has a different number of motions");
+}
+
+}  // namespace
+
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const std::string& text,
                   const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
                   const std::vector<bool>* inserted, const std::vector<double>* feeds) {
@@ -224,95 +318,45 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
       if ((*inserted)[i]) { ++before[om[i].line]; ++n_inserted; }
   if (out.line_count() != original.line_count() + n_inserted)
     fail(1, "the written program has an unexpected number of lines");
+  const LinePairing want = expected_pairing(before, original.line_count(), out.line_count());
   Diagnostics quiet(nullptr, 0);
-  gcode::Block a, b;
-  std::uint32_t ol = 0;
-  for (std::uint32_t l = 1; l <= original.line_count(); ++l) {
-    for (std::uint32_t k = 0; k < before[l]; ++k) {
-      out.lex(++ol, b, quiet);
+  gcode::Block b;
+  std::vector<LineFacts> fa = original_facts(original, om, inserted, feeds), fb(out.line_count() + 1);
+  fill_line_text(out, fb, feeds);
+  for (std::uint32_t ol = 1; ol <= out.line_count(); ++ol) {
+    if (want.inserted(ol)) {
+      out.lex(ol, b, quiet);
       if (!split_form(b) || !b.find('X') || !b.find('Y') || !b.find('Z'))
-        fail(l, "an inserted block is not a plain G1 X Y Z [F] block");
+        fail(want.parent_of_b[ol], "an inserted block is not a plain G1 X Y Z [F] block");
+    } else if (fa[want.a_of_b[ol]].skeleton != fb[ol].skeleton) {
+      fail(want.a_of_b[ol], feeds ? "the block changed in more than its coordinate and feed words"
+                                  : "the block changed in more than its coordinate words");
     }
-    original.lex(l, a, quiet);
-    out.lex(++ol, b, quiet);
-    if (gcode::skeleton_hash(original, a, feeds) != gcode::skeleton_hash(out, b, feeds))
-      fail(l, feeds ? "the block changed in more than its coordinate and feed words"
-                    : "the block changed in more than its coordinate words");
   }
   std::ostringstream errs;
   Diagnostics diags(&errs, 0);
-  // Numbers are written with the dialect's decimals: allow their rounding.
-  const double round_mm = 0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001;
-  const double round_in = 0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001;
-  // Each motion read back is checked as it comes (no copy of the whole list).
-  std::size_t i = 0;
-  auto check = [&](const interp::Motion& y) {
-    if (i >= om.size()) fail(1, "the written program has more motions than the original");
-    const interp::Motion& x = om[i];
-    const bool ins = inserted && (*inserted)[i];
-    if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
-    if (x.kind != interp::MotionKind::rapid) {
-      // Feeds: as programmed, or as --feed-limit lowered them (never higher).
-      const double want = feeds ? (*feeds)[i] : x.feed_mm_per_min;
-      if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0))
-        fail(x.line, "a feed rate is not the one deflex meant");
-      if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail(x.line, "a feed rate went up");
-    }
-    const double r = (x.inch ? round_in : round_mm) * std::sqrt(3.0);
-    const double allowed = movable[i] || ins ? max_offset_mm + r : r;
-    double dist = 0;
-    if (ins) {
-      // Against the move it splits: the next motion that is not inserted,
-      // from its original start.
-      std::size_t k = i;
-      while (k < om.size() && (*inserted)[k]) ++k;
-      if (k == om.size()) fail(x.line, "an inserted block with no move after it");
-      std::size_t s0 = i;
-      while (s0 > 0 && (*inserted)[s0 - 1]) --s0;
-      const interp::Vec3 A = om[s0].start_mm, B = om[k].end_mm;
-      if (om[k].kind == interp::MotionKind::linear) {
-        V3 ab(B[0] - A[0], B[1] - A[1], B[2] - A[2]), ap(y.end_mm[0] - A[0], y.end_mm[1] - A[1], y.end_mm[2] - A[2]);
-        const double t = ab.squaredNorm() > 0 ? std::clamp(ap.dot(ab) / ab.squaredNorm(), 0.0, 1.0) : 0.0;
-        dist = (ap - t * ab).norm();
-      } else if (om[k].kind != interp::MotionKind::rapid) {
-        // A chord end of a linearised arc: off the arc's circle, in its plane
-        // or along its axis (the arc is planar).
-        const interp::Vec3& c = om[k].center_mm;
-        const int normal = om[k].plane == 17 ? 2 : om[k].plane == 18 ? 1 : 0;
-        double r2 = 0, p2 = 0;
-        for (int a = 0; a < 3; ++a) {
-          if (a == normal) continue;
-          r2 += (A[a] - c[a]) * (A[a] - c[a]);
-          p2 += (y.end_mm[a] - c[a]) * (y.end_mm[a] - c[a]);
-        }
-        const double radial = std::sqrt(p2) - std::sqrt(r2), axial = y.end_mm[normal] - A[normal];
-        dist = std::sqrt(radial * radial + axial * axial);
-      } else {
-        fail(x.line, "an inserted block before a rapid");
-      }
-    } else {
-      for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.end_mm[k] - x.end_mm[k]));
-      // An arc's centre moves with its end (arcs are moved whole).
-      if (x.kind == interp::MotionKind::arc_cw || x.kind == interp::MotionKind::arc_ccw)
-        for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.center_mm[k] - x.center_mm[k]));
-    }
-    if (dist > allowed) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "a %s motion moved by %.6f mm (allowed %.6f mm)",
-                    ins ? "inserted" : movable[i] ? "compensated" : "fixed", dist, allowed);
-      fail(x.line, buf);
-    }
-    ++i;
-  };
-  struct Checker : interp::MotionSink {
-    decltype(check)& f;
-    explicit Checker(decltype(check)& g) : f(g) {}
-    void motion(const interp::Motion& m) override { f(m); }
-  } sink(check);
-  interp::interpret(out, opt, diags, sink);
+  std::vector<interp::Motion> ym;
+  Collect collect;
+  collect.out = &ym;
+  LineFactsSink facts;
+  facts.lines = &fb;
+  struct Both : interp::MotionSink {
+    interp::MotionSink *x, *y;
+    void motion(const interp::Motion& m) override { x->motion(m); y->motion(m); }
+  } both;
+  both.x = &collect;
+  both.y = &facts;
+  interp::interpret(out, opt, diags, both);
   if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
-  if (i != om.size()) fail(1, "the written program has a different number of motions");
-
+  // What diff and simulate --reference will find from the structure alone must
+  // be what deflex did, or they would judge the program against the wrong blocks.
+  const LinePairing found = pair_lines(fa, fb, pairing_options(max_offset_mm));
+  for (std::uint32_t ol = 1; ol <= out.line_count(); ++ol)
+    if (found.a_of_b[ol] != want.a_of_b[ol] || found.parent_of_b[ol] != want.parent_of_b[ol])
+      fail(want.a_of_b[ol] ? want.a_of_b[ol] : want.parent_of_b[ol],
+           "the written program does not pair with the original block by block (line " + std::to_string(ol) +
+               " of the output)");
+  check_motions(om, ym, want, opt, movable, max_offset_mm, inserted, feeds, fail);
 }
 
 }  // namespace deflex::compensate
