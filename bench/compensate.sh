@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issue 5 benchmark: end-to-end compensation (read, the as-written simulation
+# Issues 5 and 10 benchmark: end-to-end compensation (read, the as-written simulation
 # beside the mirror pass, write, read-back check). 1) the six-surface sample
 # (41,010 blocks, STL stock, D16 ball); 2) a generated raster finishing program
 # of $BLOCKS blocks (default 100,000; BLOCKS=1000000 for the issue's 1M target)
@@ -25,6 +25,10 @@ run() {  # name, program, stock, extra options
   /usr/bin/time -f "$name: peak memory %M KiB" build/deflex compensate "$prog" --stock "$stock" "$@" -o /dev/null 2>&1 | tail -n 1
 }
 run six_surfaces samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl
+# Issue 10: with the part model (normals and the gouge check from the design
+# surface): at most 25% slower than without it.
+run six_surfaces_part samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl --part samples/parts/six_surfaces.stl
+[ -n "${PART_ONLY:-}" ] && exit 0
 n=${BLOCKS:-100000}
 f=bench/data/finish_$n.nc
 [ -f "$f" ] || sh bench/gen_program.sh "$n" "$f" >/dev/null
