@@ -10,6 +10,8 @@
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/force/engagement.hpp"
+#include "deflex/force/flank.hpp"
+#include "deflex/force/tool.hpp"
 #include "deflex/force/material.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/stiffness/beam.hpp"
@@ -435,6 +437,29 @@ TEST_CASE("flank cuts: the side-wall sample's wall profile e(z), its mid-range d
   }
   REQUIRE(flank > 100);
   CHECK(worst_written > f.s.tolerance_mm);  // as written it is worth compensating
+  // Independent path at a steady point (first pass, X 50): the textbook
+  // engagement (a_e 2.5, a_p 12, down-milling), the same slicing, and the full
+  // cross compliance of force/flank.hpp (feed +X: feed frame = machine axes).
+  const compensate::Point* mid = nullptr;
+  for (const auto& p : r.nominal)
+    if (p.flank && !p.air && std::fabs(p.tip_mm.x() - 50.0) < 0.26 && std::fabs(p.tip_mm.y() - 3.5) < 1e-6) mid = &p;
+  REQUIRE(mid != nullptr);
+  {
+    const auto& tool = stiffness::find_tool(f.ph.tools, "T6");
+    const force::Cutter c = force::cutter_of(tool);
+    const auto cs = force::make_slices(c, f.s.slice_mm, tool.flute_length_mm);
+    force::Engagement e;
+    force::simple_engagement(cs, 2.5, 12.0, force::MillingMode::down, e);
+    const auto cross = stiffness::beam_cross_compliance(tool, f.ph.machine, false);
+    const auto sc = force::slice_compliance(cs, [&](double z, double zp) -> force::Mat3 { return cross.at(z, zp); });
+    const double phi = force::generating_phi(force::MillingMode::down);
+    const auto prof = force::flank_error_profile({cs, f.ph.k, 0.1, e, phi, force::wall_normal(phi)}, sc);
+    CHECK(force::wall_normal(phi).y() == doctest::Approx(1.0));  // the design normal, +Y
+    CHECK(mid->flank_min_mm == doctest::Approx(prof.min_mm).epsilon(0.03));
+    CHECK(mid->flank_max_mm == doctest::Approx(prof.max_mm).epsilon(0.03));
+    CHECK(mid->flank_z_min_mm == doctest::Approx(prof.z_of_min_mm).epsilon(0.05));
+    CHECK(mid->flank_z_max_mm == doctest::Approx(prof.z_of_max_mm).epsilon(0.05));
+  }
   // Re-simulated from scratch, the compensated program: every compensated end
   // point's mid-range inside the tolerance, and no worse band than as written.
   const auto again = compensate::simulate(r.motions, r.offsets, f.ph, f.s);
