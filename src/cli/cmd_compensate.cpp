@@ -47,7 +47,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
-      ("report", po::value(&a.report), "write points.csv (one row per CL point) and summary.json into this folder")
+      ("report", po::value(&a.report), "write points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
       ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
