@@ -48,7 +48,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
-      ("report", po::value(&a.report), "write points.csv (one row per CL point) and summary.json into this folder")
+      ("report", po::value(&a.report), "write points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
       ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
@@ -115,6 +115,7 @@ Job prepare(Args& a, Io& io, bool compensating) {
   st.threads = a.threads;
   st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
   st.feed_limit_N = a.feed_limit_N;
+  st.flank_profiles = !a.report.empty();  // flank_profile.csv of the program as written
   if (a.feed_limit_N < 0) throw Error(Exit::usage, "--feed-limit must be > 0 N");
   if (!(st.tolerance_mm > 0)) throw Error(Exit::usage, "--tolerance must be > 0 mm");
   if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
@@ -192,7 +193,7 @@ std::vector<double> errors_against(const std::vector<compensate::Point>& pts, co
     if (p.air || p.plunge) continue;
     // Landing point minus the intended point = offset + delta (the intended
     // point is the commanded one minus the offset deflex applied).
-    e.push_back((offset_at(p, intent_offsets) + p.delta_mm).dot(p.normal));
+    e.push_back(compensate::landing_error(p, offset_at(p, intent_offsets)));
   }
   return e;
 }
@@ -201,7 +202,7 @@ std::vector<compensate::PlotPoint> plot_points(const std::vector<compensate::Poi
   std::vector<compensate::PlotPoint> v;
   for (const auto& p : pts)
     if (!p.air && !p.plunge)
-      v.push_back({p.tip_mm.x(), p.tip_mm.y(), (offset_at(p, offsets) + p.delta_mm).dot(p.normal)});
+      v.push_back({p.tip_mm.x(), p.tip_mm.y(), compensate::landing_error(p, offset_at(p, offsets))});
   return v;
 }
 
@@ -217,19 +218,22 @@ void write_maps(const std::string& dir, double tol,
     });
 }
 
+// points.csv: surface_error_mm and flank_min/max_mm are against the design
+// (the offset included). flank_profile.csv: e(z) of each flank point of
+// `as_written` (simulated with Settings::flank_profiles), written when there is one.
 void write_report(const std::string& dir, const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets,
-                  const std::string& summary_json) {
+                  const std::string& summary_json, const std::vector<compensate::Point>& as_written) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
   writer::write_file_atomically((fs::path(dir) / "points.csv").string(), "", [&](std::ostream& o) {
     o << "line,x_mm,y_mm,z_mm,ap_mm,ae_mm,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,dz_mm,surface_error_mm,offset_mm,nx,ny,nz,"
-         "normal_source,part_gap_mm\n";
+         "normal_source,part_gap_mm,flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm\n";
     char buf[480];
     for (const auto& p : pts) {
       if (p.air) continue;
       const V3 off = offset_at(p, offsets);
-      const double err = (off + p.delta_mm).dot(p.normal);
+      const double err = compensate::landing_error(p, off);
       std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f", p.line,
                     p.tip_mm.x(), p.tip_mm.y(), p.tip_mm.z(), p.ap_mm, p.ae_mm, p.force_N.x(), p.force_N.y(),
                     p.force_N.z(), p.delta_mm.x(), p.delta_mm.y(), p.delta_mm.z(), err, off.dot(p.normal));
@@ -241,9 +245,31 @@ void write_report(const std::string& dir, const std::vector<compensate::Point>& 
         std::snprintf(buf, sizeof buf, "%.6f", p.part_gap_mm);
         o << buf;
       }
-      o << "\n";
+      if (p.flank) {
+        const double o_n = off.dot(p.normal);
+        std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.4f,%.4f\n", o_n + p.flank_min_mm, o_n + p.flank_max_mm,
+                      p.flank_z_min_mm, p.flank_z_max_mm);
+        o << buf;
+      } else {
+        o << ",,,,\n";
+      }
     }
   });
+  bool any_flank = false;
+  for (const auto& p : as_written) any_flank = any_flank || (!p.air && p.flank && !p.flank_profile.empty());
+  if (any_flank)
+    writer::write_file_atomically((fs::path(dir) / "flank_profile.csv").string(), "", [&](std::ostream& o) {
+      o << "line,x_mm,y_mm,z_tip_mm,z_mm,error_mm\n";
+      char buf[200];
+      for (const auto& p : as_written) {
+        if (p.air || !p.flank) continue;
+        for (const auto& q : p.flank_profile) {
+          std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.6f\n", p.line, p.tip_mm.x(), p.tip_mm.y(),
+                        p.tip_mm.z(), q.z_mm, q.error_mm);
+          o << buf;
+        }
+      }
+    });
   writer::write_file_atomically((fs::path(dir) / "summary.json").string(), "",
                                 [&](std::ostream& o) { o << summary_json << "\n"; });
 }
@@ -349,7 +375,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
                   tol, r.iterations, r.evaluations, r.converged ? "true" : "false", r.compensated_points, ws.blocks_inserted);
     std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
                      stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
-    write_report(a.report, r.final, r.offsets, js);
+    write_report(a.report, r.final, r.offsets, js, r.nominal);
     write_maps(a.report, tol, {{"error_as_written", plot_points(r.nominal, {})},
                                {"error_compensated", plot_points(r.final, r.offsets)}});
   }
@@ -423,7 +449,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"reference\": %s", tol,
                   a.reference.empty() ? "null" : ("\"" + a.reference + "\"").c_str());
     std::string js = "{\"surface_error_mm\": " + stats_json(st) + ", \"cl_points\": " + std::to_string(st.points) + buf + "}";
-    write_report(a.report, pts, intent, js);
+    write_report(a.report, pts, intent, js, pts);
     write_maps(a.report, tol, {{"surface_error", plot_points(pts, intent)}});
   }
   return 0;

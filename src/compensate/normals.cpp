@@ -16,12 +16,12 @@ const char* to_string(NormalSource s) {
   return "travel";
 }
 
-namespace {
-
 bool flank_cut(const engage::Metrics& mt, const stiffness::Tool& t) {
   return t.type != stiffness::ToolType::ball && mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) &&
          mt.ae_mm < 0.95 * t.diameter_mm;
 }
+
+namespace {
 
 // The travel rule at a sample with direction dir and XY feed direction (fx, fy).
 V3 rule_normal(const V3& dir, double fx, double fy, const engage::Metrics& mt, const stiffness::Tool& t) {

@@ -12,6 +12,16 @@
 // travel (compensate/normals.hpp). The offset acts along it in 3D.
 // e > 0: the tool stands off the surface (material left); e < 0: it digs in.
 //
+// Flank cuts (a flat or bull-nose end cutting with its flank, flank_cut() of
+// normals.hpp): the wall at height z is generated when the edge at z passes the
+// generating angle (exit in down-milling, entry in up-milling), so e(z) is
+// predicted from the force distribution of that instant and the cross
+// compliance C(z, z') (force/flank.hpp, Morelli 2021) over the engaged slices,
+// along the same normal n. The point's error is then the mid-range
+// (min + max) / 2 of e(z): the mirror drives it to zero, which is the offset
+// along n minimising the largest |e(z)| over the flank (a 3-axis offset cannot
+// straighten a tapered wall). delta (mean force at h) stays for the report.
+//
 // Mirror method (Smaoui 2011 §4): P_comp = P_nom - gain e(P_comp) n. The
 // engagement at a CL point depends only on the path before it, so the fixed
 // point of the whole program is found in one pass in program order: at each
@@ -35,6 +45,7 @@
 
 #include "deflex/compensate/normals.hpp"
 #include "deflex/force/coefficients.hpp"
+#include "deflex/force/flank.hpp"
 #include "deflex/interp/motion.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/tool.hpp"
@@ -59,6 +70,7 @@ struct Settings {
   double feed_limit_N = 0;      // > 0: lower F where the peak force would exceed it
   std::string tool_override;    // use this tool whatever the T words say
   double part_reach_mm = 1.0;   // a part contact farther than this is not the surface being cut
+  bool flank_profiles = false;  // simulate(): keep each flank point's e(z) in Point::flank_profile (reports)
 };
 
 // What does not change with the path: tools, machine, material, stock.
@@ -86,8 +98,21 @@ struct Point {
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated
   NormalSource normal_source = NormalSource::travel;
   double part_gap_mm = 0;       // normal_source part: the programmed cutter's gap to the part
-  double error_mm = 0;          // delta . normal
+  double error_mm = 0;          // delta . normal; flank: (flank_min_mm + flank_max_mm) / 2
+  // Flank cuts: e(z) over the engaged flank at the commanded position (the
+  // offset not included), its extremes and their heights above the tip.
+  bool flank = false;
+  double flank_min_mm = 0, flank_max_mm = 0;
+  double flank_z_min_mm = 0, flank_z_max_mm = 0;
+  // e(z) per engaged slice, only from simulate() with Settings::flank_profiles.
+  std::vector<force::FlankPoint> flank_profile;
 };
+
+// The surface error against the design with the commanded point displaced by
+// `offset` from it: offset . n + error_mm (the deflection moves with the tool).
+inline double landing_error(const Point& p, const V3& offset) {
+  return p.flank ? offset.dot(p.normal) + p.error_mm : (offset + p.delta_mm).dot(p.normal);
+}
 
 using Progress = std::function<void(const std::string& stage, double fraction)>;
 

@@ -42,6 +42,11 @@ struct SurfaceNormal {
   double part_gap_mm = 0;  // part only: signed gap of the cutter to the part (> 0 stands off)
 };
 
+// A flat or bull-nose end cutting with its flank (a_p above the corner, a_e
+// below the diameter): the travel rule's wall normal, and the flank error
+// profile of the compensation (compensate.hpp).
+bool flank_cut(const engage::Metrics& mt, const stiffness::Tool& t);
+
 // The travel rule at a sample whose travel direction is that of `design`.
 Eigen::Vector3d travel_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
                               const interp::Motion& design);
