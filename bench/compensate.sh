@@ -22,7 +22,7 @@ run() {  # name, program, stock, extra options
   med=$(sed -n 's/.*"median": \([0-9.]*\).*/\1/p' "bench/out/compensate_$name.json" | head -n 1)
   echo "$name: $pts CL points, median $med s: $(awk -v p="$pts" -v t="$med" 'BEGIN { printf "%.0f", p / t }') CL points/s end to end;" \
     "mirror pass $(awk -v e="$evs" -v p="$pts" 'BEGIN { printf "%.2f", e / p }') engagement evaluations per CL point"
-  /usr/bin/time -f "$name: peak memory %M KiB" build/deflex compensate "$prog" --stock "$stock" "$@" -o /dev/null 2>&1 | tail -n 1
+  /usr/bin/time -f "$name: peak memory %M KiB" build/deflex compensate "$prog" --stock "$stock" "$@" > /dev/null 2>bench/out/${name}_time.txt; tail -n 1 bench/out/${name}_time.txt
 }
 run six_surfaces samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl
 # Issue 10: with the part model (normals and the gouge check from the design

@@ -324,6 +324,9 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   }
   if (files.empty()) throw Error(Exit::usage, "compensate: a program IN (or - for stdin) is required");
   a.file = files[0];
+  // Every check of the command line before any computation.
+  if (!a.output.empty() && a.output != "-") writer::check_output_path(a.output, a.file);
+  if (!a.report.empty()) writer::check_output_folder(a.report);
   Job j = prepare(a, io, true);
   auto progress = progress_for(io);
   const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
@@ -403,6 +406,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   }
   if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
   a.file = files[0];
+  if (!a.report.empty()) writer::check_output_folder(a.report);
   Job j = prepare(a, io, false);
   // With a reference, the offset of each motion is how far this program's
   // end point lies from the reference's: the design intent is the reference.

@@ -282,6 +282,7 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   }
   if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
+  if (!output.empty() && output != "-") writer::check_output_path(output, file);
   gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   Null null;

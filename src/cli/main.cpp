@@ -1,3 +1,6 @@
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <unistd.h>
 
@@ -8,6 +11,12 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   deflex::cli::Io io{std::cin, std::cout, std::cerr, static_cast<bool>(::isatty(2))};
   int rc = deflex::cli::run(args, io);
+  // A failed write to standard output (a full disk, a closed descriptor) is
+  // lost data: an I/O error, never exit 0.
   std::cout.flush();
+  if (!std::cout || std::fflush(stdout) != 0) {
+    std::cerr << "deflex: error: writing to standard output failed: " << std::strerror(errno ? errno : EIO) << "\n";
+    return 4;
+  }
   return rc;
 }

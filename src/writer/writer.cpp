@@ -152,12 +152,52 @@ std::string Rewriter::str() {
   return ss.str();
 }
 
+void check_output_path(const std::string& path, const std::string& input_path) {
+  std::error_code ec;
+  if (path.empty()) throw Error(Exit::usage, "error: empty output path");
+  const fs::file_status st = fs::status(path, ec);  // follows symlinks
+  if (fs::exists(st)) {
+    if (!input_path.empty() && input_path != "-" && fs::equivalent(path, input_path, ec))
+      throw Error(Exit::usage, path + ": error: output would overwrite the input program; choose another -o");
+    if (!fs::is_regular_file(st))
+      throw Error(Exit::usage, path + ": error: not a regular file (a " +
+                                   std::string(fs::is_directory(st) ? "directory" : "device, FIFO or socket") +
+                                   "); deflex writes outputs only to regular files");
+  } else if (fs::is_symlink(fs::symlink_status(path, ec))) {
+    throw Error(Exit::usage, path + ": error: a symbolic link to nothing; give the target itself");
+  }
+  const fs::path target = fs::exists(st) ? fs::canonical(path, ec) : fs::path(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec))
+    throw Error(Exit::usage, path + ": error: the folder " + dir.string() + " does not exist");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw Error(Exit::io, path + ": error: the folder " + dir.string() + " is not writable: " + std::strerror(errno));
+}
+
+void check_output_folder(const std::string& dir) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(dir, ec);
+  if (fs::exists(st)) {
+    if (!fs::is_directory(st)) throw Error(Exit::usage, dir + ": error: exists and is not a folder");
+    if (::access(dir.c_str(), W_OK) != 0) throw Error(Exit::io, dir + ": error: the folder is not writable: " + std::strerror(errno));
+    return;
+  }
+  const fs::path parent = fs::path(dir).lexically_normal().parent_path();
+  const fs::path p = parent.empty() ? fs::path(".") : parent;
+  if (!fs::is_directory(p, ec)) throw Error(Exit::usage, dir + ": error: the folder " + p.string() + " does not exist");
+  if (::access(p.c_str(), W_OK) != 0)
+    throw Error(Exit::io, dir + ": error: cannot create it: " + p.string() + " is not writable: " + std::strerror(errno));
+}
+
 void write_file_atomically(const std::string& path, const std::string& input_path,
                            const std::function<void(std::ostream&)>& fill) {
+  check_output_path(path, input_path);
   std::error_code ec;
-  if (!input_path.empty() && input_path != "-" && fs::exists(path, ec) && fs::equivalent(path, input_path, ec))
-    throw Error(Exit::usage, path + ": error: output would overwrite the input program; choose another -o");
-  fs::path target(path);
+  // Through a symlink the target is replaced, so the link stays a link.
+  const bool existed = fs::exists(path, ec);
+  const fs::path target = existed ? fs::canonical(path, ec) : fs::path(path);
+  struct stat old {};
+  const bool have_old = existed && ::stat(target.c_str(), &old) == 0;
   fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string hidden(".");
   hidden.append(target.filename().string()).append(".deflex-XXXXXX");
@@ -176,11 +216,17 @@ void write_file_atomically(const std::string& path, const std::string& input_pat
       out.flush();
       if (!out) throw Error(Exit::io, path + ": error: write failed (disk full?)");
     }
-    // Keep the permissions a new file would get (mkstemp creates 0600).
-    mode_t mask = ::umask(0);
-    ::umask(mask);
-    fs::permissions(tmp, static_cast<fs::perms>(0666 & ~mask), ec);
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    if (have_old) {
+      // The file keeps what it was: mode, and owner where we may set it.
+      ::chmod(tmp.c_str(), old.st_mode & 07777);
+      if (::chown(tmp.c_str(), old.st_uid, old.st_gid) != 0) { /* not ours to give away: keep ours */ }
+    } else {
+      // Keep the permissions a new file would get (mkstemp creates 0600).
+      mode_t mask = ::umask(0);
+      ::umask(mask);
+      fs::permissions(tmp, static_cast<fs::perms>(0666 & ~mask), ec);
+    }
+    if (std::rename(tmp.c_str(), target.c_str()) != 0)
       throw Error(Exit::io, path + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
   } catch (...) {
     std::remove(tmp.c_str());

@@ -60,9 +60,23 @@ class Rewriter {
   std::vector<Edit> edits_;
 };
 
+// Checks, before any work, that `path` can be written as an output:
+// not the input (same file, also through links), an existing path a regular
+// file (through symlinks: a device, FIFO or directory is refused), its folder
+// existing and writable. Throws Error(usage) for what the user must change
+// (the input, a non-regular file, a missing folder), Error(io) when the folder
+// is not writable.
+void check_output_path(const std::string& path, const std::string& input_path);
+
+// Checks, before any work, that a report folder exists as a directory or can
+// be created (its parent exists and is writable). Throws Error(usage/io).
+void check_output_folder(const std::string& dir);
+
 // Writes `path` atomically: the content goes to a temporary file beside it,
-// which is renamed over `path` only when `fill` returned normally. Refuses to
-// write onto `input_path` (same file, also through links). Throws Error(io).
+// which is renamed over `path` only when `fill` returned normally. Runs
+// check_output_path first. A symlink is followed (its target is replaced, the
+// link stays); an existing file keeps its mode (and owner, where allowed); a
+// new one gets 0666 less the umask. Throws Error(io) when writing fails.
 void write_file_atomically(const std::string& path, const std::string& input_path,
                            const std::function<void(std::ostream&)>& fill);
 
