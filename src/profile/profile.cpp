@@ -107,7 +107,7 @@ Dialect parse_dialect(const YAML::Node& n, const std::string& file) {
   d.leading_zero = flag("leading_zero", d.leading_zero);
   d.max_line_length = static_cast<int>(num("max_line_length", d.max_line_length));
   d.n_policy = get_enum<NPolicy>(n, file, "n_numbers_for_inserted_blocks",
-      {{"none", NPolicy::none}, {"increment", NPolicy::increment}}, d.n_policy);
+      {{"none", NPolicy::none}, {"increment", NPolicy::increment}, {"required", NPolicy::required}}, d.n_policy);
   d.comment_style = get_enum<CommentStyle>(n, file, "comment_style",
       {{"paren", CommentStyle::paren}, {"semicolon", CommentStyle::semicolon}}, d.comment_style);
   d.arc_radius_tolerance_mm = num("arc_radius_tolerance_mm", d.arc_radius_tolerance_mm);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -19,6 +20,12 @@ namespace fs = std::filesystem;
 
 std::string format_number(double value, bool inch, const profile::Dialect& d) {
   int decimals = inch ? d.decimals_inch : d.decimals_mm;
+  // A control that counts least input increments refuses (Fanuc: "too many
+  // digits") or drops digits finer than its increment: never write them.
+  if (d.decimal_rule == profile::DecimalRule::least_input_increment) {
+    const double lii = inch ? d.lii_inch : d.lii_mm;
+    if (lii > 0) decimals = std::min(decimals, static_cast<int>(std::lround(-std::log10(lii))));
+  }
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
   std::string s(buf, r.ptr);
@@ -45,17 +52,36 @@ std::string format_comment(const std::string& text, const profile::Dialect& d) {
 }
 
 std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words,
-                                   bool inch, const std::string& comment, const std::string& lead) const {
+                                   bool inch, const std::string& comment, const std::string& lead) {
   std::string s;
-  if (d_.n_policy == profile::NPolicy::increment) {
+  if (d_.n_policy != profile::NPolicy::none) {
+    // The numbers of the nearest numbered blocks before and after the gap (at
+    // most 200 lines away: N numbers are for the operator's eye, not exact).
     Diagnostics quiet(nullptr, 0);
     gcode::Block b;
-    long n = 0;
-    for (std::uint32_t l = after_line; l >= 1 && l + 200 > after_line; --l) {
+    auto n_at = [&](std::uint32_t l) -> std::optional<long> {
       prog_.lex(l, b, quiet);
-      if (const gcode::Word* w = b.find('N')) { n = static_cast<long>(w->value); break; }
+      const gcode::Word* w = b.find('N');
+      if (!w || !(w->value >= 0 && w->value < 1e9)) return std::nullopt;
+      return static_cast<long>(w->value);
+    };
+    long before = 0;
+    std::optional<long> after;
+    for (std::uint32_t l = after_line; l >= 1 && l + 200 > after_line; --l)
+      if (auto n = n_at(l)) { before = *n; break; }
+    for (std::uint32_t l = after_line + 1; l <= prog_.line_count() && l < after_line + 200; ++l)
+      if ((after = n_at(l))) break;
+    long& taken = numbers_taken_[before];
+    const long n = before + 1 + taken;
+    if (!after || n < *after) {
+      s = "N" + std::to_string(n);
+      ++taken;
+    } else if (d_.n_policy == profile::NPolicy::required) {
+      throw Error(Exit::input, prog_.source().name() + ":" + std::to_string(after_line + 1) +
+                                   ":1: error: no free N number between N" + std::to_string(before) + " and N" +
+                                   std::to_string(*after) + " for a block deflex inserts here (dialect " + d_.name +
+                                   " requires N on every block): renumber the program with a larger step");
     }
-    s = "N" + std::to_string(n + 1);
   }
   if (!lead.empty()) s += (s.empty() ? "" : " ") + lead;
   for (auto& [letter, value] : words) {

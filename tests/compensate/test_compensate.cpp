@@ -89,10 +89,10 @@ TEST_CASE("apply_offsets: zero offsets give the input; a modal axis carries no o
   std::vector<V3> off = zero;
   std::size_t i6 = 0;
   while (f.motions[i6].line != 8) ++i6;
-  off[i6] = V3(0, 0.0123, 0);
+  off[i6] = V3(0, 0.012, 0);
   compensate::WriteStats ws;
   std::string out = compensate::apply_offsets(f.prog, f.opt.dialect, f.motions, off, &ws);
-  CHECK(out.find("N6 X20. Y-2.9877\n") != std::string::npos);
+  CHECK(out.find("N6 X20. Y-2.988\n") != std::string::npos);
   CHECK(out.find("N7 X50. Y-3.\n") != std::string::npos);
   CHECK(ws.words_inserted == 2);
   std::vector<bool> can(f.motions.size(), false);

@@ -16,8 +16,12 @@ TEST_CASE("numbers are formatted per dialect, always with a decimal point") {
   CHECK(writer::format_number(12.5, false, fanuc) == "12.5");
   CHECK(writer::format_number(12.0, false, fanuc) == "12.");
   CHECK(writer::format_number(-0.00001, false, fanuc) == "0.");
-  CHECK(writer::format_number(0.12345, false, fanuc) == "0.1235");  // 4 decimals in mm (rounded)
-  CHECK(writer::format_number(0.123456, true, fanuc) == "0.12346");  // 5 in inch
+  // No digit finer than the least input increment (0.001 mm, 0.0001 in).
+  CHECK(writer::format_number(0.12345, false, fanuc) == "0.123");
+  CHECK(writer::format_number(0.123456, true, fanuc) == "0.1235");
+  profile::Dialect fine = fanuc;
+  fine.decimals_mm = 5;  // asked for more than the control reads: still 3
+  CHECK(writer::format_number(0.12345, false, fine) == "0.123");
   auto heid = profile::load_dialect("heidenhain-iso");
   CHECK(writer::format_number(12.5, false, heid) == "12.500");
   profile::Dialect nolead = fanuc;
@@ -44,11 +48,11 @@ TEST_CASE("a changed number is spliced into its word; everything else is copied"
   Diagnostics diags(nullptr, 0);
   p.lex(1, b, diags);
   writer::Rewriter w(p, d);
-  w.set_number(*b.find('X'), 10.0123, false);
+  w.set_number(*b.find('X'), 10.012, false);
   w.set_number(*b.find('Z'), -1.25, false);
   w.insert_word(b.find('Z')->end, 'F', 300, false);
   // The number is replaced; the space the programmer put after the letter stays.
-  CHECK(w.str() == "N10 G1 X 10.0123 Y5.(keep) Z-1.25 F300.\r\nN20 X20.\r\n");
+  CHECK(w.str() == "N10 G1 X 10.012 Y5.(keep) Z-1.25 F300.\r\nN20 X20.\r\n");
 }
 
 TEST_CASE("inserted blocks take the line end of the block before them") {
@@ -70,7 +74,29 @@ TEST_CASE("inserted blocks follow the dialect: N numbers and comment style") {
   // Line 2 has no N: the nearest numbered block before it is N10.
   CHECK(wh.format_block(2, {{'X', 1.5}}, false, "split") == "N11 X1.500 ; split");
   CHECK(writer::format_comment("a", heid) == "; a");
-  CHECK(wh.format_block(1, {{'X', 2}}, false, "", "G1") == "N11 G1 X2.000");
+  // The next block after N10 (line 2 has none) takes the next free number.
+  CHECK(wh.format_block(1, {{'X', 2}}, false, "", "G1") == "N12 G1 X2.000");
+}
+
+TEST_CASE("inserted blocks never share an N number: the free numbers of the gap, then none or a refusal") {
+  gcode::Program p(SourceText("t.nc", "N10 G1 X0. F100.\nN20 X5.\nN22 X10.\n"));
+  auto heid = profile::load_dialect("heidenhain-iso");  // requires N on every block
+  writer::Rewriter wh(p, heid);
+  CHECK(wh.format_block(1, {{'X', 1}}, false) == "N11 X1.000");
+  CHECK(wh.format_block(1, {{'X', 2}}, false) == "N12 X2.000");
+  CHECK(wh.format_block(2, {{'X', 6}}, false) == "N21 X6.000");
+  try {
+    (void)wh.format_block(2, {{'X', 7}}, false);
+    FAIL("a second block between N20 and N22 must be refused");
+  } catch (const Error& e) {
+    CHECK(e.code() == Exit::input);
+    CHECK(std::string(e.what()).find("t.nc:3:1: error: no free N number between N20 and N22") != std::string::npos);
+  }
+  profile::Dialect inc = heid;
+  inc.n_policy = profile::NPolicy::increment;  // numbers where there is room, else none
+  writer::Rewriter wi(p, inc);
+  CHECK(wi.format_block(2, {{'X', 6}}, false) == "N21 X6.000");
+  CHECK(wi.format_block(2, {{'X', 7}}, false) == "X7.000");
 }
 
 TEST_CASE("blocks inserted before a line take that line's ending") {
@@ -91,7 +117,7 @@ TEST_CASE("a rewritten block over the dialect's line-length limit is an error") 
   p.lex(1, b, diags);
   writer::Rewriter w(p, d);
   w.set_number(*b.find('X'), 1.2345, false);
-  CHECK_THROWS_WITH_AS(w.str(), doctest::Contains("t.nc:1:1: error: rewritten block is 14 characters"), Error);
+  CHECK_THROWS_WITH_AS(w.str(), doctest::Contains("t.nc:1:1: error: rewritten block is 13 characters"), Error);
 }
 
 TEST_CASE("atomic write: never onto the input, no file left when writing fails") {

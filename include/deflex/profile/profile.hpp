@@ -14,7 +14,9 @@ namespace deflex::profile {
 
 enum class DecimalRule { least_input_increment, calculator };
 enum class CommentStyle { paren, semicolon };
-enum class NPolicy { none, increment };
+// N words of inserted blocks: none; increment (the free numbers of the gap,
+// none where there is no room); required (refuse where there is no room).
+enum class NPolicy { none, increment, required };
 enum class ExtendedOffsets { none, g54_1, g154, g59_x };
 
 // How a control reads numbers and how deflex writes blocks for it.

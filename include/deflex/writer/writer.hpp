@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <ostream>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -32,12 +33,15 @@ class Rewriter {
   // that line's line ending.
   void insert_block_after(std::uint32_t line, const std::string& text);
   // Text of a new block to insert after `after_line`, for the dialect: an N
-  // word first when the dialect numbers inserted blocks (the N of the nearest
-  // numbered block before it, plus one), then the words (program units), then
-  // the comment in the dialect's style.
-  // `lead` (e.g. "G1") goes right after the N word.
+  // word first when the dialect numbers inserted blocks, then the words
+  // (program units), then the comment in the dialect's style. `lead` (e.g.
+  // "G1") goes right after the N word. Inserted blocks take the free numbers
+  // between the nearest numbered blocks before and after them, in order, so no
+  // two blocks share a number: where none is free, a dialect that `increment`s
+  // writes the block without N, one that `require`s N refuses (Error(input),
+  // naming the line and the gap). Call it once per block, in output order.
   std::string format_block(std::uint32_t after_line, const std::vector<std::pair<char, double>>& words, bool inch,
-                           const std::string& comment = "", const std::string& lead = "") const;
+                           const std::string& comment = "", const std::string& lead = "");
   // Inserts a whole new block (text without line end) before line `line`,
   // ended like that line (or like the line before it when `line` has no end).
   void insert_block_before(std::uint32_t line, const std::string& text);
@@ -58,6 +62,9 @@ class Rewriter {
   const gcode::Program& prog_;
   const profile::Dialect& d_;
   std::vector<Edit> edits_;
+  // Per N number of the block before a gap: how many numbers after it inserted
+  // blocks took (gaps with unnumbered blocks between them share one).
+  std::map<long, long> numbers_taken_;
 };
 
 // Checks, before any work, that `path` can be written as an output:
