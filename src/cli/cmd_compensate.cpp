@@ -14,6 +14,7 @@
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
+#include "deflex/interp/travel.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/writer/writer.hpp"
@@ -30,6 +31,7 @@ struct Args {
   std::string file, output, reference, tool_file, tool, stock, report;
   std::optional<double> tolerance, gain;
   double feed_limit_N = 0;
+  std::optional<double> spindle_rpm, feed_mm_per_min;
   double cell_mm = 0.05, cl_spacing_mm = 0.5;
   int max_iterations = 8, threads = 0;
   bool tool_only = false, help = false;
@@ -45,6 +47,8 @@ void describe(po::options_description& d, Args& a, bool compensating) {
   d.add_options()
       ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else samples/tools.yaml)")
       ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
+      ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
+      ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
@@ -74,42 +78,13 @@ struct Collect : interp::MotionSink {
   void motion(const interp::Motion& m) override { out->push_back(m); }
 };
 
-// Reads the program and everything the physics needs; throws on any error.
-Job prepare(Args& a, Io& io, bool compensating) {
-  Setup s = resolve(a.read);
-  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}};
-  const profile::Config& cfg = j.setup.config;
-  Diagnostics diags(&io.err, j.setup.max_errors);
-  Collect c;
-  c.out = &j.motions;
-  interp::interpret(j.prog, j.setup.interp(), diags, c);
-  if (diags.errors())
-    throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
-                                 (compensating ? "nothing compensated, nothing written" : "not simulated"));
-  j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
-  j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
-  j.physics.tool_only = a.tool_only;
-  MaterialOptions mat = a.mat;
-  if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
-  else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
-  j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
-  std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
-  if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
-  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
-  stock::SolidOptions so;
-  so.cell_mm = a.cell_mm;
-  j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
-  j.physics.stock = j.stock.get();
-  compensate::Settings& st = j.settings;
-  const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
-  if (!part.empty()) {
-    j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
-    j.physics.part = j.part.get();
-  }
+// The settings from the options and config.yaml, each checked (usage errors
+// before anything is read or computed).
+compensate::Settings settings_of(const Args& a, const profile::Config& cfg, const profile::MachineProfile& mp) {
+  compensate::Settings st;
   st.tolerance_mm = a.tolerance ? *a.tolerance : config_number(cfg, "tolerance_mm", 0.01);
   st.gain = a.gain ? *a.gain : config_number(cfg, "gain", 1.0);
-  st.max_offset_mm = j.setup.machine->max_offset_mm;
+  st.max_offset_mm = mp.max_offset_mm;
   st.cl_spacing_mm = a.cl_spacing_mm;
   st.max_iterations = a.max_iterations;
   st.threads = a.threads;
@@ -121,6 +96,87 @@ Job prepare(Args& a, Io& io, bool compensating) {
   if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
   if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
   if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
+  if (a.threads < 0 || a.threads > 1024) throw Error(Exit::usage, "--threads must be 0 (all cores) .. 1024");
+  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
+  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(Exit::usage, "--spindle must be > 0 rpm");
+  if (a.feed_mm_per_min && !(*a.feed_mm_per_min > 0 && *a.feed_mm_per_min <= 1e6))
+    throw Error(Exit::usage, "--feed must be > 0 mm/min");
+  return st;
+}
+
+// What the simulation needs of every cutting motion, before it runs: a tool
+// in the library, a spindle speed and a feed (--spindle, --feed supply what
+// the program lacks). Errors at the line of the first motion lacking each.
+void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const compensate::Settings& st,
+                   const stiffness::ToolLibrary& lib, const SourceText& src, Diagnostics& diags) {
+  // A tool named on the command line that the library lacks is a usage error
+  // (exit 2, with the library's tools); a T word of the program the library
+  // lacks is the library's (exit 3).
+  if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);
+  bool no_s = false, no_f = false;
+  for (interp::Motion& m : motions) {
+    if (m.kind == interp::MotionKind::rapid) continue;
+    if (m.spindle_rpm <= 0 && a.spindle_rpm) m.spindle_rpm = *a.spindle_rpm;
+    if (m.feed_mm_per_min <= 0 && a.feed_mm_per_min) m.feed_mm_per_min = *a.feed_mm_per_min;
+    const std::string id = compensate::tool_id(m, st);
+    if (m.tool == 0 && st.tool_override.empty()) {
+      diags.report(Severity::error, src, m.line, 1, "cutting with no tool selected (T.. M6): give --tool");
+      throw Error(Exit::usage, src.name() + ": error: no tool; nothing done");
+    }
+    if (!lib.tools.count(id)) {
+      diags.report(Severity::error, src, m.line, 1,
+                   "tool " + id + " is not in the tool library " + lib.file + " (give --tool-file, or --tool)");
+      throw Error(Exit::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
+    }
+    if (!no_s && m.spindle_rpm <= 0) {
+      no_s = true;
+      diags.report(Severity::error, src, m.line, 1, "cutting with no spindle speed (S0 or no S word): give --spindle RPM");
+    }
+    if (!no_f && m.feed_mm_per_min <= 0) {
+      no_f = true;
+      diags.report(Severity::error, src, m.line, 1, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
+    }
+  }
+}
+
+// Reads the program and everything the physics needs; throws on any error.
+// Every check that can fail runs before the stock and part are built.
+Job prepare(Args& a, Io& io, bool compensating) {
+  Setup s = resolve(a.read);
+  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}};
+  const profile::Config& cfg = j.setup.config;
+  compensate::Settings& st = j.settings;
+  st = settings_of(a, cfg, *j.setup.machine);
+  std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
+  if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
+  j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
+  j.physics.tool_only = a.tool_only;
+  MaterialOptions mat = a.mat;
+  if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
+  else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
+  j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
+  Diagnostics diags(&io.err, j.setup.max_errors);
+  Collect c;
+  c.out = &j.motions;
+  interp::interpret(j.prog, j.setup.interp(), diags, c);
+  // The machine's travel before any simulation: a move far outside it is a
+  // crash on the machine and unbounded work here.
+  for (const interp::Motion& m : j.motions) interp::check_travel(m, j.setup.machine->travel, j.prog.source(), diags);
+  if (!diags.errors()) check_cutting(j.motions, a, st, j.physics.tools, j.prog.source(), diags);
+  if (diags.errors())
+    throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
+                                 (compensating ? "nothing compensated, nothing written" : "not simulated"));
+  const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
+  if (!part.empty()) {
+    j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
+    j.physics.part = j.part.get();
+  }
+  stock::SolidOptions so;
+  so.cell_mm = a.cell_mm;
+  j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
+  j.physics.stock = j.stock.get();
   if (j.part && a.reference.empty()) {
     // The gouge check runs before the simulation: it needs no stock and no
     // forces. Not on a program judged against a reference: a compensated

@@ -84,6 +84,40 @@ TEST_CASE("-o through a symlink replaces its target and keeps the link; an exist
   CHECK(test::run_cli({"rewrite", kWall, "-o", (d.p / "dangling.nc").string()}).rc == 2);
 }
 
+TEST_CASE("fail fast, say where: what the simulation needs is checked first, at the line, with the exit code of the README") {
+  TempDir d;
+  const std::string out = (d.p / "out.nc").string();
+  const std::vector<std::string> wall = {"--material", "Al6082-T4", "--stock", "box:0,-40,-30,100,0,0"};
+  auto run = [&](const std::string& text, std::vector<std::string> extra) {
+    const std::string in = (d.p / "in.nc").string();
+    test::write_file(in, text);
+    std::vector<std::string> args = {"compensate", in, "-o", out};
+    args.insert(args.end(), wall.begin(), wall.end());
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::run_cli(args);
+  };
+  const std::string no_s = "G21 G90 G54\nT6 M6\nM3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX110.\nM30\n";
+  auto r = run(no_s, {});
+  CHECK(r.rc == 1);
+  CHECK(r.err.find("in.nc:5:1: error: cutting with no spindle speed") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+  CHECK(run(no_s, {"--spindle", "6366"}).rc == 0);  // --spindle supplies it
+  CHECK(fs::exists(out));
+  fs::remove(out);
+  // A move far outside the machine's travel: refused before any simulation.
+  auto far = run("G21 G90 G54\nT6 M6\nS6000 M3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX100000.\nM30\n", {});
+  CHECK(far.rc == 1);
+  CHECK(far.err.find("in.nc:6:1: error: X travels to") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+  // A T word the library lacks: the library's error (3); a --tool it lacks: usage (2).
+  auto t9 = run("G21 G90 G54\nT9 M6\nS6000 M3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX110.\nM30\n", {});
+  CHECK(t9.rc == 3);
+  CHECK(t9.err.find("in.nc:5:1: error: tool T9 is not in the tool library") != std::string::npos);
+  CHECK(run(no_s, {"--spindle", "6366", "--tool", "T99"}).rc == 2);
+  CHECK(run(no_s, {"--spindle", "6366", "--threads", "-1"}).rc == 2);
+  CHECK_FALSE(fs::exists(out));
+}
+
 TEST_CASE("a failed write to standard output is an I/O error, not exit 0") {
   // The binary itself: the check is in main(), after the command ran.
   const std::string cmd = std::string(DEFLEX_BINARY) + " rewrite " + kWall + " > /dev/full 2>/dev/null";
