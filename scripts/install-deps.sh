@@ -7,7 +7,7 @@
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
 set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
-libeigen3-dev libboost-program-options-dev libyaml-cpp-dev doctest-dev libtbb-dev
+libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
 libocct-data-exchange-dev libgmsh-dev libcgal-dev"
 for a in "$@"; do

@@ -15,6 +15,7 @@
 #include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/interp/travel.hpp"
+#include "deflex/report/json.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/writer/writer.hpp"
@@ -232,12 +233,10 @@ Stats stats_of(const std::vector<double>& e, double tol) {
   return s;
 }
 
-std::string stats_json(const Stats& s) {
-  char buf[256];
-  std::snprintf(buf, sizeof buf,
-                "{\"max\": %.6f, \"rms\": %.6f, \"out_of_tolerance_share\": %.6f, \"max_undercut\": %.6f, \"max_overcut\": %.6f}",
-                s.max_abs, s.rms, s.share_out, s.max_under, s.max_over);
-  return buf;
+report::Json stats_json(const Stats& s) {
+  using report::fixed;
+  return {{"max", fixed(s.max_abs, 6)}, {"rms", fixed(s.rms, 6)}, {"out_of_tolerance_share", fixed(s.share_out, 6)},
+          {"max_undercut", fixed(s.max_under, 6)}, {"max_overcut", fixed(s.max_over, 6)}};
 }
 
 // Per CL point: the surface error relative to the path the programmer meant.
@@ -327,7 +326,7 @@ void write_report(const std::string& dir, const std::vector<compensate::Point>& 
       }
     });
   writer::write_file_atomically((fs::path(dir) / "summary.json").string(), "",
-                                [&](std::ostream& o) { o << summary_json << "\n"; });
+                                [&](std::ostream& o) { o << summary_json; });
 }
 
 const char* kCompensateHelp =
@@ -429,12 +428,12 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   summary_line(io, "predicted error, as written:", before, tol);
   summary_line(io, "predicted error, compensated:", after, tol);
   if (!a.report.empty()) {
-    char buf[260];
-    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"iterations\": %d, \"evaluations\": %zu, \"converged\": %s, \"compensated_points\": %zu, \"inserted_blocks\": %zu",
-                  tol, r.iterations, r.evaluations, r.converged ? "true" : "false", r.compensated_points, ws.blocks_inserted);
-    std::string js = "{\"surface_error_mm\": " + stats_json(after) + ", \"surface_error_as_written_mm\": " +
-                     stats_json(before) + ", \"cl_points\": " + std::to_string(after.points) + buf + "}";
-    write_report(a.report, r.final, r.offsets, js, r.nominal);
+    const report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", stats_json(after)},
+                          {"surface_error_as_written_mm", stats_json(before)}, {"cl_points", after.points},
+                          {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
+                          {"evaluations", r.evaluations}, {"converged", r.converged},
+                          {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted}};
+    write_report(a.report, r.final, r.offsets, report::document(js), r.nominal);
     write_maps(a.report, tol, {{"error_as_written", plot_points(r.nominal, {})},
                                {"error_compensated", plot_points(r.final, r.offsets)}});
   }
@@ -506,10 +505,10 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                 st.max_abs, st.rms, 100.0 * st.share_out, tol, st.max_under, -st.max_over);
   io.out << buf;
   if (!a.report.empty()) {
-    std::snprintf(buf, sizeof buf, ", \"tolerance_mm\": %.6f, \"reference\": %s", tol,
-                  a.reference.empty() ? "null" : ("\"" + a.reference + "\"").c_str());
-    std::string js = "{\"surface_error_mm\": " + stats_json(st) + ", \"cl_points\": " + std::to_string(st.points) + buf + "}";
-    write_report(a.report, pts, intent, js, pts);
+    const report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", stats_json(st)},
+                          {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
+                          {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
+    write_report(a.report, pts, intent, report::document(js), pts);
     write_maps(a.report, tol, {{"surface_error", plot_points(pts, intent)}});
   }
   return 0;

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/report/json.hpp"
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/gcode/skeleton.hpp"
 
@@ -30,16 +31,6 @@ Side read_side(const std::string& file, const Setup& s, Diagnostics& diags, Io& 
   return side;
 }
 
-std::string json_string(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') { o += '\\'; o += c; }
-    else if (static_cast<unsigned char>(c) < 0x20) { char b[8]; std::snprintf(b, sizeof b, "\\u%04x", c); o += b; }
-    else o += c;
-  }
-  return o + "\"";
-}
-
 struct Change { std::uint32_t la, lb; double d[3]; double dist; bool edited; };
 struct Split { std::uint32_t lb, la; double d; };
 struct Report {
@@ -49,6 +40,19 @@ struct Report {
   double max_mm = 0, sum_mm = 0;
   std::size_t edited = 0;
 };
+
+// The JSON form: both files, the counts, every change of at least `threshold` mm.
+report::Json diff_json(const Report& rep, const std::vector<std::string>& files, double threshold, double mean_mm) {
+  report::Json changes = report::Json::array();
+  for (const Change& c : rep.changes)
+    if (c.dist >= threshold)
+      changes.push_back({{"line_a", c.la}, {"line_b", c.lb}, {"d_mm", report::xyz(c.d[0], c.d[1], c.d[2], 6)},
+                         {"distance_mm", report::fixed(c.dist, 6)}});
+  return {{"file_a", files[0]}, {"file_b", files[1]}, {"blocks_changed", rep.changes.size()},
+          {"blocks_edited", rep.edited}, {"blocks_inserted_splitting_moves", rep.split_list.size()},
+          {"max_displacement_mm", report::fixed(rep.max_mm, 6)}, {"mean_displacement_mm", report::fixed(mean_mm, 6)},
+          {"other_changes", rep.other.size()}, {"changes", changes}, {"other", rep.other}};
+}
 
 // Lines between two paired ones: a block only in B that splits the next
 // paired move (deflex compensate inserts them) is a coordinate change, its
@@ -166,21 +170,7 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
   double mean_mm = changes.empty() ? 0.0 : sum_mm / static_cast<double>(changes.size());
   char buf[256];
   if (format == "json") {
-    io.out << "{\"a\": \"" << files[0] << "\", \"b\": \"" << files[1] << "\", \"blocks_changed\": " << changes.size()
-           << ", \"blocks_edited\": " << edited << ", \"blocks_inserted_splitting_moves\": " << splits;
-    std::snprintf(buf, sizeof buf, ", \"max_displacement_mm\": %.6f, \"mean_displacement_mm\": %.6f", max_mm, mean_mm);
-    io.out << buf << ", \"other_changes\": " << other.size() << ", \"changes\": [";
-    bool first = true;
-    for (const Change& c : changes) {
-      if (c.dist < threshold) continue;
-      std::snprintf(buf, sizeof buf, "%s{\"line_a\": %u, \"line_b\": %u, \"d_mm\": [%.6f, %.6f, %.6f], \"distance_mm\": %.6f}",
-                    first ? "" : ", ", c.la, c.lb, c.d[0], c.d[1], c.d[2], c.dist);
-      io.out << buf;
-      first = false;
-    }
-    io.out << "], \"other\": [";
-    for (std::size_t i = 0; i < other.size(); ++i) io.out << (i ? ", " : "") << json_string(other[i]);
-    io.out << "]}\n";
+    io.out << report::line(diff_json(rep, files, threshold, mean_mm));
   } else {
     for (const Change& c : changes) {
       if (c.dist < threshold) continue;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "deflex/report/json.hpp"
 #include "deflex/force/calibration.hpp"
 #include "deflex/force/material.hpp"
 #include "deflex/force/mechanistic.hpp"
@@ -115,9 +116,7 @@ std::optional<std::string> shape_code(const fo::Cutter& c, const fo::Coefficient
   }
 }
 
-void json_vec(std::ostream& out, const fo::Vec3& v) {
-  out << "[" << fixed(v.x(), 3) << ", " << fixed(v.y(), 3) << ", " << fixed(v.z(), 3) << "]";
-}
+report::Json json_vec(const fo::Vec3& v) { return report::xyz(v.x(), v.y(), v.z(), 3); }
 
 }  // namespace
 
@@ -178,12 +177,9 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   const fo::ForceSummary s = fo::summarize(F);
-  io.out << "{\"mean_N\": ";
-  json_vec(io.out, s.mean_N);
-  io.out << ", \"peak_abs_N\": ";
-  json_vec(io.out, s.peak_abs_N);
-  if (const auto code = shape_code(cutter, k, a.ae, a.ap, a.down)) io.out << ", \"shape_code\": \"" << *code << "\"";
-  io.out << "}\n";
+  report::Json j{{"mean_N", json_vec(s.mean_N)}, {"peak_abs_N", json_vec(s.peak_abs_N)}};
+  if (const auto code = shape_code(cutter, k, a.ae, a.ap, a.down)) j["shape_code"] = *code;
+  io.out << report::line(j);
   return 0;
 }
 

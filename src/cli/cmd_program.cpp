@@ -5,6 +5,7 @@
 
 #include "common.hpp"
 #include "deflex/interp/travel.hpp"
+#include "deflex/report/json.hpp"
 #include "deflex/writer/writer.hpp"
 
 namespace deflex::cli {
@@ -180,7 +181,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   Setup s = resolve(r);
   gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
-  diags.set_keep(false);
+  diags.set_keep(format == "json");  // only JSON lists them again; a text run may report millions
   profile::Travel none;
   TravelCheck tc(s.machine ? s.machine->travel : none, prog.source(), diags);
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
@@ -203,12 +204,13 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
                  std::to_string(st.cutter_comp_motions) +
                      " motions run under G41/G42 cutter compensation (first here); deflex never compensates them");
   if (format == "json") {
-    io.out << "{\"file\": \"" << prog.source().name() << "\", \"lines\": " << st.lines << ", \"blocks\": " << st.blocks
-           << ", \"motions\": " << st.motions << ", \"compensable_motions\": " << st.compensable
-           << ", \"cutter_comp_motions\": " << st.cutter_comp_motions << ", \"errors\": " << diags.errors()
-           << ", \"warnings\": " << diags.warnings() << ", \"dialect\": \"" << s.dialect.name << "\""
-           << ", \"machine\": \"" << (s.machine ? s.machine->name : "") << "\""
-           << ", \"interpretation_stopped_at_line\": " << st.stopped_line << "}\n";
+    io.out << report::line({{"file", prog.source().name()}, {"lines", st.lines}, {"blocks", st.blocks},
+                            {"motions", st.motions}, {"compensable_motions", st.compensable},
+                            {"cutter_comp_motions", st.cutter_comp_motions}, {"errors", diags.errors()},
+                            {"warnings", diags.warnings()}, {"dialect", s.dialect.name},
+                            {"machine", s.machine ? s.machine->name : ""},
+                            {"interpretation_stopped_at_line", st.stopped_line},
+                            {"diagnostics", report::to_json(diags.all())}});
   } else {
     io.out << prog.source().name() << ": " << st.lines << " lines, " << st.blocks << " blocks, " << st.motions
            << " motions (" << st.compensable << " compensable), " << diags.errors() << " errors, "

@@ -5,6 +5,10 @@
 #include <ostream>
 
 #include "deflex/force/material.hpp"
+#include "deflex/profile/yaml.hpp"
+#ifndef DEFLEX_PENDING_STIFFNESS
+#include "deflex/stiffness/machine.hpp"
+#endif
 
 namespace deflex::cli {
 
@@ -25,6 +29,11 @@ Setup resolve(const ReadOptions& r) {
   s.config = profile::load_config(r.config);
   std::string machine = !r.machine.empty() ? r.machine : s.config.machine;
   if (!machine.empty()) s.machine = profile::load_machine(machine);
+#ifndef DEFLEX_PENDING_STIFFNESS
+  // Its holder: and stiffness: sections too, so a typo there is found by every
+  // command, not only by the ones that compute deflections.
+  if (s.machine) stiffness::parse_machine_stiffness(s.machine->root, s.machine->file);
+#endif
   std::string dialect = !r.dialect.empty() ? r.dialect
                         : !s.config.dialect.empty() ? s.config.dialect
                         : s.machine ? s.machine->dialect : "fanuc";
@@ -73,7 +82,7 @@ void add_material_options(po::options_description& d, MaterialOptions& m) {
 }
 
 std::string config_string(const profile::Config& c, const char* key) {
-  if (c.root && c.root[key] && c.root[key].IsScalar()) return c.root[key].as<std::string>();
+  if (c.root && c.root[key]) return yaml::text(c.root[key], key, c.file);
   return {};
 }
 std::string config_path(const profile::Config& c, const char* key) {
@@ -82,7 +91,7 @@ std::string config_path(const profile::Config& c, const char* key) {
   return (std::filesystem::path(c.file).parent_path() / v).lexically_normal().string();
 }
 double config_number(const profile::Config& c, const char* key, double dflt) {
-  if (c.root && c.root[key]) return profile::get_number(c.root, c.file, key);
+  if (c.root && c.root[key]) return yaml::number(c.root[key], key, c.file);
   return dflt;
 }
 

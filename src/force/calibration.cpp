@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "deflex/diag/diagnostics.hpp"
-#include "yaml_util.hpp"
+#include "deflex/profile/yaml.hpp"
 
 namespace deflex::force {
 

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "deflex/diag/diagnostics.hpp"
-#include "yaml_util.hpp"
+#include "deflex/profile/yaml.hpp"
 
 namespace deflex::force {
 
@@ -19,53 +19,50 @@ std::string fold(const std::string& s) {
   return out;
 }
 
-MaterialEntry parse_entry(const YAML::Node& node, const std::string& name, const std::string& file) {
-  yaml::require_map(node, "material '" + name + "'", file);
-  yaml::check_keys(node,
-                   {"aliases", "model", "source", "conditions", "notes", "K_tc_N_per_mm2",
-                    "K_rc_N_per_mm2", "K_ac_N_per_mm2", "K_te_N_per_mm", "K_re_N_per_mm",
-                    "K_ae_N_per_mm", "K_T_N_per_mm2", "K_R_N_per_mm2", "K_A_N_per_mm2"},
-                   file);
-  MaterialEntry m;
-  m.name = name;
-  m.location = yaml::where(file, node.Mark());
-  if (const YAML::Node a = node["aliases"]) {
-    if (!a.IsSequence()) yaml::fail(file, a.Mark(), "aliases must be a list of names");
-    for (const auto& x : a) m.aliases.push_back(x.Scalar());
-  }
-  const std::string model = yaml::text_at(node, "model", file);
-  m.source = yaml::text_at(node, "source", file);
-  if (m.source.empty()) yaml::fail(file, node["source"].Mark(), "source must not be empty");
-  if (node["conditions"]) m.conditions = yaml::text_at(node, "conditions", file);
-  if (node["notes"]) m.notes = yaml::text_at(node, "notes", file);
-
-  const double zero = 0;
+// The coefficients of the entry's model; keys of the other model are errors.
+void read_coefficients(const yaml::Map& n, const std::string& model, MaterialEntry& m) {
   auto forbid = [&](std::initializer_list<const char*> keys) {
     for (const char* k : keys)
-      if (node[k]) yaml::fail(file, node[k].Mark(), std::string(k) + " does not belong to model " + model);
+      if (n.has(k)) n.fail(k, std::string(k) + " does not belong to model " + model);
   };
   if (model == "mechanistic") {
     forbid({"K_T_N_per_mm2", "K_R_N_per_mm2", "K_A_N_per_mm2"});
     m.form = ModelForm::mechanistic;
-    m.k.Ktc_N_per_mm2 = yaml::number_at(node, "K_tc_N_per_mm2", file);
-    m.k.Krc_N_per_mm2 = yaml::number_at(node, "K_rc_N_per_mm2", file);
-    m.k.Kac_N_per_mm2 = yaml::number_at(node, "K_ac_N_per_mm2", file, &zero);
-    m.k.Kte_N_per_mm = yaml::number_at(node, "K_te_N_per_mm", file, &zero);
-    m.k.Kre_N_per_mm = yaml::number_at(node, "K_re_N_per_mm", file, &zero);
-    m.k.Kae_N_per_mm = yaml::number_at(node, "K_ae_N_per_mm", file, &zero);
+    m.k.Ktc_N_per_mm2 = n.number("K_tc_N_per_mm2");
+    m.k.Krc_N_per_mm2 = n.number("K_rc_N_per_mm2");
+    m.k.Kac_N_per_mm2 = n.number("K_ac_N_per_mm2", 0, {});
+    m.k.Kte_N_per_mm = n.number("K_te_N_per_mm", 0, {});
+    m.k.Kre_N_per_mm = n.number("K_re_N_per_mm", 0, {});
+    m.k.Kae_N_per_mm = n.number("K_ae_N_per_mm", 0, {});
   } else if (model == "smaoui_krta") {
-    forbid({"K_tc_N_per_mm2", "K_rc_N_per_mm2", "K_ac_N_per_mm2", "K_te_N_per_mm",
-            "K_re_N_per_mm", "K_ae_N_per_mm"});
+    forbid({"K_tc_N_per_mm2", "K_rc_N_per_mm2", "K_ac_N_per_mm2", "K_te_N_per_mm", "K_re_N_per_mm", "K_ae_N_per_mm"});
     m.form = ModelForm::smaoui_krta;
-    m.k = from_smaoui(yaml::number_at(node, "K_T_N_per_mm2", file),
-                      yaml::number_at(node, "K_R_N_per_mm2", file),
-                      yaml::number_at(node, "K_A_N_per_mm2", file));
+    m.k = from_smaoui(n.number("K_T_N_per_mm2"), n.number("K_R_N_per_mm2"), n.number("K_A_N_per_mm2"));
   } else {
-    yaml::fail(file, node["model"].Mark(),
-               "unknown model '" + model + "' (expected mechanistic or smaoui_krta)");
+    n.fail("model", "unknown model '" + model + "' (expected mechanistic or smaoui_krta)");
   }
-  if (m.k.Ktc_N_per_mm2 <= 0)
-    yaml::fail(file, node.Mark(), "the tangential cutting coefficient must be > 0");
+  if (m.k.Ktc_N_per_mm2 <= 0) n.fail(n.node(), "the tangential cutting coefficient must be > 0");
+}
+
+MaterialEntry parse_entry(const YAML::Node& node, const std::string& name, const std::string& file) {
+  const yaml::Map n(node, "material '" + name + "'", file,
+                    {"aliases", "model", "source", "conditions", "notes", "K_tc_N_per_mm2", "K_rc_N_per_mm2",
+                     "K_ac_N_per_mm2", "K_te_N_per_mm", "K_re_N_per_mm", "K_ae_N_per_mm", "K_T_N_per_mm2",
+                     "K_R_N_per_mm2", "K_A_N_per_mm2"});
+  MaterialEntry m;
+  m.name = name;
+  m.location = yaml::where(file, node.Mark());
+  if (n.has("aliases")) {
+    const YAML::Node a = n.get("aliases");
+    if (!a.IsSequence()) n.fail(a, "aliases must be a list of names");
+    for (const auto& x : a) m.aliases.push_back(yaml::text(x, "an alias", file));
+  }
+  const std::string model = n.text("model");
+  m.source = n.text("source");
+  if (m.source.empty()) n.fail("source", "source must not be empty");
+  m.conditions = n.text("conditions", "");
+  m.notes = n.text("notes", "");
+  read_coefficients(n, model, m);
   return m;
 }
 
@@ -75,12 +72,12 @@ MaterialLibrary parse_material_library(const std::string& yaml_text, const std::
   const YAML::Node root = yaml::load_text(yaml_text, file);
   if (!root.IsMap() || !root["materials"])
     yaml::fail(file, root.Mark(), "expected a map with a 'materials:' key");
-  const YAML::Node mats = root["materials"];
-  yaml::require_map(mats, "materials", file);
+  const YAML::Node mats = yaml::Map(root, "material library", file, {"materials"}).get("materials");
+  if (!mats.IsMap()) yaml::fail(file, mats.Mark(), "materials must be a map");
   MaterialLibrary lib;
   lib.file = file;
   for (const auto& kv : mats) {
-    MaterialEntry m = parse_entry(kv.second, kv.first.Scalar(), file);
+    MaterialEntry m = parse_entry(kv.second, yaml::text(kv.first, "a material name", file), file);
     for (const auto& other : lib.entries) {
       std::vector<std::string> a = other.aliases, b = m.aliases;
       a.push_back(other.name);

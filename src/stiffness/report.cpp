@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "deflex/report/json.hpp"
+
 namespace deflex::stiffness {
 
 namespace {
@@ -14,20 +16,17 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 std::string compliance_json(const std::vector<ComplianceRow>& rows) {
-  std::ostringstream o;
-  o << "{\"compliance\": [";
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    o << (k ? ", " : "") << "{\"height_mm\": " << fmt("%.6g", rows[k].height_mm)
-      << ", \"matrix_mm_per_N\": [";
+  report::Json list = report::Json::array();
+  for (const auto& r : rows) {
+    report::Json m = report::Json::array();
     for (int i = 0; i < 3; ++i) {
-      o << (i ? ", " : "") << "[";
-      for (int j = 0; j < 3; ++j) o << (j ? ", " : "") << fmt("%.7g", rows[k].matrix_mm_per_N(i, j));
-      o << "]";
+      report::Json row = report::Json::array();
+      for (int j = 0; j < 3; ++j) row.push_back(report::significant(r.matrix_mm_per_N(i, j), 7));
+      m.push_back(row);
     }
-    o << "]}";
+    list.push_back({{"height_mm", report::significant(r.height_mm, 6)}, {"matrix_mm_per_N", m}});
   }
-  o << "]}\n";
-  return o.str();
+  return report::line({{"compliance", list}});
 }
 
 std::string compliance_text(const std::vector<ComplianceRow>& rows, const std::string& title) {

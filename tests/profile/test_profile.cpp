@@ -30,7 +30,7 @@ TEST_CASE("YAML errors carry file:line:col") {
     try { profile::load_machine(f); } catch (const Error& e) { return std::string(e.what()); }
     return std::string("no error");
   };
-  CHECK(what().find(f + ":4:6: error: travel limits must be numbers") != std::string::npos);
+  CHECK(what().find(f + ":4:10: error: travel_mm.x must be a number, not 'oops'") != std::string::npos);
   test::write_file(f, "name: m\ndialekt: fanuc\n");
   CHECK(what().find(f + ":2:1: error: unknown key 'dialekt'") != std::string::npos);
   test::write_file(f, "name: m\n  bad: [\n");

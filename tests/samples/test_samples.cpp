@@ -7,7 +7,6 @@
 // down-milling on the box stock.
 #include <doctest/doctest.h>
 
-#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,6 +19,7 @@
 #include "deflex/engage/simulator.hpp"
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/tool.hpp"
+#include "deflex/profile/yaml.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/build.hpp"
 
@@ -101,7 +101,9 @@ double stock_distance(const stock::ZMap& z, const interp::Vec3& c, double reach)
 }
 
 std::string stock_spec(const std::string& yaml) {
-  const std::string v = YAML::LoadFile(kSamples + "stock/" + yaml)["stock"].as<std::string>();
+  // Through the strict reader, as every YAML file deflex reads: a stray key fails.
+  const std::string file = kSamples + "stock/" + yaml;
+  const std::string v = yaml::Map(yaml::load_file(file), "stock file", file, {"stock"}).text("stock");
   return v.rfind("box:", 0) == 0 ? v : kSamples + "stock/" + v;
 }
 

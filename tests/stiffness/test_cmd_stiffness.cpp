@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <nlohmann/json.hpp>
+
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stiffness/beam.hpp"
@@ -90,7 +92,9 @@ TEST_SUITE("stiffness") {
     Compliance c;
     c << 1e-4, 2e-6, 0, 2e-6, 1e-4, 0, 0, 0, 3e-6;
     const std::string j = compliance_json({{1.5, c}});
-    CHECK(j == "{\"compliance\": [{\"height_mm\": 1.5, \"matrix_mm_per_N\": [[0.0001, 2e-06, 0], "
-               "[2e-06, 0.0001, 0], [0, 0, 3e-06]]}]}\n");
+    CHECK(j == "{\"compliance\":[{\"height_mm\":1.5,\"matrix_mm_per_N\":[[0.0001,2e-06,0.0],"
+               "[2e-06,0.0001,0.0],[0.0,0.0,3e-06]]}]}\n");
+    const auto parsed = nlohmann::json::parse(j);
+    CHECK(parsed["compliance"][0]["matrix_mm_per_N"][2][2].get<double>() == 3e-6);
   }
 }

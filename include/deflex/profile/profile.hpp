@@ -82,10 +82,4 @@ struct Config {
 // config.yaml from the current directory, else the source tree's, else defaults.
 Config load_config(const std::string& path = "");
 
-// Helpers shared by the YAML loaders of other modules.
-[[noreturn]] void yaml_error(const std::string& file, const YAML::Mark& mark, const std::string& msg);
-YAML::Node load_yaml_file(const std::string& path);
-double get_number(const YAML::Node& n, const std::string& file, const std::string& key);
-std::string get_string(const YAML::Node& n, const std::string& file, const std::string& key);
-
 }  // namespace deflex::profile

@@ -1,9 +1,13 @@
-// YAML reading shared by every library file deflex loads (config, machine
-// profiles, dialects, tool and material libraries): each error is a
-// deflex::Error(Exit::config) whose text starts `file:line:col: error:`.
+// The one strict YAML reader of deflex: config.yaml, machine profiles (every
+// section), dialects, tool and material libraries all go through it, so each
+// error is a deflex::Error(Exit::config) whose text starts `file:line:col: error:`,
+// an unknown key is always an error (a typo never passes silently), and no
+// number becomes an integer or a limit without being checked first.
 #pragma once
 #include <initializer_list>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -16,12 +20,52 @@ std::string read_file(const std::string& path);  // Error(Exit::io) when it cann
 YAML::Node load_file(const std::string& path);
 YAML::Node load_text(const std::string& text, const std::string& file);
 
-void require_map(const YAML::Node& node, const std::string& what, const std::string& file);
-// Unknown keys are errors: a typo in a library must not pass silently.
-void check_keys(const YAML::Node& map, std::initializer_list<const char*> known, const std::string& file);
-double number(const YAML::Node& node, const std::string& what, const std::string& file);  // finite
-double number_at(const YAML::Node& parent, const char* key, const std::string& file,
-                 const double* fallback = nullptr);
-std::string text_at(const YAML::Node& parent, const char* key, const std::string& file);
+// Allowed values of a number; NaN and infinities are never allowed.
+struct Range {
+  double lo = -std::numeric_limits<double>::max();
+  double hi = std::numeric_limits<double>::max();
+  bool lo_open = false;  // lo itself excluded
+  static Range positive() { return {0, std::numeric_limits<double>::max(), true}; }
+  static Range non_negative() { return {0, std::numeric_limits<double>::max(), false}; }
+  static Range between(double lo, double hi) { return {lo, hi, false}; }
+};
+
+// Typed readers of one node; `what` names it in the message.
+double number(const YAML::Node& node, const std::string& what, const std::string& file, Range r = {});
+// A whole number in [lo, hi], range-checked before the cast.
+long long integer(const YAML::Node& node, const std::string& what, const std::string& file, long long lo, long long hi);
+std::string text(const YAML::Node& node, const std::string& what, const std::string& file);
+bool boolean(const YAML::Node& node, const std::string& what, const std::string& file);
+
+// A map section that knows its allowed keys: constructing it fails on a
+// non-map and on the first unknown key
+// (`file:l:c: error: unknown key 'x' in limits (expected: a, b, c)`).
+// Getters without a default fail on a missing key, located at the section.
+class Map {
+ public:
+  Map(const YAML::Node& node, std::string name, std::string file, std::initializer_list<const char*> keys);
+
+  bool has(const char* key) const { return static_cast<bool>(node_[key]); }
+  YAML::Node get(const char* key) const;  // required
+  YAML::Node node() const { return node_; }
+  const std::string& file() const { return file_; }
+  const std::string& name() const { return name_; }
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& msg) const;
+  [[noreturn]] void fail(const char* key, const std::string& msg) const { fail(get(key), msg); }
+
+  double number(const char* key, Range r = {}) const;
+  double number(const char* key, double dflt, Range r) const;
+  long long integer(const char* key, long long lo, long long hi) const;
+  long long integer(const char* key, long long dflt, long long lo, long long hi) const;
+  std::string text(const char* key) const;
+  std::string text(const char* key, const std::string& dflt) const;
+  bool boolean(const char* key, bool dflt) const;
+  // A sub-section (required); its name in messages is "<this>.<key>".
+  Map map(const char* key, std::initializer_list<const char*> keys) const;
+
+ private:
+  YAML::Node node_;
+  std::string name_, file_;
+};
 
 }  // namespace deflex::yaml
