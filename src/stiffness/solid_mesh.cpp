@@ -29,6 +29,7 @@
 #include "deflex/stiffness/shape.hpp"
 #include "gmsh_runtime.hpp"
 #include "deflex/stiffness/solid.hpp"
+#include "deflex/stock/build.hpp"
 #include "solid_internal.hpp"
 
 namespace deflex::stiffness::solid {
@@ -98,18 +99,8 @@ TopoDS_Shape tool_solid(const ToolShape& s) {
   return p.revolve();
 }
 
-// OCCT's data exchange prints transfer statistics to stdout; deflex's stdout
-// is its output, so drop the console printers.
-void quiet_occt() {
-  static const bool done = [] {
-    Message::DefaultMessenger()->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
-    return true;
-  }();
-  (void)done;
-}
-
 TopoDS_Shape read_step(const std::string& path) {
-  quiet_occt();
+  stock::route_occt_messages();
   STEPControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
     throw Error(Exit::io, path + ": error: cannot read the STEP file");
@@ -216,7 +207,7 @@ void write_tool_brep(const Tool& t, const std::string& brep_path) {
 namespace deflex::stiffness {
 
 void write_tool_step(const Tool& t, const std::string& step_path) {
-  solid::quiet_occt();
+  stock::route_occt_messages();
   STEPControl_Writer writer;
   if (writer.Transfer(solid::tool_solid(tool_shape(t)), STEPControl_AsIs) != IFSelect_RetDone ||
       writer.Write(step_path.c_str()) != IFSelect_RetDone)

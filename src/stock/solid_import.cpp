@@ -11,6 +11,7 @@
 #include <Message.hxx>
 #include <Message_Messenger.hxx>
 #include <Message_Printer.hxx>
+#include <Message_PrinterOStream.hxx>
 #include <Poly_Triangulation.hxx>
 #include <RWStl.hxx>
 #include <STEPControl_Reader.hxx>
@@ -54,27 +55,6 @@ void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, std::ve
   }
 }
 
-// The readers report progress on stdout, which belongs to deflex's output:
-// raise the default printers' trace level to failures while reading.
-class QuietOcct {
- public:
-  QuietOcct() {
-    for (Message_SequenceOfPrinters::Iterator it(Message::DefaultMessenger()->Printers()); it.More(); it.Next()) {
-      saved_.push_back(it.Value()->GetTraceLevel());
-      it.Value()->SetTraceLevel(Message_Fail);
-    }
-  }
-  ~QuietOcct() {
-    std::size_t k = 0;
-    for (Message_SequenceOfPrinters::Iterator it(Message::DefaultMessenger()->Printers()); it.More() && k < saved_.size();
-         it.Next())
-      it.Value()->SetTraceLevel(saved_[k++]);
-  }
-
- private:
-  std::vector<Message_Gravity> saved_;
-};
-
 TopoDS_Shape read_brep(const std::string& path, const std::string& ext) {
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader r;
@@ -90,11 +70,26 @@ TopoDS_Shape read_brep(const std::string& path, const std::string& ext) {
 
 }  // namespace
 
+// OCCT's readers print progress and errors on stdout, which is deflex's
+// output (a compensated program): its messages go to stderr instead, failures
+// only and without terminal colours; deflex reports its own error beside them.
+void route_occt_messages() {
+  static const bool done = [] {
+    const Handle(Message_Messenger)& m = Message::DefaultMessenger();
+    m->RemovePrinters(STANDARD_TYPE(Message_PrinterOStream));
+    Handle(Message_PrinterOStream) err = new Message_PrinterOStream("cerr", false, Message_Fail);
+    err->SetToColorize(false);
+    m->AddPrinter(err);
+    return true;
+  }();
+  (void)done;
+}
+
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm) {
   if (!std::filesystem::is_regular_file(path)) throw Error(Exit::io, path + ": no such file");
   const std::string ext = lower_extension(path);
   std::vector<Triangle> out;
-  const QuietOcct quiet;
+  route_occt_messages();
   try {
     if (ext == ".stl") {
       append(RWStl::ReadFile(path.c_str()), nullptr, out);

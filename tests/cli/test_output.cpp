@@ -118,6 +118,22 @@ TEST_CASE("fail fast, say where: what the simulation needs is checked first, at 
   CHECK_FALSE(fs::exists(out));
 }
 
+TEST_CASE("no library writes to stdout: OpenCASCADE's errors on a junk STL go to stderr") {
+  TempDir d;
+  const std::string junk = (d.p / "junk.stl").string();
+  std::string bytes(3000, '\0');
+  for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<char>((i * 2654435761u) >> 13);
+  test::write_file(junk, bytes);
+  // The binary, so that OCCT's own console printers would reach the real stdout.
+  const std::string out = (d.p / "stdout.txt").string();
+  const std::string cmd = std::string(DEFLEX_BINARY) + " simulate " + kWall +
+                          " --material Al6082-T4 --stock " + junk + " > " + out + " 2>/dev/null";
+  const int st = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(st));
+  CHECK(WEXITSTATUS(st) == 4);  // the file could not be read
+  CHECK(test::read_file(out).empty());
+}
+
 TEST_CASE("a failed write to standard output is an I/O error, not exit 0") {
   // The binary itself: the check is in main(), after the command ran.
   const std::string cmd = std::string(DEFLEX_BINARY) + " rewrite " + kWall + " > /dev/full 2>/dev/null";

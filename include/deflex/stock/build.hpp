@@ -48,6 +48,10 @@ struct SolidOptions {
 // Throws Error(Exit::io) when the file cannot be read, Exit::config when it holds no solid.
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm);
 
+// Sends OpenCASCADE's messages to stderr (failures only), never to stdout.
+// Idempotent; every reader that goes through OCCT calls it first.
+void route_occt_messages();
+
 ZMap zmap_from_solid_file(const std::string& path, const SolidOptions& o = {});
 
 // A stock spec as given on the command line or in the config: "box:..." or a
