@@ -40,16 +40,44 @@ std::uint32_t SourceText::line_of(std::uint32_t offset) const {
   return static_cast<std::uint32_t>(it - line_begin_.begin());
 }
 
+namespace {
+
+// Control bytes from the input (ESC sequences, CR, NUL ...) would act on the
+// user's terminal: they are shown as \xNN. Tabs stay (the caret keeps them).
+bool control(unsigned char c) { return (c < 0x20 && c != '\t') || c == 0x7f; }
+void append_printable(std::string& out, std::string_view in) {
+  static const char hex[] = "0123456789abcdef";
+  for (unsigned char c : in) {
+    if (!control(c)) {
+      out += static_cast<char>(c);
+      continue;
+    }
+    out += "\\x";
+    out += hex[c >> 4];
+    out += hex[c & 15];
+  }
+}
+
+}  // namespace
+
 std::string format(const Diagnostic& d) {
   static const char* names[] = {"note", "warning", "error"};
-  std::string s = d.file;
+  std::string s;
+  append_printable(s, d.file);
   if (d.line) s += ":" + std::to_string(d.line) + ":" + std::to_string(d.col);
-  s += std::string(s.empty() ? "" : ": ") + names[static_cast<int>(d.severity)] + ": " + d.message + "\n";
+  s += std::string(s.empty() ? "" : ": ") + names[static_cast<int>(d.severity)] + ": ";
+  append_printable(s, d.message);
+  s += "\n";
   if (!d.source_line.empty() || d.line) {
-    s += "  " + d.source_line + "\n  ";
-    // Keep tabs under tabs so the caret lines up in a terminal.
-    for (std::uint32_t i = 1; i < d.col && i - 1 < d.source_line.size(); ++i)
-      s += d.source_line[i - 1] == '\t' ? '\t' : ' ';
+    s += "  ";
+    append_printable(s, d.source_line);
+    s += "\n  ";
+    // Keep tabs under tabs so the caret lines up in a terminal; an escaped
+    // byte takes four columns.
+    for (std::uint32_t i = 1; i < d.col && i - 1 < d.source_line.size(); ++i) {
+      const unsigned char c = static_cast<unsigned char>(d.source_line[i - 1]);
+      s += c == '\t' ? "\t" : control(c) ? "    " : " ";
+    }
     s += "^\n";
   }
   return s;

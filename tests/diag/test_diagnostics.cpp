@@ -49,4 +49,15 @@ TEST_CASE("the caret stands under the column, tabs kept as tabs; no location, no
   CHECK(format(n) == "t.nc: note: whole file\n");
 }
 
+TEST_CASE("control bytes of the input never reach the terminal: shown as \\xNN, the caret still under its column") {
+  const Diagnostic d{Severity::error, "a\x1b[2Jb.nc", 1, 9, "bad \x07 word", "G1 X1 \x1b[31mQ5\r"};
+  const std::string f = format(d);
+  for (char c : f) CHECK((c == '\n' || c == '\t' || static_cast<unsigned char>(c) >= 0x20));
+  CHECK(f.find("a\\x1b[2Jb.nc:1:9: error: bad \\x07 word") == 0);
+  CHECK(f.find("  G1 X1 \\x1b[31mQ5\\x0d\n") != std::string::npos);
+  // Column 9 is the '3' after the escape byte at column 7: the indent of 2,
+  // then 6 + 4 (the escape) + 1 columns in.
+  CHECK(f.find("\n" + std::string(13, ' ') + "^\n") != std::string::npos);
+}
+
 }  // TEST_SUITE
