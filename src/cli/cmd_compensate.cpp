@@ -332,8 +332,9 @@ void write_report(const std::string& dir, const std::vector<compensate::Point>& 
 
 // Plausibility warnings (compensate/plausibility.hpp), compiler style at the
 // line of the worst point, and their summary.json array.
-compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io) {
-  compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings);
+compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
+                                             const std::vector<std::uint32_t>* capped_lines = nullptr) {
+  compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings, capped_lines);
   Diagnostics diags(&io.err, 0);
   for (const compensate::Finding& f : pl.findings)
     diags.report(Severity::warning, j.prog.source(), f.line, 1, f.message + " [" + f.kind + "]");
@@ -420,7 +421,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
-  const compensate::Plausibility pl = report_plausibility(j, r.nominal, io);
+  const compensate::Plausibility pl = report_plausibility(j, r.nominal, io, &r.capped_lines);
   if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);

@@ -63,7 +63,10 @@ struct Acc {
 }  // namespace
 
 Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
-                          const stiffness::ToolLibrary& tools, const Settings& s) {
+                          const stiffness::ToolLibrary& tools, const Settings& s,
+                          const std::vector<std::uint32_t>* capped_lines) {
+  const std::set<std::uint32_t> capped =
+      capped_lines ? std::set<std::uint32_t>(capped_lines->begin(), capped_lines->end()) : std::set<std::uint32_t>{};
   Acc flute, force, cap, centre, rough;
   flute.f.kind = "flute_length";
   force.f.kind = "peak_force";
@@ -109,7 +112,7 @@ Plausibility plausibility(const std::vector<interp::Motion>& motions, const std:
       }
     }
     // 3. The offset cap bites.
-    if (!p.air && !p.plunge && s.gain * std::fabs(p.error_mm) > s.max_offset_mm) {
+    if (!p.air && !p.plunge && (capped_lines ? capped.count(p.line) > 0 : s.gain * std::fabs(p.error_mm) > s.max_offset_mm)) {
       cap.add(p, std::fabs(p.error_mm), id);
       cap.f.limit = s.max_offset_mm;
     }
@@ -120,7 +123,8 @@ Plausibility plausibility(const std::vector<interp::Motion>& motions, const std:
     // 5. Roughing under a finishing tool.
     if (t.type == stiffness::ToolType::ball) {
       if (!p.air && p.ap_mm > R + 1e-6) {
-        rough.add(p, p.ap_mm, id);
+        // a_p stops at the top of the flutes: past them the stock tells the depth.
+        rough.add(p, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
         rough.f.limit = R;
       }
     } else {
@@ -171,6 +175,15 @@ Plausibility plausibility(const std::vector<interp::Motion>& motions, const std:
                                                 " MPa allowable; set max_force_N to override";
     emit(force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
                     num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
+  }
+  if (cap.any && capped_lines) {
+    // The cap bit at the motion ends: count those, the lines in program order.
+    cap.f.count = capped_lines->size();
+    cap.f.lines.clear();
+    std::set<std::uint32_t> seen;
+    for (std::uint32_t l : *capped_lines)
+      if (seen.insert(l).second && cap.f.lines.size() < 12) cap.f.lines.push_back(l);
+    cap.seen = seen;
   }
   if (cap.any)
     emit(cap, "the deflection along the surface normal reaches " + num(cap.f.worst, 4) +

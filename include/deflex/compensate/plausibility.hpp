@@ -53,7 +53,11 @@ ForceLimit default_force_limit(const stiffness::Tool& t);
 // The tool's max_force_N, else default_force_limit.
 ForceLimit force_limit(const stiffness::Tool& t);
 
+// capped_lines (compensate: Result::capped_lines, may be null): where the cap
+// did bite; offset_cap then counts those and takes the worst |e| of the points
+// on their lines, else it counts the points with gain |e| > max_offset_mm.
 Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
-                          const stiffness::ToolLibrary& tools, const Settings& s);
+                          const stiffness::ToolLibrary& tools, const Settings& s,
+                          const std::vector<std::uint32_t>* capped_lines = nullptr);
 
 }  // namespace deflex::compensate
