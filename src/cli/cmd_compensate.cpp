@@ -12,6 +12,7 @@
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/pairing.hpp"
+#include "deflex/compensate/plausibility.hpp"
 #include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/interp/travel.hpp"
@@ -329,6 +330,26 @@ void write_report(const std::string& dir, const std::vector<compensate::Point>& 
                                 [&](std::ostream& o) { o << summary_json; });
 }
 
+// Plausibility warnings (compensate/plausibility.hpp), compiler style at the
+// line of the worst point, and their summary.json array.
+compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
+                                             const std::vector<std::uint32_t>* capped_lines = nullptr) {
+  compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings, capped_lines);
+  Diagnostics diags(&io.err, 0);
+  for (const compensate::Finding& f : pl.findings)
+    diags.report(Severity::warning, j.prog.source(), f.line, 1, f.message + " [" + f.kind + "]");
+  return pl;
+}
+
+report::Json warnings_json(const compensate::Plausibility& pl) {
+  report::Json a = report::Json::array();
+  for (const compensate::Finding& f : pl.findings)
+    a.push_back({{"kind", f.kind}, {"count", f.count}, {"worst", report::fixed(f.worst, 4)},
+                 {"limit", report::fixed(f.limit, 4)}, {"tool", f.tool}, {"line", f.line},
+                 {"line_count", f.line_count}, {"lines", f.lines}, {"message", f.message}});
+  return a;
+}
+
 const char* kCompensateHelp =
     "Simulates the cut of the program on the stock - engagement of the cutter in the\n"
     "material as cut so far, mean cutting force over a revolution, deflection of tool,\n"
@@ -400,7 +421,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
-  if (!r.capped_lines.empty()) {
+  const compensate::Plausibility pl = report_plausibility(j, r.nominal, io, &r.capped_lines);
+  if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
     if (r.capped_lines.size() > 12) lines += ", ...";
@@ -432,7 +454,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
                           {"surface_error_as_written_mm", stats_json(before)}, {"cl_points", after.points},
                           {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
                           {"evaluations", r.evaluations}, {"converged", r.converged},
-                          {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted}};
+                          {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted},
+                          {"capped_points", r.capped_lines.size()}, {"warnings", warnings_json(pl)}};
     write_report(a.report, r.final, r.offsets, report::document(js), r.nominal);
     write_maps(a.report, tol, {{"error_as_written", plot_points(r.nominal, {})},
                                {"error_compensated", plot_points(r.final, r.offsets)}});
@@ -495,6 +518,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     }
   std::vector<compensate::Point> pts = compensate::simulate(design, intent, j.physics, j.settings, progress);
   if (progress) io.err << "\r\033[K";
+  const compensate::Plausibility pl = report_plausibility(j, pts, io);
   const double tol = j.settings.tolerance_mm;
   Stats st = stats_of(errors_against(pts, intent), tol);
   char buf[300];
@@ -507,7 +531,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   if (!a.report.empty()) {
     const report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", stats_json(st)},
                           {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
-                          {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
+                          {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)},
+                          {"warnings", warnings_json(pl)}};
     write_report(a.report, pts, intent, report::document(js), pts);
     write_maps(a.report, tol, {{"surface_error", plot_points(pts, intent)}});
   }

@@ -5,6 +5,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <thread>
 
 #include "deflex/diag/diagnostics.hpp"
@@ -189,6 +190,7 @@ class Run {
     return true;
   }
   engage::Simulator& sim() { return *sim_; }
+  const stock::ZMap& zmap() const { return *z_; }
   const ToolModel& tool() const { return *tm_; }
   std::size_t tool_changes() const { return tool_changes_; }
   void finish() {
@@ -207,6 +209,22 @@ class Run {
   std::unique_ptr<engage::Simulator> sim_;
   std::size_t tool_changes_ = 0;
 };
+
+// Point::stock_depth_mm: the highest stock over the leading half of the disc of
+// radius r around the tip (centre, rings at r/2 and 0.95 r, every 22.5 deg
+// from -90 to +90 deg about the feed direction) above the tip.
+double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r) {
+  const auto& t = cl.point.tip_mm;
+  const double fx = cl.point.feed_x, fy = cl.point.feed_y;
+  double top = -std::numeric_limits<double>::infinity();
+  for (double rr : {0.0, 0.5 * r, 0.95 * r})
+    for (int k = -4; k <= 4; ++k) {
+      const double a = k * std::numbers::pi / 8, c = std::cos(a), sn = std::sin(a);
+      top = std::max(top, static_cast<double>(z.height_at(t[0] + rr * (fx * c - fy * sn), t[1] + rr * (fy * c + fx * sn))));
+      if (rr == 0) break;
+    }
+  return top > t[2] ? top - t[2] : 0.0;
+}
 
 // Motion m with its start moved by a and its end (and an arc's centre) by b.
 interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
@@ -248,6 +266,7 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
   // and a tool change starts a new Simulator).
   std::vector<std::size_t> ran;
   const ToolModel* tm = nullptr;
+  const stock::ZMap* zmap = nullptr;
   auto sink = [&](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
     if (cl.rapid) return;
     const std::size_t gi = ran.at(cl.motion);
@@ -256,9 +275,11 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
     const V3 b = offsets.empty() ? V3(V3::Zero()) : offsets[gi];
     Point p = point_of(cl, mt, eng, *tm, design, design, a, b, *normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);
+    if (zmap) p.stock_depth_mm = stock_depth(*zmap, cl, 0.5 * tm->tool.diameter_mm);
     out.push_back(p);
   };
   Run run(ph, s, sink);
+  zmap = &run.zmap();
   auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
   const std::size_t n = motions.size();
   std::size_t changes = 0;

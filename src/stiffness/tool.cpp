@@ -9,9 +9,9 @@
 namespace deflex::stiffness {
 
 std::optional<Material> material_preset(const std::string& name) {
-  if (name == "carbide") return Material{"carbide", 600000.0, 0.22};
-  if (name == "hss") return Material{"hss", 220000.0, 0.28};
-  if (name == "steel") return Material{"steel", 210000.0, 0.30};
+  if (name == "carbide") return Material{"carbide", 600000.0, 0.22, 1000.0};
+  if (name == "hss") return Material{"hss", 220000.0, 0.28, 1500.0};
+  if (name == "steel") return Material{"steel", 210000.0, 0.30, 800.0};
   return std::nullopt;
 }
 
@@ -84,7 +84,7 @@ Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string
   const Map n(node, "tool '" + id + "'", file,
               {"type", "diameter_mm", "corner_radius_mm", "flutes", "helix_deg", "flute_length_mm",
                "stickout_mm", "shank_diameter_mm", "flute_diameter_ratio", "material", "step_file", "neck",
-               "description"});
+               "description", "max_force_N", "centre_cutting"});
   Tool t;
   t.id = id;
   t.source = yaml::where(file, node.Mark());
@@ -98,6 +98,8 @@ Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string
   t.shank_diameter_mm = n.number("shank_diameter_mm", t.diameter_mm, Range::positive());
   t.flute_diameter_ratio = n.number("flute_diameter_ratio", t.flute_diameter_ratio, {0, 1, true});
   t.material = parse_material(n.get("material"), file);
+  if (n.has("max_force_N")) t.max_force_N = n.number("max_force_N", Range::positive());
+  t.centre_cutting = n.boolean("centre_cutting", true);
   if (n.has("step_file")) {
     std::filesystem::path p = n.text("step_file");
     if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;

@@ -143,3 +143,29 @@ TEST_CASE("a failed write to standard output is an I/O error, not exit 0") {
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("cli") {
+
+TEST_CASE("plausibility warnings: compiler style on stderr at the worst line, and in summary.json") {
+  TempDir d;
+  // The side wall as designed: no warning; summary.json has an empty array.
+  auto ok = test::run_cli({"simulate", kWall, "--material", "Al6082-T4", "--stock", "box:0,-40,-30,100,0,0",
+                           "--report", (d.p / "ok").string()});
+  REQUIRE(ok.rc == 0);
+  CHECK(ok.err.find("warning:") == std::string::npos);
+  CHECK(test::read_file((d.p / "ok" / "summary.json").string()).find("\"warnings\": []") != std::string::npos);
+  // The same path with the D6 ball T3 (flutes 9 mm) 12 mm into the wall's raw box.
+  auto r = test::run_cli({"simulate", kWall, "--tool", "T3", "--material", "Al6082-T4", "--stock",
+                          "box:0,-40,-30,100,10,0", "--report", (d.p / "bad").string()});
+  INFO(r.err);
+  REQUIRE(r.rc == 0);
+  CHECK(r.err.find("side_wall.nc:16:1: warning: the cut reaches") != std::string::npos);
+  CHECK(r.err.find("[flute_length]") != std::string::npos);
+  CHECK(r.err.find("[roughing]") != std::string::npos);
+  CHECK(r.err.find("N22 X110.") != std::string::npos);  // the source line under it
+  const std::string js = test::read_file((d.p / "bad" / "summary.json").string());
+  CHECK(js.find("\"kind\": \"flute_length\"") != std::string::npos);
+  CHECK(js.find("\"kind\": \"roughing\"") != std::string::npos);
+}
+
+}  // TEST_SUITE

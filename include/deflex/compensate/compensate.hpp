@@ -99,6 +99,11 @@ struct Point {
   NormalSource normal_source = NormalSource::travel;
   double part_gap_mm = 0;       // normal_source part: the programmed cutter's gap to the part
   double error_mm = 0;          // delta . normal; flank: (flank_min_mm + flank_max_mm) / 2
+  // simulate(): the highest stock over the leading half of the tool's disc
+  // above the tip (the Z-map as committed so far: it may lag the last few
+  // moves by a batch), 0 where none; the plausibility checks' depth of cut,
+  // which a_p (at most the flute length) cannot show.
+  double stock_depth_mm = 0;
   // Flank cuts: e(z) over the engaged flank at the commanded position (the
   // offset not included), its extremes and their heights above the tip.
   bool flank = false;

@@ -16,10 +16,18 @@ struct Material {
   std::string name;  // preset name, or "custom"
   double E_MPa = 0;
   double poisson = 0;
+  // Allowable bending stress for the plausibility check of the peak force
+  // (compensate/plausibility.hpp), MPa. See material_preset().
+  double allowable_bending_MPa = 1000;
 };
 
 // Presets for `material: carbide|hss|steel`. Typical handbook values: cemented
 // carbide (WC-Co, 10% Co) 600 GPa, M2 high-speed steel 220 GPa, tool steel 210 GPa.
+// Allowable bending stress (rupture strength / safety 2): carbide 1000 MPa
+// (transverse rupture strength of micro-grain WC-Co end-mill grades ~2000-4000
+// MPa, ISO 3327; the low end taken), M2 HSS at 63-65 HRC 1500 MPa (bend
+// strength ~3000-4000 MPa), tool steel 800 MPa (tensile ~1600 MPa hardened);
+// a custom {E_MPa, poisson} material: 1000 MPa.
 std::optional<Material> material_preset(const std::string& name);
 
 // A reduced-diameter neck between the flutes and the shank (long-reach tools).
@@ -41,6 +49,11 @@ struct Tool {
   double flute_diameter_ratio = 0.8;  // equivalent solid diameter of the fluted part / D
   Material material;
   std::optional<Neck> neck;
+  // Plausibility (compensate/plausibility.hpp): the largest peak |F| allowed
+  // (none: from the bending strength at the stick-out), and whether the end
+  // cuts at its centre (may plunge straight down).
+  std::optional<double> max_force_N;
+  bool centre_cutting = true;
   std::string step_file;  // vendor model, resolved against the library's folder; empty: none
   std::string source;     // "file:line:col" of the tool's entry, for messages
 };

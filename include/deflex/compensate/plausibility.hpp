@@ -1,0 +1,63 @@
+// Plausibility warnings: what makes a program dangerous on the machine however
+// well its deflection is compensated. Computed from the points of the program
+// as written (compensate::simulate, Result::nominal) with the tool library:
+//   flute_length    the cut reaches above the flutes (neck or shank in the cut):
+//                   the engaged edge reaches the top of the flutes (a_p) and the
+//                   stock over the tool's disc stands higher (Point::stock_depth_mm)
+//   peak_force      the peak |F| over a revolution exceeds the tool's max_force_N,
+//                   by default the tip force that breaks it in bending
+//                   (default_force_limit)
+//   offset_cap      gain |e| along the normal exceeds max_offset_mm: the mirror
+//                   offset is capped there, the error stays
+//   centre_cutting  a plunge (no XY travel) into material with a tool whose
+//                   centre_cutting is false
+//   roughing        a finishing cut on what looks like a raw blank: a ball end
+//                   deeper than its radius, or another end in a full-width slot
+//                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "deflex/compensate/compensate.hpp"
+
+namespace deflex::compensate {
+
+struct Finding {
+  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing
+  std::size_t count = 0;             // CL points
+  double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
+  std::uint32_t line = 0;            // line of the worst point
+  std::string tool;                  // its tool
+  std::vector<std::uint32_t> lines;  // distinct lines in program order, the first 12
+  std::size_t line_count = 0;        // distinct lines in all
+  std::string message;               // one sentence, without the location
+};
+
+struct Plausibility {
+  std::vector<Finding> findings;
+  const Finding* find(const std::string& kind) const;
+};
+
+// The largest tip force before the tool's bending stress reaches its
+// material's allowable (Material::allowable_bending_MPa): F = sigma W / L, W =
+// pi d^3 / 32, at the root of the flutes (d = flute_diameter_ratio D, L =
+// flute_length_mm), of the neck (its diameter, L = flute + neck length) and at
+// the holder face (shank diameter, L = stickout_mm); the smallest. `where`
+// names the section.
+struct ForceLimit {
+  double N = 0;
+  std::string where;
+};
+ForceLimit default_force_limit(const stiffness::Tool& t);
+// The tool's max_force_N, else default_force_limit.
+ForceLimit force_limit(const stiffness::Tool& t);
+
+// capped_lines (compensate: Result::capped_lines, may be null): where the cap
+// did bite; offset_cap then counts those and takes the worst |e| of the points
+// on their lines, else it counts the points with gain |e| > max_offset_mm.
+Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
+                          const stiffness::ToolLibrary& tools, const Settings& s,
+                          const std::vector<std::uint32_t>* capped_lines = nullptr);
+
+}  // namespace deflex::compensate

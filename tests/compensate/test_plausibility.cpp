@@ -1,0 +1,164 @@
+// Plausibility warnings (compensate/plausibility.hpp): one small program per
+// warning, the default force limit by hand, and the sane samples give none.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "../support.hpp"
+#include "deflex/compensate/compensate.hpp"
+#include "deflex/compensate/plausibility.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/profile/yaml.hpp"
+#include "deflex/stock/build.hpp"
+
+using namespace deflex;
+
+namespace {
+
+// T1: D10 flat, flutes 5 mm long; T2: the same, not centre-cutting; T3: the
+// sample library's D6 necked ball; T4: D10 flat with max_force_N 50.
+const char* kTools = R"(tools:
+  T1: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 5, stickout_mm: 40, material: carbide}
+  T2: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 22, stickout_mm: 40, material: carbide,
+       centre_cutting: false}
+  T3: {type: ball, diameter_mm: 6, flutes: 2, flute_length_mm: 9, stickout_mm: 42, shank_diameter_mm: 6,
+       flute_diameter_ratio: 0.78, neck: {diameter_mm: 5.6, length_mm: 15}, material: carbide}
+  T4: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 22, stickout_mm: 40, material: carbide,
+       max_force_N: 50}
+)";
+
+struct Run {
+  compensate::Physics ph;
+  compensate::Settings s;
+  std::vector<compensate::Point> points;
+  compensate::Plausibility pl;
+  Run(const std::string& program, const std::string& stock_spec, const std::string& material = "Al6082-T4",
+      const std::string& tools = kTools, std::size_t max_motions = 0) {
+    test::Interpreted in = test::interpret_text(program);
+    REQUIRE(in.errors == 0);
+    if (max_motions && in.motions.size() > max_motions) in.motions.resize(max_motions);
+    ph.tools = tools.empty() ? stiffness::load_tool_library("samples/tools.yaml")
+                             : stiffness::parse_tool_library(tools, "lib.yaml");
+    ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
+    ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), material).k;
+    stock::ZMap z = stock::make_stock(stock_spec, {});
+    ph.stock = &z;
+    s.threads = 0;
+    points = compensate::simulate(in.motions, {}, ph, s);
+    pl = compensate::plausibility(in.motions, points, ph.tools, s);
+  }
+};
+
+std::string slot(int tool, double z, double feed = 300) {
+  return "G21 G90 G17\nT" + std::to_string(tool) + " M6\nS8000 M3\nG0 X-10. Y0. Z5.\nG1 Z" + std::to_string(z) +
+         " F" + std::to_string(feed) + "\nX30.\nG0 Z5.\nM30\n";
+}
+
+}  // namespace
+
+TEST_SUITE("compensate") {
+
+TEST_CASE("plausibility: a slot deeper than the flute length") {
+  Run r(slot(1, -8), "box:0,-20,-20,50,20,0");
+  const compensate::Finding* f = r.pl.find("flute_length");
+  REQUIRE(f);
+  CHECK(f->worst == doctest::Approx(8.0).epsilon(0.02));
+  CHECK(f->limit == 5.0);
+  CHECK(f->line == 6);
+  CHECK(f->tool == "T1");
+  CHECK(f->count > 10);
+  CHECK(f->lines == std::vector<std::uint32_t>{6});
+  CHECK(f->message.find("flutes are 5.00 mm long") != std::string::npos);
+  // The same slot 4 mm deep: inside the flutes.
+  Run ok(slot(1, -4), "box:0,-20,-20,50,20,0");
+  CHECK_FALSE(ok.pl.find("flute_length"));
+}
+
+TEST_CASE("plausibility: the default force limit from the bending strength, and max_force_N") {
+  const auto lib = stiffness::parse_tool_library(kTools, "lib.yaml");
+  const double pi = std::numbers::pi;
+  // T3: the shank at the holder face (d 6, L 42) is weaker than the neck root
+  // (d 5.6, L 24) and the flute root (d 0.78 * 6, L 9); carbide 1000 MPa.
+  const compensate::ForceLimit t3 = compensate::default_force_limit(lib.tools.at("T3"));
+  CHECK(t3.N == doctest::Approx(1000.0 * pi * 216.0 / 32.0 / 42.0));
+  CHECK(t3.where == "the holder face");
+  // T1: flutes 0.8 * 10 over 5 mm vs the shank 10 over 40 mm.
+  CHECK(compensate::default_force_limit(lib.tools.at("T1")).N == doctest::Approx(1000.0 * pi * 1000.0 / 32.0 / 40.0));
+  CHECK(compensate::force_limit(lib.tools.at("T4")).N == 50.0);
+  // HSS allows more than carbide.
+  CHECK(stiffness::material_preset("hss")->allowable_bending_MPa > stiffness::material_preset("carbide")->allowable_bending_MPa);
+  Run r(slot(4, -3, 3000), "box:0,-20,-20,50,20,0");
+  const compensate::Finding* f = r.pl.find("peak_force");
+  REQUIRE(f);
+  CHECK(f->limit == 50.0);
+  CHECK(f->worst > 50.0);
+  CHECK(f->line == 6);
+  // The same cut with T2 (same tool, default limit ~2300 N at the flute root): no warning.
+  Run ok(slot(2, -3, 3000), "box:0,-20,-20,50,20,0");
+  CHECK_FALSE(ok.pl.find("peak_force"));
+}
+
+TEST_CASE("plausibility: the deflection over the offset cap") {
+  Run r(slot(2, -3), "box:0,-20,-20,50,20,0");
+  REQUIRE_FALSE(r.pl.find("offset_cap"));  // default cap 0.1 mm
+  r.s.max_offset_mm = 1e-4;
+  test::Interpreted in = test::interpret_text(slot(2, -3));
+  const compensate::Plausibility pl = compensate::plausibility(in.motions, r.points, r.ph.tools, r.s);
+  const compensate::Finding* f = pl.find("offset_cap");
+  REQUIRE(f);
+  CHECK(f->worst > 1e-4);
+  CHECK(f->limit == 1e-4);
+  CHECK(f->line == 6);
+}
+
+TEST_CASE("plausibility: a plunge with an end mill that does not cut at its centre") {
+  const std::string plunge = "G21 G90 G17\nT2 M6\nS8000 M3\nG0 X20. Y0. Z5.\nG1 Z-3. F100\nX30. F300\nG0 Z5.\nM30\n";
+  Run r(plunge, "box:0,-20,-20,50,20,0");
+  const compensate::Finding* f = r.pl.find("centre_cutting");
+  REQUIRE(f);
+  CHECK(f->line == 5);
+  CHECK(f->lines == std::vector<std::uint32_t>{5});
+  CHECK(f->tool == "T2");
+  // T4: the same tool, centre-cutting by default.
+  std::string t4 = plunge;
+  t4.replace(t4.find("T2"), 2, "T4");
+  Run ok(t4, "box:0,-20,-20,50,20,0");
+  CHECK_FALSE(ok.pl.find("centre_cutting"));
+  // Plunging outside the stock: nothing engaged.
+  Run air(plunge, "box:40,-20,-20,50,20,0");
+  CHECK_FALSE(air.pl.find("centre_cutting"));
+}
+
+TEST_CASE("plausibility: a raw box under a finishing ball end") {
+  // T3 (ball R 3) 5 mm into a raw box: roughing needed first.
+  const std::string ball = "G21 G90 G17\nT3 M6\nS10000 M3\nG0 X-10. Y0. Z5.\nG1 Z-5. F300\nX30.\nG0 Z5.\nM30\n";
+  Run r(ball, "box:0,-20,-20,50,20,0");
+  const compensate::Finding* f = r.pl.find("roughing");
+  REQUIRE(f);
+  CHECK(f->worst > 3.0);
+  CHECK(f->limit == 3.0);
+  CHECK(f->line == 6);
+  // 0.5 mm allowance: a finishing cut.
+  Run ok(ball, "box:0,-20,-20,50,20,-4.5");
+  CHECK_FALSE(ok.pl.find("roughing"));
+  // A flat end in a full-width slot deeper than D/2.
+  Run flat(slot(2, -7), "box:0,-20,-20,50,20,0");
+  REQUIRE(flat.pl.find("roughing"));
+  CHECK(flat.pl.find("roughing")->line == 6);
+}
+
+TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {
+  {
+    Run r(test::read_file("samples/programs/side_wall.nc"), "box:0,-40,-30,100,0,0", "Al6082-T4", "");
+    for (const char* k : {"flute_length", "peak_force", "centre_cutting", "roughing"}) CHECK_MESSAGE(!r.pl.find(k), k);
+  }
+  {
+    // The first passes of the six surfaces (T5, ball R 8) on their stock.
+    Run r(test::read_file("samples/programs/six_surfaces.nc"), "samples/stock/six_surfaces_stock.stl", "C35", "", 3000);
+    REQUIRE(r.points.size() > 1000);
+    for (const char* k : {"flute_length", "peak_force", "centre_cutting", "roughing"}) CHECK_MESSAGE(!r.pl.find(k), k);
+  }
+}
+
+}  // TEST_SUITE
