@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/interp/decimal.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/writer/writer.hpp"
@@ -118,6 +119,8 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   Setup s = resolve(r);
   gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
+  interp::check_decimal_points(prog, s.dialect, diags, s.strict);
+  if (diags.errors()) return finish(diags);  // --strict: nothing printed
   {
     PathPrinter p(io.out, lines);
     interp::interpret(prog, s.interp(), diags, p);
@@ -187,6 +190,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
   std::vector<interp::Motion> motions;
   tc.keep = part_file.empty() ? nullptr : &motions;
+  interp::check_decimal_points(prog, s.dialect, diags, s.strict);
   interp::Stats st = interp::interpret(prog, s.interp(), diags, tc);
   if (!part_file.empty() && !st.stopped) {
     const double gap = part.gap_mm ? *part.gap_mm : config_number(s.config, "part_gap_mm", 0.02);

@@ -19,7 +19,9 @@ void add_read_options(po::options_description& d, ReadOptions& r, bool with_mach
     ("config", po::value(&r.config), "config file (default: ./config.yaml, else the one in the source tree)")
     ("max-errors", po::value(&r.max_errors), "stop after N errors (0: no limit; default from config, 20)")
     ("block-delete", po::value(&r.block_delete)->default_value("off"),
-     "block-delete switch: off executes '/' blocks (never compensated), on skips them");
+     "block-delete switch: off executes '/' blocks (never compensated), on skips them")
+    ("strict", po::bool_switch(&r.strict), "a program mixing axis words with and without a decimal point is an error, "
+     "not a warning (the dialect's decimal rule then changes what some of them mean)");
   if (with_machine)
     d.add_options()("machine", po::value(&r.machine), "machine profile: a name in samples/machines/ or a .yaml file");
 }
@@ -38,6 +40,7 @@ Setup resolve(const ReadOptions& r) {
                         : !s.config.dialect.empty() ? s.config.dialect
                         : s.machine ? s.machine->dialect : "fanuc";
   s.dialect = profile::load_dialect(dialect);
+  s.strict = r.strict;
   s.max_errors = r.max_errors >= 0 ? r.max_errors : s.config.max_errors;
   if (r.block_delete != "on" && r.block_delete != "off")
     throw Error(Exit::usage, "--block-delete takes on or off");

@@ -25,6 +25,7 @@ struct ReadOptions {
   std::string config;
   int max_errors = -1;
   std::string block_delete = "off";
+  bool strict = false;  // the decimal-point warning is an error
 };
 void add_read_options(po::options_description& d, ReadOptions& r, bool with_machine = true);
 
@@ -35,6 +36,7 @@ struct Setup {
   profile::Dialect dialect;
   int max_errors = 20;
   bool block_delete_switch = false;
+  bool strict = false;
   // Interpreter options pointing into this Setup (do not outlive it).
   interp::Options interp() const {
     interp::Options o;

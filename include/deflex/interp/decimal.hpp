@@ -1,0 +1,28 @@
+// The decimal-point trap (REFERENCE.md §2.1): on a Fanuc-style control `X76`
+// is 76 least input increments (0.076 mm), on LinuxCNC 76 mm. deflex reads it
+// as the dialect says and never guesses; but a program that writes most axis
+// words with a decimal point and some without was almost surely written for
+// the other rule, and a move read the wrong way is a crash. This check finds
+// such programs.
+#pragma once
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/gcode/program.hpp"
+#include "deflex/profile/profile.hpp"
+
+namespace deflex::interp {
+
+struct DecimalFinding {
+  std::size_t with_point = 0;     // axis words (X Y Z I J K R) written with a decimal point
+  std::size_t without_point = 0;  // non-zero axis words without one
+  std::uint32_t first_line = 0, first_col = 0;
+  std::size_t lines = 0;          // lines holding one of those
+};
+
+// Counts the axis words with and without a decimal point. When both kinds
+// occur under a dialect that counts least input increments (under calculator
+// input a mixed program is ordinary), reports at the first word without one (a warning; an error when
+// `strict`) with both readings of it. Returns the counts.
+DecimalFinding check_decimal_points(const gcode::Program& prog, const profile::Dialect& d, Diagnostics& diags,
+                                    bool strict);
+
+}  // namespace deflex::interp

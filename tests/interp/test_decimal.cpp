@@ -1,0 +1,53 @@
+// The decimal-point trap: a program mixing axis words with and without a
+// decimal point under a dialect that counts least input increments.
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+#include "../support.hpp"
+#include "deflex/interp/decimal.hpp"
+
+using namespace deflex;
+
+TEST_SUITE("interp") {
+
+TEST_CASE("decimal points: a mixed program is named at its first pointless word with both readings") {
+  const gcode::Program p(SourceText("w.nc", "G21 G90\nG0 Z3.\nG1 X76 Z-1.25 F100.\nX80.\nY4\n"));
+  std::ostringstream err;
+  Diagnostics d(&err, 0);
+  const auto f = interp::check_decimal_points(p, profile::load_dialect("fanuc"), d, false);
+  CHECK(f.with_point == 3);
+  CHECK(f.without_point == 2);
+  CHECK(f.lines == 2);
+  CHECK(d.warnings() == 1);
+  CHECK(err.str().find("w.nc:3:4: warning: X76 has no decimal point") == 0);
+  CHECK(err.str().find("reads it as 0.076") != std::string::npos);
+  CHECK(err.str().find("(LinuxCNC) as 76") != std::string::npos);
+  Diagnostics strict(nullptr, 0);
+  interp::check_decimal_points(p, profile::load_dialect("fanuc"), strict, true);
+  CHECK(strict.errors() == 1);
+  // Calculator input reads them as written: nothing to say.
+  Diagnostics calc(nullptr, 0);
+  interp::check_decimal_points(p, profile::load_dialect("linuxcnc"), calc, true);
+  CHECK(calc.errors() + calc.warnings() == 0);
+  // All with points, or all without (a consistent increment program), or zeros only: nothing.
+  for (const char* text : {"G0 X1. Y2.\nG1 Z-1. F5.\n", "G0 X1000 Y2000\nG1 Z-1000 F5\n", "G0 X1. Y0 Z0\n"}) {
+    Diagnostics q(nullptr, 0);
+    interp::check_decimal_points(gcode::Program(SourceText("t.nc", text)), profile::load_dialect("fanuc"), q, true);
+    CHECK(q.errors() + q.warnings() == 0);
+  }
+}
+
+TEST_CASE("decimal points: --strict stops check, path and compensate on the corpus's wave.gcode") {
+  const std::string wave = std::string(DEFLEX_SHARED_DIR) + "/corpus/wave.gcode";
+  const auto c = test::run_cli({"check", wave});
+  CHECK(c.rc == 0);
+  CHECK(c.err.find("wave.gcode:5:4: warning: Z3 has no decimal point") != std::string::npos);
+  CHECK(test::run_cli({"check", wave, "--strict"}).rc == 1);
+  const auto p = test::run_cli({"path", wave, "--strict"});
+  CHECK(p.rc == 1);
+  CHECK(p.out.empty());
+  CHECK(test::run_cli({"check", wave, "--strict", "--dialect", "linuxcnc"}).rc == 0);
+}
+
+}  // TEST_SUITE
