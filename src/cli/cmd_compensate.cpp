@@ -16,6 +16,7 @@
 #include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/interp/decimal.hpp"
+#include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/stiffness/machine.hpp"
@@ -161,6 +162,7 @@ Job prepare(Args& a, Io& io, bool compensating) {
   else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
   j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
   Diagnostics diags(&io.err, j.setup.max_errors);
+  interp::check_program_shape(j.prog, diags);
   interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
   Collect c;
   c.out = &j.motions;

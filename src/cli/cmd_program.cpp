@@ -5,6 +5,7 @@
 
 #include "common.hpp"
 #include "deflex/interp/decimal.hpp"
+#include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/writer/writer.hpp"
@@ -119,6 +120,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   Setup s = resolve(r);
   gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
+  interp::check_program_shape(prog, diags);
   interp::check_decimal_points(prog, s.dialect, diags, s.strict);
   if (diags.errors()) return finish(diags);  // --strict: nothing printed
   {
@@ -133,12 +135,13 @@ namespace {
 // The travel check as a sink of the interpreter, keeping the motions when asked.
 class TravelCheck : public interp::MotionSink {
  public:
-  TravelCheck(const profile::Travel& t, const SourceText& src, Diagnostics& d) : t_(t), src_(src), d_(d) {}
+  TravelCheck(const profile::Travel& t, const SourceText& src, Diagnostics& d) : t_(t), src_(src), d_(d), spindle_(src, d) {}
   std::vector<interp::Motion>* keep = nullptr;  // collects the motions (the gouge check's)
   void motion(const interp::Motion& m) override {
     if (keep) keep->push_back(m);
     ++count_;
     interp::check_travel(m, t_, src_, d_);
+    spindle_.motion(m);
   }
   std::uint64_t count_ = 0;
 
@@ -146,6 +149,7 @@ class TravelCheck : public interp::MotionSink {
   const profile::Travel& t_;
   const SourceText& src_;
   Diagnostics& d_;
+  interp::SpindleCheck spindle_;
 };
 
 }  // namespace
@@ -190,6 +194,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
   std::vector<interp::Motion> motions;
   tc.keep = part_file.empty() ? nullptr : &motions;
+  interp::check_program_shape(prog, diags);
   interp::check_decimal_points(prog, s.dialect, diags, s.strict);
   interp::Stats st = interp::interpret(prog, s.interp(), diags, tc);
   if (!part_file.empty() && !st.stopped) {

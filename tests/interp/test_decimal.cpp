@@ -6,6 +6,7 @@
 
 #include "../support.hpp"
 #include "deflex/interp/decimal.hpp"
+#include "deflex/interp/shape.hpp"
 
 using namespace deflex;
 
@@ -48,6 +49,34 @@ TEST_CASE("decimal points: --strict stops check, path and compensate on the corp
   CHECK(p.rc == 1);
   CHECK(p.out.empty());
   CHECK(test::run_cli({"check", wave, "--strict", "--dialect", "linuxcnc"}).rc == 0);
+}
+
+TEST_CASE("program shape: empty, CR-only line ends, no program end, and cutting at 0 rpm are warnings") {
+  auto warnings = [](const std::string& text) {
+    std::ostringstream err;
+    Diagnostics d(&err, 0);
+    interp::check_program_shape(gcode::Program(SourceText("s.nc", text)), d);
+    return std::pair{d.warnings(), err.str()};
+  };
+  CHECK(warnings("").second.find("s.nc: warning: the program is empty") == 0);
+  CHECK(warnings("%\n\n%\n").first == 1);
+  const auto cr = warnings("G21 G90\rG0 X1.\rM30\r");
+  CHECK(cr.second.find("s.nc:1:1: warning: the line ends are CR only") == 0);
+  const auto cut = warnings("G21 G90\nG0 X1.\nG1 X2. F10.\n");
+  CHECK(cut.first == 1);
+  CHECK(cut.second.find("s.nc:3:1: warning: no program end") == 0);
+  CHECK(warnings("G21 G90\nG0 X1.\nM30\n").first == 0);
+  CHECK(warnings("%\nO1\nG0 X1.\nM02\n%\n").first == 0);
+  // Cutting at 0 rpm: once, at the first such motion.
+  const auto r = test::interpret_text("G21 G90\nG0 X0 Y0 Z1.\nS0 M3\nG1 Z-1. F100.\nX5.\nM30\n");
+  REQUIRE(r.errors == 0);
+  const SourceText src("t.nc", "");
+  std::ostringstream err;
+  Diagnostics d(&err, 0);
+  interp::SpindleCheck sc(src, d);
+  for (const auto& m : r.motions) sc.motion(m);
+  CHECK(d.warnings() == 1);
+  CHECK(err.str().find("t.nc:4:1: warning: cutting with the spindle at 0 rpm") == 0);
 }
 
 }  // TEST_SUITE
