@@ -4,6 +4,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <fcntl.h>
+#include <unistd.h>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -199,7 +201,11 @@ SourceText read_source(const std::string& path, std::istream* stdin_stream) {
   if (path == "-") {
     std::ostringstream ss;
     std::istream& in = stdin_stream ? *stdin_stream : std::cin;
+    // A closed standard input reads like an empty one: say it, it is no program.
+    if (&in == &std::cin && ::fcntl(STDIN_FILENO, F_GETFD) == -1)
+      throw Error(Exit::io, "<stdin>: error: standard input is closed; give a file, or pipe the program in");
     if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
+    if (in.bad()) throw Error(Exit::io, "<stdin>: error: read failed");
     bytes = ss.str();
     return SourceText("<stdin>", std::move(bytes));
   }

@@ -134,12 +134,16 @@ TEST_CASE("no library writes to stdout: OpenCASCADE's errors on a junk STL go to
   CHECK(test::read_file(out).empty());
 }
 
-TEST_CASE("a failed write to standard output is an I/O error, not exit 0") {
+TEST_CASE("a failed write to standard output, or a closed standard input, is an I/O error, not exit 0") {
   // The binary itself: the check is in main(), after the command ran.
   const std::string cmd = std::string(DEFLEX_BINARY) + " rewrite " + kWall + " > /dev/full 2>/dev/null";
   const int st = std::system(cmd.c_str());
   REQUIRE(WIFEXITED(st));
   CHECK(WEXITSTATUS(st) == 4);
+  // A closed standard input is no empty program: an I/O error too.
+  const int in = std::system((std::string(DEFLEX_BINARY) + " check - <&- 2>/dev/null").c_str());
+  REQUIRE(WIFEXITED(in));
+  CHECK(WEXITSTATUS(in) == 4);
 }
 
 }  // TEST_SUITE
