@@ -78,7 +78,7 @@ struct Collect : interp::MotionSink {
 Job prepare(Args& a, Io& io, bool compensating) {
   Setup s = resolve(a.read);
   if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}};
+  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
   const profile::Config& cfg = j.setup.config;
   Diagnostics diags(&io.err, j.setup.max_errors);
   Collect c;
@@ -211,9 +211,10 @@ void write_maps(const std::string& dir, double tol,
   double scale = 2 * tol;
   for (const auto& m : maps)
     for (const auto& p : m.second) scale = std::max(scale, std::fabs(p.error_mm));
-  for (const auto& [name, pts] : maps)
-    writer::write_file_atomically((fs::path(dir) / (name + ".svg")).string(), "", [&](std::ostream& o) {
-      o << compensate::error_map_svg(pts, tol, scale, name + " (top view, work frame)");
+  // A named pair, not a structured binding: clang 14 cannot capture bindings in a lambda.
+  for (const auto& map : maps)
+    writer::write_file_atomically((fs::path(dir) / (map.first + ".svg")).string(), "", [&](std::ostream& o) {
+      o << compensate::error_map_svg(map.second, tol, scale, map.first + " (top view, work frame)");
     });
 }
 
