@@ -159,6 +159,25 @@ class Run {
     return false;
   }
   bool in_sub_quiet() const { return seen_[blk_.line] > 1; }  // repeated execution of a line
+  // A word that names an integer (tool, register, repeat count). Checked as a
+  // double first: converting an out-of-range double to int is undefined behaviour.
+  bool whole(const Word* w, double lo, double hi, int& out, const std::string& what) {
+    if (!(w->value >= lo && w->value <= hi) || w->value != std::floor(w->value))
+      return refuse(w, what + " out of range: must be a whole number from " +
+                           std::to_string(static_cast<long long>(lo)) + " to " + std::to_string(static_cast<long long>(hi)));
+    out = static_cast<int>(w->value);
+    return true;
+  }
+  std::string text_of(const Word& w) const { return std::string(prog_.bytes().substr(w.begin, w.end - w.begin)); }
+  // Subprogram and canned-cycle repeats multiply work: a few lines can ask for
+  // 9999^8 blocks. Past opt_.max_blocks blocks or motions, stop with an error.
+  bool over_budget(std::uint64_t n, const char* what) {
+    if (n < opt_.max_blocks) return false;
+    if (!stop_)
+      refuse(nullptr, "more than " + std::to_string(opt_.max_blocks) + " " + what +
+                          " (subprogram and canned-cycle repeats); --max-blocks raises the limit");
+    return true;
+  }
 
   // ---- numbers -----------------------------------------------------------
   double to_mm(double v) const { return inch_ ? v * 25.4 : v; }
@@ -188,6 +207,7 @@ class Run {
     return Fixed::no;
   }
   void emit(MotionKind k, const Vec3& end, Fixed forced = Fixed::no, const Vec3* center = nullptr) {
+    if (stop_ || over_budget(stats_.motions, "motions")) return;
     Motion m;
     m.kind = k;
     m.fixed = fixed_for(k, forced);
@@ -217,6 +237,7 @@ class Run {
     bool first_time = seen_[line] == 0;
     if (seen_[line] < 2) ++seen_[line];
     bool ok = prog_.lex(line, blk_, first_time ? diags_ : quiet_);
+    if (over_budget(steps_++, "blocks executed")) return;
     if (blk_.kind == gcode::LineKind::ignored) { next_ = prog_.line_count() + 1; return; }
     if (blk_.kind == gcode::LineKind::percent) {
       if (prog_.closing_percent_line() == line) ended_ = true;
@@ -270,6 +291,7 @@ class Run {
   bool inch_ = false, units_set_ = false, absolute_ = true, ijk_absolute_ = false;
   int plane_ = 17, motion_ = -1, cycle_ = 800, comp_ = 400, length_ = 490, return_ = 980;
   int h_ = 0, tool_ = 0, next_tool_ = 0;
+  std::uint64_t steps_ = 0;  // lines executed, repeats included (the --max-blocks budget)
   double feed_ = 0.0, spindle_rpm_ = 0.0;
   // Canned-cycle modal data (work frame, mm).
   double cyc_init_z_ = 0, cyc_r_ = 0, cyc_z_ = 0, cyc_q_ = 0;
@@ -288,6 +310,7 @@ bool Run::check_words(int codes[kGroups], const Word* code_word[kGroups]) {
     switch (w.letter) {
       case 'G': {
         int c = w.code10();
+        if (c < 0) return refuse(&w, text_of(w) + " is not a G code (too large, negative or more than one decimal)");
         CodeInfo info = c < 0 ? CodeInfo{-1, nullptr} : code_info(c);
         if (info.group == -2) return refuse(&w, info.refusal);
         bool linuxcnc_only = c == 591 || c == 592 || c == 593 || c == 611 || c == 901 || c == 911;
@@ -306,7 +329,10 @@ bool Run::check_words(int codes[kGroups], const Word* code_word[kGroups]) {
         code_word[info.group] = &w;
         break;
       }
-      case 'M': case 'N': case 'O': break;
+      case 'M':
+        if (w.code10() < 0) return refuse(&w, text_of(w) + " is not an M code (too large, negative or more than one decimal)");
+        break;
+      case 'N': case 'O': break;
       case 'X': case 'Y': case 'Z': case 'I': case 'J': case 'K': case 'R': case 'F': case 'S': case 'T':
       case 'H': case 'D': case 'P': case 'Q': case 'L': {
         std::uint32_t bit = 1u << (w.letter - 'A');
@@ -358,7 +384,7 @@ bool Run::execute() {
     if (wF->value < 0) return refuse(wF, "negative feed rate");
     feed_ = to_mm(wF->value);
   }
-  if (wT) next_tool_ = static_cast<int>(wT->value);
+  if (wT && !whole(wT, 0, 99999999, next_tool_, "tool number T")) return false;
   if (const Word* wS = blk_.find('S')) spindle_rpm_ = wS->value;
   if (m6) tool_ = next_tool_;
   if (codes[g_plane] >= 0) plane_ = codes[g_plane] / 10;
@@ -368,7 +394,7 @@ bool Run::execute() {
   if (codes[g_length] >= 0) {
     length_ = codes[g_length];
     // H may stand anywhere in the block (REFERENCE §2.6); it names an offset register.
-    if (wH) h_ = static_cast<int>(wH->value);
+    if (wH && !whole(wH, 0, 99999999, h_, "offset register H")) return false;
     if (length_ != 490 && !wH) warn(cw[g_length], gname(length_) + " without H: offset H" + std::to_string(h_) + " stays active");
   }
   if (codes[g_wcs] >= 0) {
@@ -376,9 +402,8 @@ bool Run::execute() {
     std::string key;
     if (c == 541 || c == 1540) {
       if (!wP) return refuse(cw[g_wcs], gname(c) + " needs P (extended work offset number)");
-      int p = static_cast<int>(wP->value);
-      int maxp = c == 541 ? 48 : 99;
-      if (p < 1 || p > maxp) return refuse(wP, "extended work offset P" + std::to_string(p) + " out of range 1.." + std::to_string(maxp));
+      int p = 0;
+      if (!whole(wP, 1, c == 541 ? 48 : 99, p, "extended work offset P")) return false;
       key = "G54.1P" + std::to_string(p);
     } else {
       key = gname(c);
@@ -539,8 +564,8 @@ bool Run::do_reference_return(bool g30) {
   int refno = 1;
   const Word* wp = blk_.find('P');
   if (g30) {
-    refno = wp ? static_cast<int>(wp->value) : 2;
-    if (refno < 2 || refno > 4) return refuse(wp, "G30 P must be 2, 3 or 4");
+    refno = 2;
+    if (wp && !whole(wp, 2, 4, refno, "G30 P")) return false;
   }
   Vec3 ref{0, 0, 0};  // G28: the reference point is machine zero unless the profile says otherwise
   auto it = ref_.find(refno);
@@ -589,9 +614,7 @@ bool Run::do_cycle() {
   const Word* wk = blk_.find(d_.cycle_repeat_word);
   int repeats = 1;
   if (wk) {
-    repeats = static_cast<int>(wk->value);
-    if (wk->value < 0 || wk->value > 9999 || repeats != wk->value)
-      return refuse(wk, "repeat count must be a whole number from 0 to 9999");
+    if (!whole(wk, 0, 9999, repeats, "repeat count")) return false;
   }
   if (!known_[2]) return refuse(wz, "canned cycle before the Z position is known");
   // R and Z: incremental R is from the initial level, incremental Z from R.
@@ -624,7 +647,11 @@ bool Run::do_cycle() {
   if (!known_[0] || !known_[1]) return refuse(nullptr, "canned cycle before the X/Y position is known");
   const Fixed cc = Fixed::canned_cycle;
   auto at = [&](double z) { Vec3 p = pos_; p[2] = z; return p; };
-  for (int k = 0; k < repeats; ++k) {
+  // A tiny Q would make pecks without end (depth - Q == depth in doubles).
+  if ((cycle_ == 730 || cycle_ == 830) && (cyc_r_ - cyc_z_) / cyc_q_ > static_cast<double>(opt_.max_blocks))
+    return refuse(wq, "peck depth Q gives more than " + std::to_string(opt_.max_blocks) +
+                          " pecks; --max-blocks raises the limit");
+  for (int k = 0; k < repeats && !stop_; ++k) {
     if (!absolute_) { hole[0] = pos_[0] + xy_step[0]; hole[1] = pos_[1] + xy_step[1]; }
     if (!d_.cycle_positions_before_raise && pos_[2] < cyc_r_) emit(MotionKind::rapid, at(cyc_r_), cc);
     Vec3 p = pos_;
@@ -650,7 +677,7 @@ bool Run::do_cycle() {
       case 730: case 830: {
         // G73: retract d after each peck; G83: back to R, then rapid to d above the last depth.
         double d = d_.peck_retract_mm, depth = r;
-        for (;;) {
+        while (!stop_) {
           depth = std::max(depth - cyc_q_, z);
           emit(MotionKind::linear, at(depth), cc);
           if (depth <= z) break;
@@ -691,8 +718,10 @@ bool Run::flow(bool m98, bool m99, bool end) {
     int digits = 0;
     for (std::uint32_t i = wp->num_begin; i < wp->end; ++i) digits += std::isdigit(static_cast<unsigned char>(prog_.bytes()[i])) != 0;
     int repeats = 1;
-    if (const Word* wl = blk_.find('L')) repeats = static_cast<int>(std::min(wl->value, 1e6));
-    else if (digits > 4) { repeats = static_cast<int>(p / 10000); p %= 10000; }  // Fanuc P rrrr nnnn
+    if (const Word* wl = blk_.find('L')) {
+      if (wl->value > 9999) return refuse(wl, "subprogram repeat count over 9999");
+      if (!whole(wl, 0, 9999, repeats, "subprogram repeat count L")) return false;
+    } else if (digits > 4) { repeats = static_cast<int>(p / 10000); p %= 10000; }  // Fanuc P rrrr nnnn
     if (repeats > 9999) return refuse(wp, "subprogram repeat count over 9999");
     if (repeats < 1) return true;
     if (!subs_indexed_) {
