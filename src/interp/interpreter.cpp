@@ -36,8 +36,6 @@ namespace {
 using gcode::Block;
 using gcode::Word;
 
-constexpr double kPi = 3.14159265358979323846;
-
 // Modal groups of Fanuc Series 0i/30i-M G codes (plus the few LinuxCNC codes the
 // linuxcnc dialect reads). -1: unknown; -2: known but refused.
 enum Group { g_nonmodal = 0, g_motion = 1, g_plane = 2, g_distance = 3, g_feedmode = 5, g_units = 6,
@@ -300,7 +298,7 @@ class Run {
   std::unordered_map<std::int64_t, std::uint32_t> subs_;
   bool subs_indexed_ = false;
   std::unordered_map<int, Vec3> ref_;
-  bool warned_units_ = false, warned_block_delete_ = false;
+  bool warned_units_ = false;
   bool plain_ = false;  // the motion being emitted comes from a plain G0-G3 block
 };
 
