@@ -125,8 +125,11 @@ bool Run::flow(bool m98, bool m99, bool end) {
     if (const Word* wl = blk_.find('L')) {
       if (wl->value > 9999) return refuse(wl, "subprogram repeat count over 9999");
       if (!whole(wl, 0, 9999, repeats, "subprogram repeat count L")) return false;
-    } else if (digits > 4) { repeats = static_cast<int>(p / 10000); p %= 10000; }  // Fanuc P rrrr nnnn
-    if (repeats > 9999) return refuse(wp, "subprogram repeat count over 9999");
+    } else if (digits > 4) {  // Fanuc P rrrr nnnn; checked before narrowing, which would wrap
+      if (p / 10000 > 9999) return refuse(wp, "subprogram repeat count over 9999");
+      repeats = static_cast<int>(p / 10000);
+      p %= 10000;
+    }
     if (repeats < 1) return true;
     if (!subs_indexed_) {
       Diagnostics quiet(nullptr, 0);

@@ -77,6 +77,9 @@ TEST_CASE("limits: numbers that name integers are range-checked before conversio
   CHECK(has(run_budget("G21 G90 G0 X0 Y0 Z0\nG54.1 P1000\n", 100), "2:7: error: extended work offset P out of range"));
   CHECK(has(run_budget("G21 G90 G0 X0 Y0 Z0\nG30 P99999999999\n", 100), "2:5: error: G30 P out of range: must be a whole number from 2 to 4"));
   CHECK(has(run_budget("G21 G90 G0 X0 Y0 Z0\nM98 P1 L1.5\nM30\nO1\nM99\n", 100), "2:8: error: subprogram repeat count L"));
+  // Fanuc's P rrrr nnnn with too many repeat digits (would wrap to a negative count).
+  CHECK(has(run_budget("G21 G90 G0 X0 Y0 Z0\nM98 P429496729510010\nM30\nO10\nM99\n", 100),
+            "2:5: error: subprogram repeat count over 9999"));
   // Ordinary codes are untouched.
   CHECK(run_budget("G21 G90 G0 X0 Y0 Z0 T12 M6\nG43 H12 Z5.\nM3 S1000\nM30\n", 100).empty());
 }
