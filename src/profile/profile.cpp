@@ -1,6 +1,7 @@
 #include "deflex/profile/profile.hpp"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -39,6 +40,16 @@ double get_number(const YAML::Node& n, const std::string& file, const std::strin
   } catch (const YAML::Exception&) {
     yaml_error(file, v.Mark(), "'" + key + "' must be a number");
   }
+}
+
+// A whole number in [lo, hi]; checked as a double before the conversion, which
+// would be undefined behaviour out of int's range.
+static int get_int(const YAML::Node& n, const std::string& file, const std::string& key, int lo, int hi) {
+  const double v = get_number(n, file, key);
+  if (!(v >= lo && v <= hi) || v != std::floor(v))
+    yaml_error(file, n[key].Mark(),
+               "'" + key + "' must be a whole number from " + std::to_string(lo) + " to " + std::to_string(hi));
+  return static_cast<int>(v);
 }
 
 std::string get_string(const YAML::Node& n, const std::string& file, const std::string& key) {
@@ -99,13 +110,12 @@ Dialect parse_dialect(const YAML::Node& n, const std::string& file) {
   };
   d.lii_mm = num("least_input_increment_mm", d.lii_mm);
   d.lii_inch = num("least_input_increment_inch", d.lii_inch);
-  d.decimals_mm = static_cast<int>(num("decimals_mm", d.decimals_mm));
-  d.decimals_inch = static_cast<int>(num("decimals_inch", d.decimals_inch));
-  if (d.decimals_mm < 0 || d.decimals_mm > 9 || d.decimals_inch < 0 || d.decimals_inch > 9)
-    yaml_error(file, n.Mark(), "decimals must be between 0 and 9");
+  auto whole = [&](const char* k, int lo, int hi, int dflt) { return n[k] ? get_int(n, file, k, lo, hi) : dflt; };
+  d.decimals_mm = whole("decimals_mm", 0, 9, d.decimals_mm);
+  d.decimals_inch = whole("decimals_inch", 0, 9, d.decimals_inch);
   d.trailing_zeros = flag("trailing_zeros", d.trailing_zeros);
   d.leading_zero = flag("leading_zero", d.leading_zero);
-  d.max_line_length = static_cast<int>(num("max_line_length", d.max_line_length));
+  d.max_line_length = whole("max_line_length", 0, 1 << 30, d.max_line_length);
   d.n_policy = get_enum<NPolicy>(n, file, "n_numbers_for_inserted_blocks",
       {{"none", NPolicy::none}, {"increment", NPolicy::increment}}, d.n_policy);
   d.comment_style = get_enum<CommentStyle>(n, file, "comment_style",
@@ -238,7 +248,7 @@ Config load_config(const std::string& path) {
   c.root = n;
   if (n["machine"]) c.machine = get_string(n, file, "machine");
   if (n["dialect"]) c.dialect = get_string(n, file, "dialect");
-  if (n["max_errors"]) c.max_errors = static_cast<int>(get_number(n, file, "max_errors"));
+  if (n["max_errors"]) c.max_errors = get_int(n, file, "max_errors", 0, 1 << 30);
   return c;
 }
 

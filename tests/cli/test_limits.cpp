@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <filesystem>
+#include <unistd.h>
 #include <sstream>
 #include <string>
 
@@ -96,8 +98,21 @@ TEST_CASE("limits: a stock box too large for a Z-map is a usage error before all
   CHECK(stock::zmap_from_box(stock::parse_box("box:0,0,-10,100,100,0")).grid().nx == 2000);
 }
 
+TEST_CASE("limits: integers in YAML are range-checked before conversion") {
+  const std::string f = (std::filesystem::temp_directory_path() / ("deflex-limits-" + std::to_string(::getpid()) + ".yaml")).string();
+  test::write_file(f, "name: x\ndecimal_point_rule: calculator\ndecimals_mm: 1.0e300\n");
+  try {
+    profile::load_dialect(f);
+    FAIL("no error");
+  } catch (const Error& e) {
+    CHECK(e.code() == Exit::config);
+    CHECK(has(e.what(), ":3:14: error: 'decimals_mm' must be a whole number from 0 to 9"));
+  }
+  std::remove(f.c_str());
+}
+
 TEST_CASE("limits: the CLI reports them with exit codes (--max-blocks, stock)") {
-  const std::string f = "build-limits-explosion.nc";
+  const std::string f = (std::filesystem::temp_directory_path() / ("deflex-limits-" + std::to_string(::getpid()) + ".nc")).string();
   test::write_file(f, kExplosion);
   auto r = test::run_cli({"path", f, "--max-blocks", "2000"});
   CHECK(r.rc == 1);

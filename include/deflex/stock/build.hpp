@@ -43,10 +43,15 @@ struct SolidOptions {
   double mesh_deflection_mm = 0.005;
 };
 
-// Reads an STL (RWStl), STEP (STEPControl_Reader) or IGES (IGESControl_Reader)
+// Reads an STL (read_stl), STEP (STEPControl_Reader) or IGES (IGESControl_Reader)
 // file by extension (.stl, .step/.stp, .iges/.igs; any case) into triangles.
 // Throws Error(Exit::io) when the file cannot be read, Exit::config when it holds no solid.
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm);
+
+// An STL file, binary or ASCII, read by deflex itself (not OpenCASCADE: see
+// src/stock/stl.cpp). Triangles without area are dropped. Throws Error(Exit::io)
+// on any malformed content.
+std::vector<Triangle> read_stl(const std::string& path);
 
 ZMap zmap_from_solid_file(const std::string& path, const SolidOptions& o = {});
 
