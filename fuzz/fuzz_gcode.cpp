@@ -37,7 +37,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     Diagnostics diags(nullptr, 20);
     interp::Options o;
     o.dialect = d;
-    o.max_blocks = 100000;  // the budget is under test too; small keeps runs fast
+    o.max_blocks = 10000;  // the budget is under test too; small keeps runs fast
     Null sink;
     interp::interpret(prog, o, diags, sink);
     writer::Rewriter w(prog, d);

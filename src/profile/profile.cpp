@@ -54,7 +54,9 @@ static int get_int(const YAML::Node& n, const std::string& file, const std::stri
 
 std::string get_string(const YAML::Node& n, const std::string& file, const std::string& key) {
   const YAML::Node v = n[key];
-  if (!v.IsScalar()) yaml_error(file, v.IsDefined() ? v.Mark() : n.Mark(), "'" + key + "' must be a text");
+  // IsDefined first: a missing key is an invalid node, on which IsScalar() throws.
+  if (!v.IsDefined()) yaml_error(file, n.Mark(), "missing key '" + key + "'");
+  if (!v.IsScalar()) yaml_error(file, v.Mark(), "'" + key + "' must be a text");
   return v.as<std::string>();
 }
 

@@ -108,6 +108,11 @@ TEST_CASE("limits: integers in YAML are range-checked before conversion") {
     CHECK(e.code() == Exit::config);
     CHECK(has(e.what(), ":3:14: error: 'decimals_mm' must be a whole number from 0 to 9"));
   }
+  // Fuzz finding (fuzz_machine): a dialect without `name` was an internal error (exit 70).
+  test::write_file(f, "comment_style: paren\n");
+  auto r = test::run_cli({"check", "tests/golden/wall.nc", "--dialect", f});
+  CHECK(r.rc == 3);
+  CHECK(has(r.err, "error: missing key 'name'"));
   std::remove(f.c_str());
 }
 
