@@ -33,8 +33,10 @@ GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, d
   g.x0_mm = x0_mm;
   g.y0_mm = y0_mm;
   g.cell_mm = cell_mm;
-  const double nx = std::ceil((x1_mm - x0_mm) / cell_mm - 1e-9);
-  const double ny = std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9);
+  // At least one cell per axis: an extent thinner than 1e-9 cells rounded to 0,
+  // and 0 x 5e36 passed the product check below (a fuzzed STL).
+  const double nx = std::max(1.0, std::ceil((x1_mm - x0_mm) / cell_mm - 1e-9));
+  const double ny = std::max(1.0, std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9));
   // Checked before any allocation, and before the counts become ints; written
   // so that NaN and infinity fail too.
   if (!(nx * ny <= max_cells)) throw Error(Exit::config, too_many_cells(x1_mm - x0_mm, y1_mm - y0_mm, cell_mm));

@@ -87,4 +87,17 @@ TEST_CASE("STL reader: triangles without area are dropped") {
   std::remove(tmp("build-stl-d.stl").c_str());
 }
 
+TEST_CASE("Z-map of an STL 1e36 mm long and 1e-12 mm wide: a config error (fuzz finding: UB converting the cell count)") {
+  const auto tris = stock::read_stl("tests/stock/data/fuzz_thin_huge.stl");
+  REQUIRE(!tris.empty());
+  try {
+    stock::zmap_from_triangles(tris, 0.5);
+    FAIL("no error");
+  } catch (const Error& e) {
+    CHECK(e.code() == Exit::config);
+  }
+  CHECK(stock::grid_covering(0, 0, 1, 1e-12, 0.05).ny == 1);
+  CHECK_THROWS_AS(stock::grid_covering(0, 0, 1e36, 1e-12, 0.05), Error);
+}
+
 }  // TEST_SUITE
