@@ -5,6 +5,7 @@
 #   scripts/install-deps.sh          build + run dependencies
 #   scripts/install-deps.sh --test   also what the test suite needs (LinuxCNC's rs274)
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
+#   scripts/install-deps.sh --fuzz   also clang 14 and its runtimes (ASan, UBSan, libFuzzer)
 set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
@@ -14,6 +15,7 @@ for a in "$@"; do
   case "$a" in
     --test)  pkgs="$pkgs linuxcnc-uspace" ;;
     --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
+    --fuzz)  pkgs="$pkgs clang-14 libclang-rt-14-dev" ;;
     *) echo "install-deps.sh: unknown option $a" >&2; exit 2 ;;
   esac
 done

@@ -148,7 +148,7 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
 Job prepare(Args& a, Io& io, bool compensating) {
   Setup s = resolve(a.read);
   if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}};
+  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
@@ -272,9 +272,10 @@ void write_maps(const std::string& dir, double tol,
   double scale = 2 * tol;
   for (const auto& m : maps)
     for (const auto& p : m.second) scale = std::max(scale, std::fabs(p.error_mm));
-  for (const auto& [name, pts] : maps)
-    writer::write_file_atomically((fs::path(dir) / (name + ".svg")).string(), "", [&](std::ostream& o) {
-      o << compensate::error_map_svg(pts, tol, scale, name + " (top view, work frame)");
+  // A named pair, not a structured binding: clang 14 cannot capture bindings in a lambda.
+  for (const auto& map : maps)
+    writer::write_file_atomically((fs::path(dir) / (map.first + ".svg")).string(), "", [&](std::ostream& o) {
+      o << compensate::error_map_svg(map.second, tol, scale, map.first + " (top view, work frame)");
     });
 }
 

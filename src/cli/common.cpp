@@ -21,7 +21,10 @@ void add_read_options(po::options_description& d, ReadOptions& r, bool with_mach
     ("block-delete", po::value(&r.block_delete)->default_value("off"),
      "block-delete switch: off executes '/' blocks (never compensated), on skips them")
     ("strict", po::bool_switch(&r.strict), "a program mixing axis words with and without a decimal point is an error, "
-     "not a warning (the dialect's decimal rule then changes what some of them mean)");
+     "not a warning (the dialect's decimal rule then changes what some of them mean)")
+    ("max-blocks", po::value(&r.max_blocks)->default_value(r.max_blocks),
+     "most blocks executed and motions generated, subprogram and cycle repeats included (a guard against "
+     "input that would run for hours)");
   if (with_machine)
     d.add_options()("machine", po::value(&r.machine), "machine profile: a name in samples/machines/ or a .yaml file");
 }
@@ -45,6 +48,8 @@ Setup resolve(const ReadOptions& r) {
   if (r.block_delete != "on" && r.block_delete != "off")
     throw Error(Exit::usage, "--block-delete takes on or off");
   s.block_delete_switch = r.block_delete == "on";
+  if (r.max_blocks == 0) throw Error(Exit::usage, "--max-blocks must be at least 1");
+  s.max_blocks = r.max_blocks;
   return s;
 }
 

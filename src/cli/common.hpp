@@ -26,6 +26,7 @@ struct ReadOptions {
   int max_errors = -1;
   std::string block_delete = "off";
   bool strict = false;  // the decimal-point warning is an error
+  std::uint64_t max_blocks = 10'000'000;  // see interp::Options::max_blocks
 };
 void add_read_options(po::options_description& d, ReadOptions& r, bool with_machine = true);
 
@@ -37,12 +38,14 @@ struct Setup {
   int max_errors = 20;
   bool block_delete_switch = false;
   bool strict = false;
+  std::uint64_t max_blocks = 10'000'000;
   // Interpreter options pointing into this Setup (do not outlive it).
   interp::Options interp() const {
     interp::Options o;
     o.dialect = dialect;
     o.machine = machine ? &*machine : nullptr;
     o.block_delete_switch = block_delete_switch;
+    o.max_blocks = max_blocks;
     return o;
   }
 };

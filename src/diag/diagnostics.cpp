@@ -74,7 +74,8 @@ std::string format(const Diagnostic& d) {
     s += "\n  ";
     // Keep tabs under tabs so the caret lines up in a terminal; an escaped
     // byte takes four columns.
-    for (std::uint32_t i = 1; i < d.col && i - 1 < d.source_line.size(); ++i) {
+    const std::uint32_t caret = d.caret_col ? d.caret_col : d.col;
+    for (std::uint32_t i = 1; i < caret && i - 1 < d.source_line.size(); ++i) {
       const unsigned char c = static_cast<unsigned char>(d.source_line[i - 1]);
       s += c == '\t' ? "\t" : control(c) ? "    " : " ";
     }
@@ -92,7 +93,18 @@ void Diagnostics::emit(Diagnostic d) {
 
 void Diagnostics::report(Severity s, const SourceText& src, std::uint32_t line, std::uint32_t col,
                          std::string message) {
-  Diagnostic d{s, src.name(), line, col, std::move(message), std::string(src.line_text(line))};
+  Diagnostic d{s, src.name(), line, col, std::move(message), {}};
+  const std::string_view text = src.line_text(line);
+  // Lines up to kEcho bytes are echoed whole; longer ones as a window around the column.
+  constexpr std::size_t kEcho = 240;
+  if (text.size() <= kEcho) {
+    d.source_line = std::string(text);
+  } else {
+    const std::size_t c = col ? col - 1 : 0;
+    const std::size_t from = std::min(c > kEcho / 2 ? c - kEcho / 2 : 0, text.size());
+    d.source_line = (from ? "..." : "") + std::string(text.substr(from, kEcho)) + (from + kEcho < text.size() ? "..." : "");
+    d.caret_col = static_cast<std::uint32_t>(c - from + 1 + (from ? 3 : 0));
+  }
   emit(std::move(d));
 }
 

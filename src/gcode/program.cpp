@@ -15,7 +15,8 @@
 namespace deflex::gcode {
 
 int Word::code10() const {
-  if (value < 0) return -1;
+  // Range first: 10 * value must fit an int (converting a larger double is UB).
+  if (!(value >= 0 && value < 1e8)) return -1;
   double t = value * 10.0;
   double r = std::round(t);
   if (std::fabs(t - r) > 1e-6) return -1;  // G54.15 is no code
@@ -80,6 +81,12 @@ bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {
     diags.report(Severity::error, src_, line, col(off), std::move(msg));
     return false;
   };
+  // A line longer than any control reads is refused unread: lexing it again at
+  // every subprogram repeat would multiply its cost.
+  if (e - b.begin > kMaxLineBytes) {
+    b.kind = LineKind::blank;
+    return error(b.begin + kMaxLineBytes, "line longer than " + std::to_string(kMaxLineBytes) + " bytes");
+  }
   auto mark_macro = [&](std::uint32_t off) {
     if (!b.macro) { b.macro = true; b.macro_col = col(off); }
   };

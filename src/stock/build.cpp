@@ -45,6 +45,9 @@ BoxSpec parse_box(std::string_view spec) {
 }
 
 ZMap zmap_from_box(const BoxSpec& b, double cell_mm) {
+  // A box from the command line: its size is a usage error, found before allocating.
+  const double nx = std::ceil((b.x1_mm - b.x0_mm) / cell_mm), ny = std::ceil((b.y1_mm - b.y0_mm) / cell_mm);
+  if (!(nx * ny <= max_cells)) throw Error(Exit::usage, too_many_cells(b.x1_mm - b.x0_mm, b.y1_mm - b.y0_mm, cell_mm));
   const GridSpec g = grid_covering(b.x0_mm, b.y0_mm, b.x1_mm, b.y1_mm, cell_mm);
   const float top = static_cast<float>(b.z1_mm);
   ZMap z(g, top, b.z0_mm);

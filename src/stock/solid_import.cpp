@@ -1,4 +1,4 @@
-// Reading a stock solid with OpenCASCADE: STL through RWStl (a triangulation as
+// Reading a stock solid: STL by our own reader (stl.cpp: a triangulation as
 // is), STEP and IGES through their readers, meshed by BRepMesh_IncrementalMesh.
 // OCCT 7.6 headers use std::iterator (deprecated in C++17).
 #pragma GCC diagnostic push
@@ -13,7 +13,6 @@
 #include <Message_Printer.hxx>
 #include <Message_PrinterOStream.hxx>
 #include <Poly_Triangulation.hxx>
-#include <RWStl.hxx>
 #include <STEPControl_Reader.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
@@ -92,7 +91,7 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
   route_occt_messages();
   try {
     if (ext == ".stl") {
-      append(RWStl::ReadFile(path.c_str()), nullptr, out);
+      out = read_stl(path);
       if (out.empty()) throw Error(Exit::io, path + ": cannot read as STL (or it has no triangles)");
       return out;
     }

@@ -1,5 +1,7 @@
 #include "deflex/stock/zmap.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 
@@ -16,6 +18,14 @@ constexpr int T = ZMap::tile_cells;
 constexpr std::size_t tile_floats = static_cast<std::size_t>(T) * T + T;  // cells + row maxima
 }  // namespace
 
+std::string too_many_cells(double dx_mm, double dy_mm, double cell_mm) {
+  char b[256];
+  std::snprintf(b, sizeof b, "stock: %.6g x %.6g mm at %.6g mm cells is %.3g cells, more than the limit of %.3g "
+                "(a stock far larger than the part, or inches read as mm?)", dx_mm, dy_mm, cell_mm,
+                std::ceil(dx_mm / cell_mm) * std::ceil(dy_mm / cell_mm), max_cells);
+  return b;
+}
+
 GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, double cell_mm) {
   if (!(cell_mm > 0)) throw Error(Exit::config, "stock: cell size must be > 0");
   if (!(x1_mm > x0_mm) || !(y1_mm > y0_mm)) throw Error(Exit::config, "stock: empty XY extent");
@@ -23,9 +33,13 @@ GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, d
   g.x0_mm = x0_mm;
   g.y0_mm = y0_mm;
   g.cell_mm = cell_mm;
-  const double nx = std::ceil((x1_mm - x0_mm) / cell_mm - 1e-9);
-  const double ny = std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9);
-  if (nx * ny > 4e9) throw Error(Exit::config, "stock: more than 4e9 cells; use a coarser resolution");
+  // At least one cell per axis: an extent thinner than 1e-9 cells rounded to 0,
+  // and 0 x 5e36 passed the product check below (a fuzzed STL).
+  const double nx = std::max(1.0, std::ceil((x1_mm - x0_mm) / cell_mm - 1e-9));
+  const double ny = std::max(1.0, std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9));
+  // Checked before any allocation, and before the counts become ints; written
+  // so that NaN and infinity fail too.
+  if (!(nx * ny <= max_cells)) throw Error(Exit::config, too_many_cells(x1_mm - x0_mm, y1_mm - y0_mm, cell_mm));
   g.nx = static_cast<int>(nx);
   g.ny = static_cast<int>(ny);
   return g;

@@ -77,7 +77,9 @@ TEST_SUITE("stiffness") {
   TEST_CASE("beam: C(h) is symmetric positive definite and falls towards the holder") {
     const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
-    for (const auto& [id, t] : lib.tools) {
+    for (const auto& entry : lib.tools) {
+      const std::string& id = entry.first;  // not a binding: INFO's lambda captures it (clang 14)
+      const auto& t = entry.second;
       for (bool tool_only : {true, false}) {
         const ComplianceTable c = beam_compliance(t, m, tool_only);
         double prev = 1e300;
@@ -114,7 +116,9 @@ TEST_SUITE("stiffness") {
     *stiff.tool_clamp->rotational_Nmm_per_rad *= 3;
     stiff.spindle->rotational_Nmm_per_rad.reset();  // rigid
     stiff.structure_mm_per_N *= 0.5;
-    for (const auto& [id, t] : lib.tools) {
+    for (const auto& entry : lib.tools) {
+      const std::string& id = entry.first;  // not a binding: INFO's lambda captures it (clang 14)
+      const auto& t = entry.second;
       const ComplianceTable cs = beam_compliance(t, soft, false);
       const ComplianceTable ck = beam_compliance(t, stiff, false);
       const ComplianceTable c0 = beam_compliance(t, stiff, true);

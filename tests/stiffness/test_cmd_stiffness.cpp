@@ -49,7 +49,8 @@ TEST_SUITE("stiffness") {
     CHECK(r.code == 0);
     const YAML::Node j = YAML::Load(r.out);
     REQUIRE(j["compliance"].size() == 3);
-    const Tool& t = find_tool(load_tool_library(lib), "T2");
+    const ToolLibrary tools = load_tool_library(lib);  // find_tool returns into it: keep it alive
+    const Tool& t = find_tool(tools, "T2");
     const ComplianceTable c =
         beam_compliance(t, load_machine_stiffness(sample_path("samples/machines/mill3.yaml")), false);
     const double hs[3] = {0, 2.5, 10};

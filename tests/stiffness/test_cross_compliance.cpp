@@ -52,7 +52,9 @@ TEST_SUITE("stiffness") {
   TEST_CASE("cross compliance: Maxwell-Betti reciprocity C(z, z') = C(z', z)^T") {
     const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     const MachineStiffness m = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
-    for (const auto& [id, t] : lib.tools) {
+    for (const auto& entry : lib.tools) {
+      const std::string& id = entry.first;  // not a binding: INFO's lambda captures it (clang 14)
+      const auto& t = entry.second;
       const CrossComplianceTable x = beam_cross_compliance(t, m, false);
       const double top = x.heights_mm().back();
       INFO(id);

@@ -60,6 +60,9 @@ struct Diagnostic {
   std::uint32_t col = 0;
   std::string message;
   std::string source_line;  // empty: no excerpt
+  // Column of the caret in source_line when that is an excerpt of a long line
+  // (0: col). A 10 MB line is not echoed whole.
+  std::uint32_t caret_col = 0;
 };
 
 // Collects diagnostics, prints them as they come (gcc format), counts errors

@@ -9,6 +9,10 @@
 
 namespace deflex::gcode {
 
+// Longest line read, bytes: far beyond any control's block (Fanuc: 256
+// characters); a longer line is an error at this column.
+inline constexpr std::uint32_t kMaxLineBytes = 65536;
+
 class Program {
  public:
   explicit Program(SourceText src);

@@ -20,6 +20,9 @@ struct Options {
   profile::Dialect dialect;
   const profile::MachineProfile* machine = nullptr;  // offsets, reference points
   bool block_delete_switch = false;  // true: `/` blocks are skipped
+  // Most blocks executed, and most motions generated, repeats included: a few
+  // nested subprogram calls can otherwise ask for 9999^8 of them.
+  std::uint64_t max_blocks = 10'000'000;
 };
 
 struct Stats {

@@ -43,7 +43,7 @@ struct SolidOptions {
   double mesh_deflection_mm = 0.005;
 };
 
-// Reads an STL (RWStl), STEP (STEPControl_Reader) or IGES (IGESControl_Reader)
+// Reads an STL (read_stl), STEP (STEPControl_Reader) or IGES (IGESControl_Reader)
 // file by extension (.stl, .step/.stp, .iges/.igs; any case) into triangles.
 // Throws Error(Exit::io) when the file cannot be read, Exit::config when it holds no solid.
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm);
@@ -51,6 +51,11 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
 // Sends OpenCASCADE's messages to stderr (failures only), never to stdout.
 // Idempotent; every reader that goes through OCCT calls it first.
 void route_occt_messages();
+
+// An STL file, binary or ASCII, read by deflex itself (not OpenCASCADE: see
+// src/stock/stl.cpp). Triangles without area are dropped. Throws Error(Exit::io)
+// on any malformed content.
+std::vector<Triangle> read_stl(const std::string& path);
 
 ZMap zmap_from_solid_file(const std::string& path, const SolidOptions& o = {});
 

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace deflex::stock {
@@ -35,6 +36,13 @@ struct GridSpec {
 };
 
 // A grid of cell size cell_mm covering [x0, x1] x [y0, y1] (cells overhang x1, y1).
+// Most cells a Z-map may have: 2^30 (1.6 m x 1.6 m at 0.05 mm). Tiles are
+// allocated as the tool reaches them, but a cut across a larger map would not fit
+// in memory, and the counts must stay ints.
+inline constexpr double max_cells = 1073741824.0;
+// Why a grid is refused: its size, cell count and the limit.
+std::string too_many_cells(double dx_mm, double dy_mm, double cell_mm);
+// Throws Error(config) for an empty extent or more than max_cells cells.
 GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, double cell_mm);
 
 class ZMap {

@@ -1,0 +1,2 @@
+; expect: 2:9: error: offset register H must be a whole number from 0 to 99999999
+G21 G43 H6000000000
