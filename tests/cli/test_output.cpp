@@ -33,7 +33,7 @@ TEST_CASE("-o writes only regular files: a FIFO, a directory and a device are re
   TempDir d;
   const fs::path fifo = d.p / "fifo";
   REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
-  for (const std::string out : {fifo.string(), d.p.string(), std::string("/dev/null")}) {
+  for (const std::string& out : {fifo.string(), d.p.string(), std::string("/dev/null")}) {
     auto r = test::run_cli({"rewrite", kWall, "-o", out});
     INFO(out << ": " << r.err);
     CHECK(r.rc == 2);
