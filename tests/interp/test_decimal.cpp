@@ -2,6 +2,7 @@
 // decimal point under a dialect that counts least input increments.
 #include <doctest/doctest.h>
 
+#include <fstream>
 #include <sstream>
 
 #include "../support.hpp"
@@ -41,6 +42,10 @@ TEST_CASE("decimal points: a mixed program is named at its first pointless word 
 
 TEST_CASE("decimal points: --strict stops check, path and compensate on the corpus's wave.gcode") {
   const std::string wave = std::string(DEFLEX_SHARED_DIR) + "/corpus/wave.gcode";
+  if (!std::ifstream(wave)) {
+    MESSAGE("skipped: " << wave << " not found (the shared corpus lies beside the repository)");
+    return;
+  }
   const auto c = test::run_cli({"check", wave});
   CHECK(c.rc == 0);
   CHECK(c.err.find("wave.gcode:5:4: warning: Z3 has no decimal point") != std::string::npos);
