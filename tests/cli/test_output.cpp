@@ -118,6 +118,19 @@ TEST_CASE("fail fast, say where: what the simulation needs is checked first, at 
   CHECK_FALSE(fs::exists(out));
 }
 
+TEST_CASE("exit codes: one case per row of the README's table") {
+  TempDir d;
+  const std::string bad_prog = (d.p / "bad.nc").string(), bad_yaml = (d.p / "m.yaml").string();
+  test::write_file(bad_prog, "G21 G90\nG1 X1. Q#5\nM30\n");
+  test::write_file(bad_yaml, "name: m\ndialect: fanuc\nbogus: 1\n");
+  CHECK(test::run_cli({"check", kWall}).rc == 0);                                          // 0 success
+  CHECK(test::run_cli({"check", bad_prog}).rc == 1);                                       // 1 input error
+  CHECK(test::run_cli({"check", kWall, "--no-such-option"}).rc == 2);                      // 2 usage
+  CHECK(test::run_cli({"check", kWall, "--machine", bad_yaml}).rc == 3);                   // 3 configuration
+  CHECK(test::run_cli({"check", (d.p / "missing.nc").string()}).rc == 4);                  // 4 I/O
+  // 70 is a bug: nothing reaches it on purpose; run() maps a stray exception to it.
+}
+
 TEST_CASE("no library writes to stdout: OpenCASCADE's errors on a junk STL go to stderr") {
   TempDir d;
   const std::string junk = (d.p / "junk.stl").string();
