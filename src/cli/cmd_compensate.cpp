@@ -251,8 +251,8 @@ std::vector<double> errors_against(const std::vector<compensate::Point>& pts, co
   e.reserve(pts.size());
   for (const auto& p : pts) {
     if (p.air || p.plunge) continue;
-    // Landing point minus the intended point = offset + delta (the intended
-    // point is the commanded one minus the offset deflex applied).
+    // Landing point minus the intended point, along n: the offset deflex
+    // applied plus the error at the commanded point (compensate::landing_error).
     e.push_back(compensate::landing_error(p, offset_at(p, intent_offsets)));
   }
   return e;

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/compensate/compensate.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
@@ -202,10 +203,11 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
     if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
     const part::PartModel pm = part::PartModel::load(part_file);
     const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-    if (tool.empty()) tool = config_string(s.config, "tool");
+    compensate::Settings cs;  // the tool choice and part reach of compensate
+    cs.tool_override = !tool.empty() ? tool : config_string(s.config, "tool");
     const compensate::PartGaps g = compensate::part_gaps(
-        motions, pm, lib, [&tool](const interp::Motion& m) { return !tool.empty() ? tool : "T" + std::to_string(m.tool); },
-        {}, gap, 1.0);
+        motions, pm, lib, [&cs](const interp::Motion& m) { return compensate::tool_id(m, cs); }, {}, gap,
+        cs.part_reach_mm);
     report_part_gaps(g, prog.source(), gap, diags);
   }
   if (st.cutter_comp_motions)

@@ -114,10 +114,9 @@ struct Point {
 };
 
 // The surface error against the design with the commanded point displaced by
-// `offset` from it: offset . n + error_mm (the deflection moves with the tool).
-inline double landing_error(const Point& p, const V3& offset) {
-  return p.flank ? offset.dot(p.normal) + p.error_mm : (offset + p.delta_mm).dot(p.normal);
-}
+// `offset` from it: offset . n + error_mm (the deflection moves with the tool;
+// error_mm is delta . n, or a flank's mid-range of e(z) along n).
+inline double landing_error(const Point& p, const V3& offset) { return offset.dot(p.normal) + p.error_mm; }
 
 using Progress = std::function<void(const std::string& stage, double fraction)>;
 
