@@ -1,7 +1,6 @@
 #include "deflex/compensate/gouge.hpp"
 
 #include <cmath>
-#include <limits>
 
 namespace deflex::compensate {
 

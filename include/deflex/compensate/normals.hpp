@@ -19,6 +19,7 @@
 //           plane, upward. It cannot see a slope across the feed direction.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
