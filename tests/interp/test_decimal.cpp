@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "../support.hpp"
 #include "deflex/interp/decimal.hpp"
@@ -38,6 +39,35 @@ TEST_CASE("decimal points: a mixed program is named at its first pointless word 
     interp::check_decimal_points(gcode::Program(SourceText("t.nc", text)), profile::load_dialect("fanuc"), q, true);
     CHECK(q.errors() + q.warnings() == 0);
   }
+}
+
+TEST_CASE("decimal points: a pointless program that reads as micrometre hops, and sub-micrometre words") {
+  auto run = [](const char* text, const profile::Dialect& d, bool strict = false) {
+    std::ostringstream err;
+    Diagnostics q(&err, 0);
+    interp::check_decimal_points(gcode::Program(SourceText("h.nc", text)), d, q, strict);
+    return std::tuple{q.warnings(), q.errors(), err.str()};
+  };
+  const auto fanuc = profile::load_dialect("fanuc");
+  // Written for LinuxCNC without points: under fanuc the largest word, Y80, is 0.08 mm.
+  const auto [w, e, msg] = run("G21 G90\nG0 X10 Y20 Z3\nG1 Z-2 F500\nX76\nY80\nM30\n", fanuc);
+  CHECK(w == 1);
+  CHECK(msg.find("h.nc:5:1: warning: no axis word has a decimal point and the largest, Y80, reads as 0.08 mm") == 0);
+  CHECK(msg.find("(LinuxCNC) reads it as 80") != std::string::npos);
+  CHECK(std::get<1>(run("G0 X10 Y20\nG1 X76 F500\n", fanuc, true)) == 1);
+  // The same program in inch increments (0.0001 in): Y80 is 0.2032 mm.
+  CHECK(std::get<2>(run("G20 G90\nG0 X10 Y20\nG1 X76 Y80 F5\n", fanuc)).find("reads as 0.2032 mm") !=
+        std::string::npos);
+  // A consistent increment program reaching past a millimetre, or any program under calculator input: nothing.
+  CHECK(std::get<0>(run("G0 X1500 Y20\nG1 X76 F500\n", fanuc)) == 0);
+  CHECK(std::get<0>(run("G0 X10 Y20\nG1 X76 F500\n", profile::load_dialect("linuxcnc"))) == 0);
+  // A dialect counting 0.1 um increments: X5 is a 0.5 um hop.
+  auto fine = fanuc;
+  fine.lii_mm = 1e-4;
+  const auto [w2, e2, msg2] = run("G0 X10. Y20.\nG1 X10.5 F500.\nX5\n", fine);
+  CHECK(w2 == 2);  // mixed, and the hop
+  CHECK(msg2.find("h.nc:3:1: warning: X5 has no decimal point and reads as 0.0005 mm") != std::string::npos);
+  CHECK(msg2.find("sub-micrometre hop") != std::string::npos);
 }
 
 TEST_CASE("decimal points: --strict stops check, path and compensate on the corpus's wave.gcode") {

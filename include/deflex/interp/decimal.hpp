@@ -18,10 +18,19 @@ struct DecimalFinding {
   std::size_t lines = 0;          // lines holding one of those
 };
 
-// Counts the axis words with and without a decimal point. When both kinds
-// occur under a dialect that counts least input increments (under calculator
-// input a mixed program is ordinary), reports at the first word without one (a warning; an error when
-// `strict`) with both readings of it. Returns the counts.
+// A program with no decimal point at all whose largest axis word still reads
+// under this many millimetres is taken for one written for calculator input.
+// A finishing program for a slender mill moves at least a millimetre; a
+// consistent increment program (X76000) passes.
+inline constexpr double kTinyProgramMm = 1.0;
+
+// Counts the axis words with and without a decimal point. Under a dialect that
+// counts least input increments (under calculator input every reading is the
+// number as written) it reports, with both readings, a warning (an error when
+// `strict`) at: the first pointless word of a program that mixes both kinds;
+// the largest word of a pointless program that reads under kTinyProgramMm;
+// the first pointless word that reads under a micrometre (a dialect with a
+// finer increment). Inch programs (G20) count lii_inch. Returns the counts.
 DecimalFinding check_decimal_points(const gcode::Program& prog, const profile::Dialect& d, Diagnostics& diags,
                                     bool strict);
 
