@@ -97,7 +97,15 @@ const char* kPathHelp =
     "G0/G1 moves; G28/G30 print their intermediate and reference moves. Programs in\n"
     "inch are converted to mm. Points under G41/G42 are the programmed contour, not the\n"
     "offset one. Numbers without a decimal point follow the dialect's rule: fanuc reads\n"
-    "X1000 as 1.000 mm (least input increment), linuxcnc as 1000 mm.\n";
+    "X1000 as 1.000 mm (least input increment), linuxcnc as 1000 mm. A program with\n"
+    "an error (or more executed blocks than --max-blocks) prints no path, only the\n"
+    "diagnostics on stderr, and exits 1.\n";
+
+// Takes the motions and drops them: a pass for the diagnostics alone.
+class NullSink : public interp::MotionSink {
+ public:
+  void motion(const interp::Motion&) override {}
+};
 
 int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(Exit::input) : 0; }
 
@@ -124,10 +132,15 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   interp::check_program_shape(prog, diags);
   interp::check_decimal_points(prog, s.dialect, diags, s.strict);
   if (diags.errors()) return finish(diags);  // --strict: nothing printed
-  {
-    PathPrinter p(io.out, lines);
-    interp::interpret(prog, s.interp(), diags, p);
-  }
+  // Two passes: the first reports every diagnostic and prints nothing, so a
+  // program with an error (past --max-blocks included) prints no path at all
+  // rather than megabytes of it cut off at the error; the second, quiet, prints.
+  // Interpretation is cheap next to printing, so the path costs well under 2x.
+  NullSink none;
+  if (interp::interpret(prog, s.interp(), diags, none).stopped || diags.errors()) return finish(diags);
+  Diagnostics quiet(nullptr, 0);
+  PathPrinter p(io.out, lines);
+  interp::interpret(prog, s.interp(), quiet, p);
   return finish(diags);
 }
 
@@ -231,13 +244,6 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   return finish(diags);
 }
 
-namespace {
-class Null : public interp::MotionSink {
- public:
-  void motion(const interp::Motion&) override {}
-};
-}  // namespace
-
 int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   ReadOptions r;
   std::string file, output;
@@ -262,7 +268,7 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   if (!output.empty() && output != "-") writer::check_output_path(output, file);
   gcode::Program prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
-  Null null;
+  NullSink null;
   interp::interpret(prog, s.interp(), diags, null);
   if (diags.errors()) {
     io.err << prog.source().name() << ": error: not written: the program has errors\n";

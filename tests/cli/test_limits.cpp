@@ -3,6 +3,7 @@
 // a crash or an allocation that fails later.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <unistd.h>
@@ -122,6 +123,12 @@ TEST_CASE("limits: the CLI reports them with exit codes (--max-blocks, stock)") 
   auto r = test::run_cli({"path", f, "--max-blocks", "2000"});
   CHECK(r.rc == 1);
   CHECK(has(r.err, "error: more than 2000 blocks executed"));
+  CHECK(r.out.empty());  // no path cut off at the budget
+  // The same nesting with 20 repeats a level runs within the budget and prints every motion.
+  test::write_file(f, "G21 G90 G0 X0 Y0 Z0\nM98 P1 L20\nM30\nO1\nM98 P2 L20\nM99\nO2\nG1 X1. F100\nG1 X0\nM99\n");
+  const auto ok = test::run_cli({"path", f, "--max-blocks", "2000"});
+  CHECK(ok.rc == 0);
+  CHECK(std::count(ok.out.begin(), ok.out.end(), '\n') == 1 + 20 * 20 * 2);
   CHECK(test::run_cli({"check", f, "--max-blocks", "0"}).rc == 2);
   std::remove(f.c_str());
   auto s = test::run_cli({"compensate", "tests/golden/wall.nc", "--stock", "box:0,0,-20,1e7,1e7,0"});

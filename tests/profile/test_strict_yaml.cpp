@@ -17,7 +17,7 @@ struct Dir {
   fs::path p = fs::temp_directory_path() / ("deflex-strict-" + std::to_string(::getpid()));
   Dir() {
     fs::create_directories(p);
-    test::write_file(file("p.nc"), "G21 G90 G54\nG0 X0 Y0 Z10\nM30\n");
+    test::write_file(file("p.nc"), "G21 G90 G54\nG0 X0 Y0 Z10.\nM30\n");
     test::write_file(file("config.yaml"), "max_errors: 5\n");
   }
   ~Dir() { fs::remove_all(p); }
