@@ -70,6 +70,12 @@ function f4(v,   s) {              # STL numbers: 4 decimals, no needless zeros
 }
 function blk(s) { printf "N%d %s\n", nblk, s > OUT; nblk += 2; blocks++ }
 function cmt(s) { printf "(%s)\n", s > OUT }
+# The common end of every program: retract, spindle and coolant off, home Z, M30.
+function program_end() {
+  blk("G00 Z50."); blk("M05 M09"); blk("G91 G28 Z0."); blk("M30")
+  printf "%%\n" > OUT
+  close(OUT)
+}
 # Modal linear move to (x, y, z): only the words that change; "" when nothing does.
 function mv(x, y, z,   w, sx, sy, sz) {
   sx = f3(x); sy = f3(y); sz = f3(z); w = ""
@@ -250,12 +256,7 @@ BEGIN {
     if (p % 2 == 0) { for (k = 1; k < nk; k++) { w = mv(CX[k], y, CZ[k]); if (w != "") blk(w) } }
     else { for (k = nk - 2; k >= 0; k--) { w = mv(CX[k], y, CZ[k]); if (w != "") blk(w) } }
   }
-  blk("G00 Z50.")
-  blk("M05 M09")
-  blk("G91 G28 Z0.")
-  blk("M30")
-  printf "%%\n" > OUT
-  close(OUT)
+  program_end()
 
   solid(A, STOCK, "six_surfaces_stock")
   solid(0, PART, "six_surfaces_part")
@@ -293,12 +294,7 @@ BEGIN {
   blk("X-10. Y1.")
   blk("G01 Z-12. F1000.")
   blk("X110. F2546.4")
-  blk("G00 Z50.")
-  blk("M05 M09")
-  blk("G91 G28 Z0.")
-  blk("M30")
-  printf "%%\n" > OUT
-  close(OUT)
+  program_end()
   printf "side_wall.nc: %d blocks\n", blocks
 }'
 cat > "$here/stock/side_wall.yaml" <<'YAML'
@@ -313,9 +309,29 @@ YAML
 #    over X 0..120, Y 0..80 (two waves along X, one along Y); ball end D10,
 #    Al 7075-T6, S10000, f_z 0.08 -> F1600; zig-zag along X, step-over 0.8 mm;
 #    stock = surface offset 0.3 mm along its normal, bottom z = -30.
-awk -v OUT="$here/programs/freeform.nc" -v STOCK="$here/stock/freeform_stock.stl" \
-    -v PART="$here/parts/freeform.stl" "$common"'
+# The freeform surface and its ball offset, shared by sections 3 and 4.
+freeform='
 function f(x, y) { return AMP * sin(KX * x) * cos(KY * y) }
+# Centre height of a ball of radius r on the offset surface above (x, y): solves
+# (u, v) + r n_xy(u, v) = (x, y) for the contact point by fixed-point iteration.
+function offset(x, y, r,   u, v, fx, fy, s, un, vn, it) {
+  u = x; v = y
+  for (it = 0; it < 200; it++) {
+    fx = AMP * KX * cos(KX * u) * cos(KY * v)
+    fy = -AMP * KY * sin(KX * u) * sin(KY * v)
+    s = sqrt(1 + fx * fx + fy * fy)
+    un = x + r * fx / s; vn = y + r * fy / s
+    if ((un - u) ^ 2 + (vn - v) ^ 2 < 1e-24) break
+    u = un; v = vn
+  }
+  fx = AMP * KX * cos(KX * un) * cos(KY * vn)
+  fy = -AMP * KY * sin(KX * un) * sin(KY * vn)
+  return f(un, vn) + r / sqrt(1 + fx * fx + fy * fy)
+}
+'
+
+awk -v OUT="$here/programs/freeform.nc" -v STOCK="$here/stock/freeform_stock.stl" \
+    -v PART="$here/parts/freeform.stl" "$common$freeform"'
 # The solid under the surface offset by off along its normal (0: the part
 # itself), bottom ZB, as a closed ASCII STL. Top grid: 1.5 x 2 mm for the
 # stock; 0.75 x 1 mm for the part, whose facets then lie within 0.011 mm of the
@@ -350,22 +366,6 @@ function solid(off, out, name,   GX, GY, nx, ny, i, j, x0, x1, y0, y1, nb, k, kk
   close(STL)
 }
 
-# Centre height of a ball of radius r on the offset surface above (x, y): solves
-# (u, v) + r n_xy(u, v) = (x, y) for the contact point by fixed-point iteration.
-function offset(x, y, r,   u, v, fx, fy, s, un, vn, it) {
-  u = x; v = y
-  for (it = 0; it < 200; it++) {
-    fx = AMP * KX * cos(KX * u) * cos(KY * v)
-    fy = -AMP * KY * sin(KX * u) * sin(KY * v)
-    s = sqrt(1 + fx * fx + fy * fy)
-    un = x + r * fx / s; vn = y + r * fy / s
-    if ((un - u) ^ 2 + (vn - v) ^ 2 < 1e-24) break
-    u = un; v = vn
-  }
-  fx = AMP * KX * cos(KX * un) * cos(KY * vn)
-  fy = -AMP * KY * sin(KX * un) * sin(KY * vn)
-  return f(un, vn) + r / sqrt(1 + fx * fx + fy * fy)
-}
 BEGIN {
   pi = atan2(0, -1)
   AMP = 5; LX = 60; LY = 80; KX = 2 * pi / LX; KY = 2 * pi / LY
@@ -400,12 +400,7 @@ BEGIN {
     else { for (k = nk - 1; k >= 0; k--) { w = mv(PX[KEEP[k]], y, PZ[KEEP[k]]); if (w != "") blk(w) } }
     cl += nk
   }
-  blk("G00 Z50.")
-  blk("M05 M09")
-  blk("G91 G28 Z0.")
-  blk("M30")
-  printf "%%\n" > OUT
-  close(OUT)
+  program_end()
 
   solid(A, STOCK, "freeform_stock")
   solid(0, PART, "freeform_part")
@@ -423,3 +418,116 @@ cat > "$here/stock/freeform.yaml" <<'YAML'
 # work frame G54. deflex --stock samples/stock/freeform_stock.stl
 stock: freeform_stock.stl
 YAML
+
+# ---------------------------------------------------------------------------
+# 4. Strategies (issue 12, after Bagci & Yuncuoglu 2017, paper 000, Table 4):
+#    the freeform part of section 3 finished four ways from the same stock with
+#    the same tool and cutting data, so `deflex compare` can rank them:
+#      strategies/zigzag_0.nc    zig-zag along X (passes at 0 deg), stepping in +Y
+#      strategies/zigzag_45.nc   zig-zag at 45 deg
+#      strategies/zigzag_90.nc   zig-zag along Y (passes at 90 deg), stepping in -X
+#      strategies/contour.nc     contour-parallel: rectangular loops from the part
+#                                edge inwards (counter-clockwise seen from above),
+#                                each joined to the next by a G01 step inwards
+#    T7 ball D10, S10000 F1600, step-over 2.0 mm (the paper used 3 mm with a
+#    D12 ball: the same cusp-to-radius ratio order), CL points as in section 3
+#    (tip on the ball offset, points at most 0.5 mm apart, chord error 0.001).
+#    Zig-zag passes run over X-6..126 / Y-6..86 (the ball clear of the stock at
+#    both ends) and are joined by G01 moves outside the stock.
+mkdir -p "$here/strategies"
+awk -v DIR="$here/strategies" "$common$freeform"'
+function header(o, title, strategy) {
+  nblk = 10; blocks = 0; cl = 0; lx = ""; ly = ""; lz = ""
+  printf "%%\n" > OUT
+  printf "O%d (DEFLEX STRATEGY SAMPLE - %s)\n", o, title > OUT
+  cmt("GENERATED BY SAMPLES/GENERATE.SH - DO NOT EDIT")
+  cmt("PART SAMPLES/PARTS/FREEFORM.STL - Z = 5 SIN 6X COS 4.5Y OVER X0 TO X120, Y0 TO Y80")
+  cmt("STOCK SAMPLES/STOCK/FREEFORM_STOCK.STL - SURFACE OFFSET 0.3, BOTTOM Z-30")
+  cmt("TOOL T7 BALL END D10 R5, 2 FLUTES, HELIX 30 DEG, STICKOUT 45 - MATERIAL AL 7075-T6")
+  cmt(strategy)
+  blk("G21 G90 G17 G40 G49 G80")
+  blk("T7 M06")
+}
+function start(x, y) {
+  lx = f3(x); ly = f3(y); lz = ""
+  blk("G00 G54 X" lx " Y" ly " S10000 M03")
+  blk("G43 H7 " mv(x, y, 50) " M08")
+  blk(mv(x, y, 5))
+}
+function finish(name) {
+  program_end()
+  printf "%s: %d blocks, %d CL points\n", name, blocks, cl
+}
+# Samples the straight pass (x0, y0) -> (x1, y1) every H mm into PX (the arc
+# length) and PZ (the tip height), thins it, and writes its points (the first
+# with F when `first`); `skip` leaves out the first point (a corner the previous
+# side ended on).
+function pass(x0, y0, x1, y1, first, skip,   len, n, i, nk, k, t, x, y, w) {
+  len = sqrt((x1 - x0) ^ 2 + (y1 - y0) ^ 2); n = int(len / H + 0.5); if (n < 1) n = 1
+  for (i = 0; i <= n; i++) {
+    t = i / n; PX[i] = t * len; PZ[i] = offset(x0 + t * (x1 - x0), y0 + t * (y1 - y0), R) - R
+  }
+  nk = thin(n, 0.5, 0.001)
+  for (k = skip ? 1 : 0; k < nk; k++) {
+    t = PX[KEEP[k]] / len; x = x0 + t * (x1 - x0); y = y0 + t * (y1 - y0)
+    w = mv(x, y, PZ[KEEP[k]])
+    if (first && k == 0) { blk("G01 " w " F1600."); first = 0 }
+    else if (w != "") blk(w)
+  }
+  cl += nk - (skip ? 1 : 0)
+}
+# Clips the line c v + s u (u = (cos a, sin a), v = (-sin a, cos a)) to the
+# rectangle XA..XB x YA..YB: sets S0, S1; returns whether it crosses it.
+function clip(a, c,   ux, uy, px, py, lo, hi, t0, t1, tt) {
+  ux = cos(a); uy = sin(a); px = -c * uy; py = c * ux; lo = -1e9; hi = 1e9
+  if (ux * ux > 1e-18) { t0 = (XA - px) / ux; t1 = (XB - px) / ux; if (t0 > t1) { tt = t0; t0 = t1; t1 = tt }; if (t0 > lo) lo = t0; if (t1 < hi) hi = t1 }
+  else if (px < XA || px > XB) return 0
+  if (uy * uy > 1e-18) { t0 = (YA - py) / uy; t1 = (YB - py) / uy; if (t0 > t1) { tt = t0; t0 = t1; t1 = tt }; if (t0 > lo) lo = t0; if (t1 < hi) hi = t1 }
+  else if (py < YA || py > YB) return 0
+  S0 = lo; S1 = hi
+  return hi > lo
+}
+# Zig-zag at deg degrees: passes c = cmin + k STEP across the part (c over the
+# projections of its corners on v), alternating direction.
+function zigzag(deg, o, name,   a, ux, uy, vx, vy, cmin, cmax, c, k, np, p, sa, sb, t) {
+  OUT = DIR "/" name
+  a = deg * pi / 180; ux = cos(a); uy = sin(a); vx = -uy; vy = ux
+  cmin = 1e9; cmax = -1e9
+  for (k = 0; k < 4; k++) { c = ((k % 2) ? L : 0) * vx + ((k >= 2) ? W : 0) * vy; if (c < cmin) cmin = c; if (c > cmax) cmax = c }
+  np = int((cmax - cmin) / STEP - 1e-9) + 2
+  header(o, "FREEFORM ZIG-ZAG " deg " DEG", "ZIG-ZAG, PASSES AT " deg " DEG TO +X, STEP-OVER " STEP ", " np " PASSES, F1600")
+  for (p = 0; p < np; p++) {
+    c = cmin + (p < np - 1 ? p * STEP : cmax - cmin)
+    if (!clip(a, c)) continue
+    sa = S0; sb = S1; if (p % 2) { t = sa; sa = sb; sb = t }
+    if (p == 0) start(-c * uy + sa * ux, c * ux + sa * uy)
+    pass(-c * uy + sa * ux, c * ux + sa * uy, -c * uy + sb * ux, c * ux + sb * uy, p == 0, 0)
+  }
+  finish(name)
+}
+# Contour-parallel: loops of the part outline offset inwards by j STEP,
+# counter-clockwise, from a lead-in along +X outside the stock.
+function contour(o, name,   nloop, j, d, x0, y0, x1, y1) {
+  OUT = DIR "/" name
+  nloop = int((W / 2) / STEP)
+  header(o, "FREEFORM CONTOUR-PARALLEL", "CONTOUR-PARALLEL LOOPS INWARDS, COUNTER-CLOCKWISE, STEP-OVER " STEP ", " nloop + 1 " LOOPS, F1600")
+  start(XA, 0)
+  pass(XA, 0, 0, 0, 1, 0)
+  for (j = 0; j <= nloop; j++) {
+    d = j * STEP; x0 = d; y0 = d; x1 = L - d; y1 = W - d
+    if (y1 - y0 < 1e-9) { pass(x0, y0, x1, y0, 0, 1); break }     # the last loop is a line
+    pass(x0, y0, x1, y0, 0, 1); pass(x1, y0, x1, y1, 0, 1); pass(x1, y1, x0, y1, 0, 1); pass(x0, y1, x0, y0, 0, 1)
+    if (j < nloop) pass(x0, y0, x0 + STEP, y0 + STEP, 0, 1)       # step inwards
+  }
+  finish(name)
+}
+BEGIN {
+  pi = atan2(0, -1)
+  AMP = 5; LX = 60; LY = 80; KX = 2 * pi / LX; KY = 2 * pi / LY
+  L = 120; W = 80; R = 5; STEP = 2.0; H = 0.1
+  XA = -6; XB = 126; YA = -6; YB = 86
+  zigzag(0, 5101, "zigzag_0.nc")
+  zigzag(45, 5102, "zigzag_45.nc")
+  zigzag(90, 5103, "zigzag_90.nc")
+  contour(5104, "contour.nc")
+}'

@@ -31,10 +31,12 @@ namespace {
 
 const std::string kSamples = std::string(DEFLEX_SOURCE_DIR) + "/samples/";
 const char* const kPrograms[] = {"six_surfaces.nc", "side_wall.nc", "freeform.nc"};
+const char* const kStrategies[] = {"zigzag_0.nc", "zigzag_45.nc", "zigzag_90.nc", "contour.nc"};
 
-test::Interpreted interpret_sample(const std::string& name) {
+// `name` under samples/programs/, or `folder` (e.g. "strategies/").
+test::Interpreted interpret_sample(const std::string& name, const std::string& folder = "programs/") {
   const profile::MachineProfile m = profile::load_machine(kSamples + "machines/mill3.yaml");
-  return test::interpret_text(test::read_file(kSamples + "programs/" + name), "fanuc", &m);
+  return test::interpret_text(test::read_file(kSamples + folder + name), "fanuc", &m);
 }
 
 // End points of the compensable G01 moves (the CL points a CAM system wrote).
@@ -118,7 +120,8 @@ TEST_CASE("samples: generate.sh reproduces the committed programs and stocks byt
   REQUIRE(std::system(cmd.c_str()) == 0);
   for (const char* f : {"programs/six_surfaces.nc", "programs/side_wall.nc", "programs/freeform.nc",
                         "stock/six_surfaces_stock.stl", "stock/freeform_stock.stl", "stock/side_wall.yaml",
-                        "stock/six_surfaces.yaml", "stock/freeform.yaml"}) {
+                        "stock/six_surfaces.yaml", "stock/freeform.yaml", "strategies/zigzag_0.nc",
+                        "strategies/zigzag_45.nc", "strategies/zigzag_90.nc", "strategies/contour.nc"}) {
     CAPTURE(f);
     CHECK(test::read_file((dir / f).string()) == test::read_file(kSamples + f));
   }
@@ -215,6 +218,43 @@ TEST_CASE("samples: freeform CL points are the ball (R 5) offset of the surface;
   // The STL top is a 1.5 x 2 mm grid of the exact offset: within ~0.03 mm of it.
   CHECK(lo > R - allowance - 0.04);
   CHECK(hi < R - allowance + 0.04);
+}
+
+TEST_CASE("samples: each strategy checks clean, rewrites byte for byte, rides the ball offset and covers the part") {
+  const double R = 5, step = 2.0;
+  for (const char* name : kStrategies) {
+    CAPTURE(name);
+    const std::string path = kSamples + "strategies/" + name;
+    const std::string bytes = test::read_file(path);
+    const auto chk = test::run_cli({"check", path, "--machine", kSamples + "machines/mill3.yaml"});
+    CHECK_MESSAGE(chk.rc == 0, chk.err);
+    CHECK(chk.err.empty());
+    CHECK(test::run_cli({"rewrite", path}).out == bytes);
+    const auto r = interpret_sample(name, "strategies/");
+    REQUIRE(r.errors == 0);
+    const auto pts = cl_points(r);
+    REQUIRE(pts.size() > 10000);
+    double worst = 0;
+    for (std::size_t k = 0; k < pts.size(); k += 211)
+      worst = std::max(worst, std::fabs(freeform_distance({pts[k][0], pts[k][1], pts[k][2] + R}, R + 0.2) - R));
+    CHECK(worst < 0.001);
+    // Coverage: every point of a 1 mm grid over the part lies within half a
+    // step-over (and the 0.5 mm point spacing) of the tool path in XY.
+    std::vector<std::vector<interp::Vec3>> bins(125 * 85);
+    for (const auto& p : pts)
+      if (p[0] > -2 && p[0] < 123 && p[1] > -2 && p[1] < 83)
+        bins[static_cast<int>(p[1] + 2) * 125 + static_cast<int>(p[0] + 2)].push_back(p);
+    double farthest = 0;
+    for (int y = 0; y <= 80; ++y)
+      for (int x = 0; x <= 120; ++x) {
+        double best = 1e300;
+        for (int j = y; j <= y + 3; ++j)  // bins of XY in [-2, +2) around (x, y)
+          for (int i = x; i <= x + 3; ++i)
+            for (const auto& p : bins[j * 125 + i]) best = std::min(best, std::hypot(p[0] - x, p[1] - y));
+        farthest = std::max(farthest, best);
+      }
+    CHECK(farthest <= std::hypot(step / 2, 0.25) + 1e-6);
+  }
 }
 
 TEST_CASE("samples: side wall cuts a_e 2.5, a_p 12 in down-milling on its box stock") {
