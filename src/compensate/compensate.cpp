@@ -94,6 +94,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
   p.ap_mm = mt.ap_mm;
   p.ae_mm = mt.ae_mm;
+  p.cwe_area_mm2 = mt.cwe_area_mm2;
+  p.d_eff_mm = mt.d_eff_mm;
+  // The engager's MRR is at the feed its Process was made with (the tool's first
+  // cut); the motion's own F gives this point's.
+  p.mrr_mm3_per_s = mt.section_mm2 * m.feed_mm_per_min / 60;
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
   const double u = cl.count ? static_cast<double>(cl.index) / cl.count : 1.0;

@@ -609,7 +609,8 @@ Metrics Engager::evaluate_with(const StockView& stock, const CLPoint& p, const P
   m.ap_mm = ap;
   m.d_eff_mm = 2 * stock::profile_radius(tool_, m.ap_mm);  // Bagci Eq. 2 for a ball
   m.cwe_area_mm2 = acc.cwe + m.bottom_area_mm2;
-  m.mrr_mm3_per_s = vf_mm_per_s * (cos_a * acc.mrr_h + sin_a * acc.mrr_v - sin_a * m.bottom_area_mm2);
+  m.section_mm2 = cos_a * acc.mrr_h + sin_a * acc.mrr_v - sin_a * m.bottom_area_mm2;
+  m.mrr_mm3_per_s = vf_mm_per_s * m.section_mm2;
   if (acc.y_hi >= acc.y_lo) m.ae_mm = acc.y_hi - acc.y_lo;
   if (acc.up + acc.down > 0) m.up_share = acc.up / (acc.up + acc.down);
   return m;

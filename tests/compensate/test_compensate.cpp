@@ -116,6 +116,32 @@ TEST_CASE("safety check: a change in anything but coordinates aborts") {
   CHECK_THROWS_AS(compensate::safety_check(f.prog, f.motions, r, f.opt, can, 0.1), Error);
 }
 
+TEST_CASE("MRR per point is a_e a_p v_f at the motion's own feed; D_eff and CWE area are carried") {
+  Fixture f;
+  // N7 at F800 as written, N8 at F1600: the simulator's Process keeps the first feed.
+  std::string text = kWall;
+  text.replace(text.find("N8 X80."), 7, "N8 X80. F1600.");
+  gcode::Program prog{SourceText("wall2.nc", text)};
+  std::vector<interp::Motion> motions;
+  Diagnostics d(nullptr, 0);
+  test::Collect c;
+  c.out = &motions;
+  interp::interpret(prog, f.opt, d, c);
+  REQUIRE(d.errors() == 0);
+  const auto pts = compensate::simulate(motions, {}, f.ph, f.s);
+  int seen = 0;
+  for (const auto& q : pts) {
+    if (q.index != q.count / 2 || (q.line != 9 && q.line != 10)) continue;
+    const double vf_mm_per_s = (q.line == 9 ? 800.0 : 1600.0) / 60;
+    CHECK(q.mrr_mm3_per_s == doctest::Approx(2.0 * 10.0 * vf_mm_per_s).epsilon(0.02));
+    CHECK(q.d_eff_mm == doctest::Approx(10.0));  // a flat end cuts with its full diameter
+    // The engaged flank: a_p 10 times the arc of a_e 2 on a D10 (acos(1 - 2/5) 5 mm).
+    CHECK(q.cwe_area_mm2 == doctest::Approx(10.0 * 5 * std::acos(1 - 2.0 / 5)).epsilon(0.03));
+    ++seen;
+  }
+  CHECK(seen == 2);
+}
+
 TEST_CASE("the deflection at a steady wall point equals C(h) F from the force and stiffness modules") {
   Fixture f;
   auto pts = compensate::simulate(f.motions, {}, f.ph, f.s);

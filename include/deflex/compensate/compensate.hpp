@@ -90,6 +90,9 @@ struct Point {
   int index = 0, count = 0;     // sample index within the motion (count: its end)
   V3 tip_mm = V3::Zero();       // commanded tool tip (with the offsets applied)
   double ap_mm = 0, ae_mm = 0;
+  double cwe_area_mm2 = 0;      // engaged area of the tool envelope (engage::Metrics)
+  double d_eff_mm = 0;          // effective cutting diameter (Bagci Eq. 2)
+  double mrr_mm3_per_s = 0;     // material removal rate at the motion's feed (Bagci Eq. 1)
   bool air = true, plunge = false;
   V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
   double peak_N = 0;            // largest |F| over the revolution

@@ -79,7 +79,8 @@ struct Metrics {
   double cwe_area_mm2 = 0;       // engaged area of the tool envelope (flanks + flat bottom)
   double bottom_area_mm2 = 0;    // engaged flat bottom (only when descending)
   double d_eff_mm = 0;           // Bagci Eq. 2: 2 r(a_p); ball 2 sqrt(a_p (D - a_p)) for a_p < D/2
-  double mrr_mm3_per_s = 0;      // Bagci Eq. 1
+  double mrr_mm3_per_s = 0;      // Bagci Eq. 1, at the Process feed
+  double section_mm2 = 0;        // removed cross-section across the travel: mrr_mm3_per_s / feed (mm/s)
   double up_share = 0;           // share of the horizontal removal on the up-milling (+Y') side
 };
 
