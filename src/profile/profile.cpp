@@ -161,7 +161,8 @@ MachineProfile load_machine(const std::string& name_or_path) {
   const YAML::Node root = yaml::load_file(file);
   // holder: and stiffness: are read (with their own key checks) by deflex::stiffness.
   const Map n(root, "machine profile", file, {"name", "dialect", "travel_mm", "work_offsets_mm",
-                                              "reference_points_mm", "max_offset_mm", "holder", "stiffness"});
+                                              "reference_points_mm", "max_offset_mm", "axis_limits", "holder",
+                                              "stiffness"});
   MachineProfile m;
   m.file = file;
   m.root = root;
@@ -171,6 +172,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
   if (n.has("work_offsets_mm")) read_work_offsets(n, m);
   if (n.has("reference_points_mm")) read_reference_points(n, m);
   m.max_offset_mm = n.number("max_offset_mm", m.max_offset_mm, Range::positive());
+  if (n.has("axis_limits")) m.axis_limits = parse_axis_limits(n.get("axis_limits"), file);
   load_dialect(m.dialect);  // an unknown dialect is a profile error, found early
   return m;
 }

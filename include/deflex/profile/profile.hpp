@@ -10,6 +10,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "deflex/profile/axis_limits.hpp"
+
 namespace deflex::profile {
 
 enum class DecimalRule { least_input_increment, calculator };
@@ -64,6 +66,7 @@ struct MachineProfile {
   // G28/G30 reference points in machine coordinates, mm; 1 = G28.
   std::map<int, std::array<double, 3>> reference_points_mm;
   double max_offset_mm = 0.1;  // largest compensation offset (issue 5)
+  AxisLimits axis_limits;      // for the machining time (defaults when the section is absent)
   YAML::Node root;             // the whole document (stiffness, holder ... sections)
 };
 
