@@ -1,0 +1,130 @@
+// Cusp height per CL point (include/deflex/process/cusp.hpp; Mikó et al., Eq. 1-7).
+#include "deflex/process/cusp.hpp"
+
+#include <CGAL/Fuzzy_sphere.h>
+#include <CGAL/Kd_tree.h>
+#include <CGAL/Search_traits_2.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/property_map.h>
+#include <boost/iterator/counting_iterator.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <numbers>
+
+namespace deflex::process {
+
+double cusp_alpha3_rad(double milling_direction_rad, double inclination_rad) {
+  return std::atan(std::sin(milling_direction_rad) * std::tan(inclination_rad));  // Eq. 4
+}
+
+double cusp_height_mm(double effective_diameter_mm, double stepover_mm, double alpha3_rad) {
+  const double r = effective_diameter_mm / 2;
+  const double half = stepover_mm / (2 * std::cos(alpha3_rad));  // Eq. 7
+  if (!(half < r)) return r;
+  return r - std::sqrt(r * r - half * half);
+}
+
+namespace {
+
+using K = CGAL::Simple_cartesian<double>;
+// The kd-tree holds sample indices; their XY positions come through a property map.
+struct XyMap {
+  using key_type = std::size_t;
+  using value_type = K::Point_2;
+  using reference = value_type;
+  using category = boost::readable_property_map_tag;
+  const std::vector<CuspSample>* s;
+  friend value_type get(const XyMap& m, std::size_t i) {
+    const Eigen::Vector3d& p = (*m.s)[i].tip_mm;
+    return {p.x(), p.y()};
+  }
+};
+using Traits = CGAL::Search_traits_adapter<std::size_t, XyMap, CGAL::Search_traits_2<K>>;
+using Tree = CGAL::Kd_tree<Traits>;
+using Circle = CGAL::Fuzzy_sphere<Traits>;
+
+constexpr double kRad = std::numbers::pi / 180;
+
+// Horizontal unit direction of travel; zero for a vertical or missing one.
+Eigen::Vector2d horizontal(const Eigen::Vector3d& v) {
+  const Eigen::Vector2d h(v.x(), v.y());
+  const double n = h.norm();
+  return n > 1e-9 * std::max(1.0, v.norm()) ? Eigen::Vector2d(h / n) : Eigen::Vector2d::Zero();
+}
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+bool usable(const CuspSample& s) { return s.cutting && s.profile_diameter_mm > 0 && horizontal(s.feed_dir).norm() > 0; }
+
+// The nearest neighbouring pass on each side of sample i: the distance across
+// the feed (NaN where none).
+std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i) {
+  const CuspSample& p = s[i];
+  const double de = p.profile_diameter_mm;
+  const Eigen::Vector2d t = horizontal(p.feed_dir), xy = p.tip_mm.head<2>();
+  std::vector<std::size_t> near;
+  tree.search(std::back_inserter(near), Circle(K::Point_2(xy.x(), xy.y()), de, 0.0, Traits(XyMap{&s})));
+  double left = CuspResult::none, right = CuspResult::none;
+  double left_dist = HUGE_VAL, right_dist = HUGE_VAL;
+  const double parallel = std::cos(30 * kRad);
+  for (std::size_t j : near) {
+    const CuspSample& q = s[j];
+    if (!usable(q) || std::fabs(q.path_mm - p.path_mm) < 2 * de) continue;
+    const Eigen::Vector2d tq = horizontal(q.feed_dir);
+    if (std::fabs(tq.dot(t)) < parallel) continue;
+    const Eigen::Vector2d d = q.tip_mm.head<2>() - xy;
+    const double across = std::fabs(cross(tq, d)), along = t.dot(d);  // to the line of q's travel
+    // Not another pass: q could lie on p's own path bent no tighter than the
+    // ball's radius (a closed contour coming round to its start), or retrace it.
+    if (across < 1e-3 + along * along / de || across > de) continue;
+    // Per side the neighbour's sample nearest to p, which lies closest to the
+    // foot of the perpendicular; the distance to its line of travel does not
+    // depend on how far along its pass the sample fell (exact on straight passes).
+    const bool on_left = cross(t, d) > 0;
+    double& dist = on_left ? left_dist : right_dist;
+    if (d.norm() < dist) {
+      dist = d.norm();
+      (on_left ? left : right) = across;
+    }
+  }
+  return {left, right};
+}
+
+}  // namespace
+
+std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
+  std::vector<CuspResult> out(s.size());
+  std::vector<std::size_t> idx;
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (usable(s[i])) idx.push_back(i);
+  if (idx.empty()) return out;
+  Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
+  tree.build();
+  for (std::size_t i : idx) {
+    const CuspSample& p = s[i];
+    CuspResult& r = out[i];
+    const Eigen::Vector3d n = p.normal.normalized();
+    const double alpha1 = std::acos(std::clamp(n.z(), -1.0, 1.0));
+    r.inclination_deg = alpha1 / kRad;
+    // The fall line is the horizontal part of the outward normal (it points downhill).
+    const Eigen::Vector2d fall = horizontal(n), t = horizontal(p.feed_dir);
+    const double a = fall.norm() > 0 ? std::acos(std::min(1.0, std::fabs(t.dot(fall)))) : 0.0;
+    r.direction_deg = fall.norm() > 0 ? a / kRad : CuspResult::none;
+    const double alpha3 = cusp_alpha3_rad(a, alpha1);
+    r.alpha3_deg = alpha3 / kRad;
+    const auto [left, right] = stepovers(s, tree, i);
+    double h = CuspResult::none;
+    for (double ae : {left, right}) {
+      if (std::isnan(ae)) continue;
+      const double c = cusp_height_mm(p.profile_diameter_mm, ae, alpha3);
+      if (std::isnan(h) || c > h) { h = c; r.stepover_mm = ae; }
+    }
+    r.height_mm = h;
+  }
+  return out;
+}
+
+}  // namespace deflex::process

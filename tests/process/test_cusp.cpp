@@ -1,0 +1,136 @@
+// Cusp height: the paper's checks (Mikó et al., 002_..., Eq. 1-7) and the
+// per-point analysis on rasters whose step-over, slope and direction are known.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "deflex/process/cusp.hpp"
+
+using namespace deflex;
+using doctest::Approx;
+using process::CuspSample;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180;
+
+// Passes of a ball D on the plane z = tan(slope) x (rising along +X), each
+// `length` long at `spacing` between samples, `step` apart horizontally,
+// zig-zag, the passes along X (`along_x`) or along Y. The tips lie on the
+// plane itself: the analysis reads only their XY, the feed and the normal.
+std::vector<CuspSample> raster(double d_mm, double slope_deg, bool along_x, double step, int passes,
+                               double length = 20, double spacing = 0.5) {
+  const double s = slope_deg * kDeg;
+  const Eigen::Vector3d n(-std::sin(s), 0, std::cos(s));
+  std::vector<CuspSample> v;
+  double path = 0;
+  for (int k = 0; k < passes; ++k) {
+    const int m = static_cast<int>(length / spacing);
+    const double dir = k % 2 ? -1 : 1;
+    for (int i = 0; i <= m; ++i) {
+      const double u = (dir > 0 ? i : m - i) * spacing, w = k * step;
+      CuspSample c;
+      const double x = along_x ? u : w, y = along_x ? w : u;
+      c.tip_mm = {x, y, std::tan(s) * x};
+      c.feed_dir = along_x ? Eigen::Vector3d(dir, 0, dir * std::tan(s)) : Eigen::Vector3d(0, dir, 0);
+      c.normal = n;
+      c.profile_diameter_mm = d_mm;
+      c.cutting = true;
+      c.path_mm = path;
+      path += spacing;
+      v.push_back(c);
+    }
+    path += step;  // the link to the next pass
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST_SUITE("process") {
+  TEST_CASE("cusp height: the checks of Miko et al. (Eq. 1, 4, 7)") {
+    CHECK(process::cusp_height_mm(12, 0.2, 0) * 1000 == Approx(0.83).epsilon(0.005));
+    CHECK(process::cusp_height_mm(12, 0.8, 0) * 1000 == Approx(13.35).epsilon(0.001));
+    CHECK(process::cusp_alpha3_rad(45 * kDeg, 2.9 * kDeg) / kDeg == Approx(2.05).epsilon(0.005));
+    // Boundary cases of Eq. 4: along the fall line no slope across the feed;
+    // along a level line the whole slope.
+    CHECK(process::cusp_alpha3_rad(0, 30 * kDeg) == Approx(0));
+    CHECK(process::cusp_alpha3_rad(90 * kDeg, 30 * kDeg) / kDeg == Approx(30));
+    // A step-over wider than the ball leaves the whole radius.
+    CHECK(process::cusp_height_mm(6, 7, 0) == Approx(3));
+  }
+
+  TEST_CASE("cusp height per point: a zig-zag raster on a 20 deg slope, across and along the slope") {
+    const double d = 10, step = 0.4, slope = 20;
+    // Passes along X climb the slope (A = 0): the step-over runs along a level
+    // line, so alpha_3 = 0 and Ch is Eq. 1 of the horizontal step-over.
+    {
+      const auto v = raster(d, slope, true, step, 5);
+      const auto r = process::cusp_heights(v);
+      const std::size_t mid = v.size() / 2;
+      CHECK(r[mid].stepover_mm == Approx(step).epsilon(1e-9));
+      CHECK(r[mid].direction_deg == Approx(0).scale(1));
+      CHECK(r[mid].inclination_deg == Approx(slope));
+      CHECK(r[mid].alpha3_deg == Approx(0).scale(1));
+      CHECK(r[mid].height_mm == Approx(process::cusp_height_mm(d, step, 0)));
+    }
+    // Passes along Y follow level lines (A = 90 deg): the step-over climbs the
+    // slope, the distance on the surface is step / cos 20 and Ch is Eq. 2.
+    {
+      const auto v = raster(d, slope, false, step, 5);
+      const auto r = process::cusp_heights(v);
+      const std::size_t mid = v.size() / 2;
+      CHECK(r[mid].stepover_mm == Approx(step).epsilon(1e-9));
+      CHECK(r[mid].direction_deg == Approx(90));
+      CHECK(r[mid].alpha3_deg == Approx(slope));
+      // The ridge between two balls whose centres lie step / cos(20) apart on
+      // the surface stands R - sqrt(R^2 - (step / (2 cos 20))^2) above it.
+      const double half = step / (2 * std::cos(slope * kDeg)), R = d / 2;
+      CHECK(r[mid].height_mm == Approx(R - std::sqrt(R * R - half * half)));
+      CHECK(r[mid].height_mm > process::cusp_height_mm(d, step, 0));
+    }
+  }
+
+  TEST_CASE("cusp height per point: uneven step-overs take the wider side; a lone pass has none") {
+    auto v = raster(10, 0, true, 0.3, 3);
+    // Move the third pass out to 0.9 mm from the second: the middle pass sees
+    // 0.3 on one side and 0.6 on the other.
+    for (auto& c : v)
+      if (c.tip_mm.y() > 0.5) c.tip_mm.y() = 0.9;
+    const auto r = process::cusp_heights(v);
+    const std::size_t mid = v.size() / 2;
+    CHECK(r[mid].stepover_mm == Approx(0.6));
+    CHECK(r[mid].height_mm == Approx(process::cusp_height_mm(10, 0.6, 0)));
+    CHECK(r[0].stepover_mm == Approx(0.3));  // the first pass has one neighbour
+    const auto lone = process::cusp_heights(raster(10, 0, true, 0.3, 1));
+    for (const auto& c : lone) CHECK(std::isnan(c.height_mm));
+  }
+
+  TEST_CASE("cusp height per point: concentric contour passes, the own curved pass is never the neighbour") {
+    // Circles of radius 10, 10.5, 11 mm (step 0.5), sampled every 0.5 mm, ball D6.
+    std::vector<CuspSample> v;
+    double path = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double rad = 10 + 0.5 * k;
+      const int m = static_cast<int>(2 * std::numbers::pi * rad / 0.5);
+      for (int i = 0; i < m; ++i) {
+        const double a = 2 * std::numbers::pi * i / m;
+        CuspSample c;
+        c.tip_mm = {rad * std::cos(a), rad * std::sin(a), 0};
+        c.feed_dir = {-std::sin(a), std::cos(a), 0};
+        c.profile_diameter_mm = 6;
+        c.cutting = true;
+        c.path_mm = path;
+        path += 0.5;
+        v.push_back(c);
+      }
+    }
+    const auto r = process::cusp_heights(v);
+    // A point of the middle circle: 0.5 to either neighbour (to the line of the
+    // neighbour's travel, within the chord sagitta of the sampling).
+    const std::size_t mid = v.size() / 2;
+    CHECK(r[mid].stepover_mm == Approx(0.5).epsilon(0.01));
+    for (const auto& c : r) CHECK(c.stepover_mm > 0.45);
+  }
+}
