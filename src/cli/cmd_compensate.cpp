@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 
 #include "common.hpp"
 #include "deflex/compensate/apply.hpp"
@@ -18,7 +19,12 @@
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
+#include "deflex/process/machining_time.hpp"
+#include "deflex/report/html.hpp"
 #include "deflex/report/json.hpp"
+#include "deflex/report/points.hpp"
+#include "deflex/report/stats.hpp"
+#include "deflex/report/summary.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/writer/writer.hpp"
@@ -69,6 +75,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
 
 struct Job {
   Setup setup;
+  std::string material, stock_spec, part_spec;  // as given, for the report's provenance
   gcode::Program prog;
   std::vector<interp::Motion> motions;
   compensate::Physics physics;
@@ -148,19 +155,20 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
 Job prepare(Args& a, Io& io, bool compensating) {
   Setup s = resolve(a.read);
   if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  Job j{std::move(s), gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
+  Job j{std::move(s), {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
   std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
   if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  j.stock_spec = stock;
   j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = a.tool_only;
   MaterialOptions mat = a.mat;
   if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
   else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
-  j.physics.k = coefficients_of(mat, config_string(cfg, "material"));
+  j.physics.k = coefficients_of(mat, config_string(cfg, "material"), &j.material);
   Diagnostics diags(&io.err, j.setup.max_errors);
   interp::check_program_shape(j.prog, diags);
   interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
@@ -176,6 +184,7 @@ Job prepare(Args& a, Io& io, bool compensating) {
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
   if (!part.empty()) {
+    j.part_spec = part;
     j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
     j.physics.part = j.part.get();
   }
@@ -208,131 +217,59 @@ compensate::Progress progress_for(Io& io) {
   };
 }
 
-// Offset commanded at a CL sample: between the offsets of the motion's start
-// (the motion before) and its end, by the sample's position along it.
-V3 offset_at(const compensate::Point& p, const std::vector<V3>& offsets) {
-  if (offsets.empty()) return V3::Zero();
-  const V3 end = offsets[p.motion], start = p.motion ? offsets[p.motion - 1] : V3(V3::Zero());
-  const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
-  return start + u * (end - start);
-}
-
-struct Stats {
-  double max_abs = 0, rms = 0, share_out = 0, max_under = 0, max_over = 0;
-  std::size_t points = 0, cutting = 0;
-};
-Stats stats_of(const std::vector<double>& e, double tol) {
-  Stats s;
-  double sq = 0;
-  std::size_t out = 0;
-  for (double v : e) {
-    s.max_abs = std::max(s.max_abs, std::fabs(v));
-    s.max_under = std::max(s.max_under, v);
-    s.max_over = std::min(s.max_over, v);
-    sq += v * v;
-    out += std::fabs(v) > tol;
-  }
-  s.points = e.size();
-  s.rms = e.empty() ? 0 : std::sqrt(sq / static_cast<double>(e.size()));
-  s.share_out = e.empty() ? 0 : static_cast<double>(out) / static_cast<double>(e.size());
-  return s;
-}
-
-report::Json stats_json(const Stats& s) {
-  using report::fixed;
-  return {{"max", fixed(s.max_abs, 6)}, {"rms", fixed(s.rms, 6)}, {"out_of_tolerance_share", fixed(s.share_out, 6)},
-          {"max_undercut", fixed(s.max_under, 6)}, {"max_overcut", fixed(s.max_over, 6)}};
-}
-
-// Per CL point: the surface error relative to the path the programmer meant.
-// `landing` = commanded tip + deflection; `intent` = the reference point.
-std::vector<double> errors_against(const std::vector<compensate::Point>& pts, const std::vector<V3>& intent_offsets) {
-  std::vector<double> e;
-  e.reserve(pts.size());
-  for (const auto& p : pts) {
-    if (p.air || p.plunge) continue;
-    // Landing point minus the intended point, along n: the offset deflex
-    // applied plus the error at the commanded point (compensate::landing_error).
-    e.push_back(compensate::landing_error(p, offset_at(p, intent_offsets)));
-  }
-  return e;
-}
-
-std::vector<compensate::PlotPoint> plot_points(const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets) {
-  std::vector<compensate::PlotPoint> v;
-  for (const auto& p : pts)
-    if (!p.air && !p.plunge)
-      v.push_back({p.tip_mm.x(), p.tip_mm.y(), compensate::landing_error(p, offset_at(p, offsets))});
-  return v;
+// A number as a person writes it: 0.01, 80, 2.5.
+std::string report_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
 }
 
 // Top-view maps of the surface error, on one colour scale.
-void write_maps(const std::string& dir, double tol,
-                const std::vector<std::pair<std::string, std::vector<compensate::PlotPoint>>>& maps) {
+void write_maps(const std::string& dir, double tol, const report::PointTable& t,
+                const std::vector<std::pair<std::string, const std::vector<double>*>>& maps) {
   double scale = 2 * tol;
-  for (const auto& m : maps)
-    for (const auto& p : m.second) scale = std::max(scale, std::fabs(p.error_mm));
-  // A named pair, not a structured binding: clang 14 cannot capture bindings in a lambda.
-  for (const auto& map : maps)
-    writer::write_file_atomically((fs::path(dir) / (map.first + ".svg")).string(), "", [&](std::ostream& o) {
-      o << compensate::error_map_svg(map.second, tol, scale, map.first + " (top view, work frame)");
+  std::vector<std::vector<compensate::PlotPoint>> pts(maps.size());
+  for (std::size_t m = 0; m < maps.size(); ++m)
+    for (std::size_t i = 0; i < t.points.size(); ++i)
+      if (t.cutting(i) && !std::isnan((*maps[m].second)[i])) {
+        pts[m].push_back({t.points[i].tip_mm.x(), t.points[i].tip_mm.y(), (*maps[m].second)[i]});
+        scale = std::max(scale, std::fabs((*maps[m].second)[i]));
+      }
+  for (std::size_t m = 0; m < maps.size(); ++m)
+    writer::write_file_atomically((fs::path(dir) / (maps[m].first + ".svg")).string(), "", [&](std::ostream& o) {
+      o << compensate::error_map_svg(pts[m], tol, scale, maps[m].first + " (top view, work frame)");
     });
 }
 
-// points.csv: surface_error_mm and flank_min/max_mm are against the design
-// (the offset included). flank_profile.csv: e(z) of each flank point of
-// `as_written` (simulated with Settings::flank_profiles), written when there is one.
-void write_report(const std::string& dir, const std::vector<compensate::Point>& pts, const std::vector<V3>& offsets,
-                  const std::string& summary_json, const std::vector<compensate::Point>& as_written) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
-  writer::write_file_atomically((fs::path(dir) / "points.csv").string(), "", [&](std::ostream& o) {
-    o << "line,x_mm,y_mm,z_mm,ap_mm,ae_mm,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,dz_mm,surface_error_mm,offset_mm,nx,ny,nz,"
-         "normal_source,part_gap_mm,flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm\n";
-    char buf[480];
-    for (const auto& p : pts) {
-      if (p.air) continue;
-      const V3 off = offset_at(p, offsets);
-      const double err = compensate::landing_error(p, off);
-      std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f,%.6f,%.6f", p.line,
-                    p.tip_mm.x(), p.tip_mm.y(), p.tip_mm.z(), p.ap_mm, p.ae_mm, p.force_N.x(), p.force_N.y(),
-                    p.force_N.z(), p.delta_mm.x(), p.delta_mm.y(), p.delta_mm.z(), err, off.dot(p.normal));
-      o << buf;
-      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%s,", p.normal.x(), p.normal.y(), p.normal.z(),
-                    compensate::to_string(p.normal_source));
-      o << buf;
-      if (p.normal_source == compensate::NormalSource::part) {
-        std::snprintf(buf, sizeof buf, "%.6f", p.part_gap_mm);
-        o << buf;
-      }
-      if (p.flank) {
-        const double o_n = off.dot(p.normal);
-        std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.4f,%.4f\n", o_n + p.flank_min_mm, o_n + p.flank_max_mm,
-                      p.flank_z_min_mm, p.flank_z_max_mm);
-        o << buf;
-      } else {
-        o << ",,,,\n";
-      }
-    }
-  });
-  bool any_flank = false;
-  for (const auto& p : as_written) any_flank = any_flank || (!p.air && p.flank && !p.flank_profile.empty());
-  if (any_flank)
-    writer::write_file_atomically((fs::path(dir) / "flank_profile.csv").string(), "", [&](std::ostream& o) {
-      o << "line,x_mm,y_mm,z_tip_mm,z_mm,error_mm\n";
-      char buf[200];
-      for (const auto& p : as_written) {
-        if (p.air || !p.flank) continue;
-        for (const auto& q : p.flank_profile) {
-          std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.4f,%.6f\n", p.line, p.tip_mm.x(), p.tip_mm.y(),
-                        p.tip_mm.z(), q.z_mm, q.error_mm);
-          o << buf;
-        }
-      }
-    });
-  writer::write_file_atomically((fs::path(dir) / "summary.json").string(), "",
-                                [&](std::ostream& o) { o << summary_json; });
+// The run's provenance for report.html: what a reader needs to trust or redo it.
+std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
+                                                            const std::string& reference) {
+  std::vector<std::pair<std::string, std::string>> p;
+  p.emplace_back("program", j.prog.source().name());
+  p.emplace_back("program SHA-256", report::sha256_hex(j.prog.source().bytes()));
+  if (!reference.empty()) p.emplace_back("judged against", reference);
+  p.emplace_back("machine", j.setup.machine->name + " (" + j.setup.machine->file + "), dialect " + j.setup.dialect.name);
+  std::set<std::string> tools;
+  for (const interp::Motion& m : j.motions)
+    if (m.kind != interp::MotionKind::rapid) tools.insert(compensate::tool_id(m, j.settings));
+  for (const std::string& id : tools) {
+    const stiffness::Tool& t = j.physics.tools.tools.at(id);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s: %s D%g mm%s, %d flutes, helix %g deg, stick-out %g mm, flutes %g mm long",
+                  id.c_str(), t.type == stiffness::ToolType::ball ? "ball" : t.type == stiffness::ToolType::bull ? "bull nose" : "flat",
+                  t.diameter_mm, t.type == stiffness::ToolType::bull ? (" r" + report_number(t.corner_radius_mm)).c_str() : "",
+                  t.flutes, t.helix_deg, t.stickout_mm, t.flute_length_mm);
+    p.emplace_back("tool", buf);
+  }
+  p.emplace_back("tool library", j.physics.tools.file);
+  p.emplace_back("material", j.material);
+  p.emplace_back("stock", j.stock_spec);
+  p.emplace_back("part model", j.part_spec.empty() ? "none (normals fitted through the path, or from the travel)" : j.part_spec);
+  p.emplace_back("tolerance", report_number(j.settings.tolerance_mm) + " mm");
+  p.emplace_back("deflex", std::string(DEFLEX_VERSION));
+  p.emplace_back("date", report::utc_now());
+  p.emplace_back("command", command);
+  return p;
 }
 
 // Plausibility warnings (compensate/plausibility.hpp), compiler style at the
@@ -380,11 +317,67 @@ const char* kCompensateHelp =
     "The surface normal comes from the tool and the programmed path: the wall for a\n"
     "flat or bull-nose flank, else the normal to the travel in its vertical plane.\n";
 
-void summary_line(Io& io, const char* what, const Stats& s, double tol) {
+void summary_line(Io& io, const char* what, const report::ErrorStats& s, double tol) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "  %-28s max %.4f mm, rms %.4f mm, %.1f%% of %zu points outside +-%.4f mm\n", what,
                 s.max_abs, s.rms, 100.0 * s.share_out, s.points, tol);
   io.err << buf;
+}
+
+// Machining time from the machine's axis limits (process/machining_time.hpp).
+void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after) {
+  io.err << "  machining time:              " << report::clock(before.program.total_s) << " (cutting "
+         << report::clock(before.program.cutting_s) << ", rapids " << report::clock(before.program.rapid_s) << ")";
+  if (std::fabs(after.program.total_s - before.program.total_s) >= 0.5)
+    io.err << ", compensated " << report::clock(after.program.total_s);
+  io.err << " [m:ss, axis limits of the machine profile]\n";
+}
+
+std::string command_of(const char* cmd, const std::vector<std::string>& args) {
+  std::string c = std::string("deflex ") + cmd;
+  for (const std::string& w : args) {
+    const bool plain = !w.empty() && w.find_first_not_of(
+        "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,:/=+@%") == std::string::npos;
+    std::string q = "'";
+    for (char ch : w) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    c += " " + (plain ? w : q + "'");
+  }
+  return c;
+}
+
+// The report folder: points.csv, flank_profile.csv (flank cuts), summary.json,
+// the SVG maps and report.html.
+// `motions`: those the table's points index (a compensation's, with its inserted blocks).
+void write_folder(const std::string& dir, const Job& j, const report::PointTable& t,
+                  const std::vector<interp::Motion>& motions,
+                  const std::vector<compensate::Point>& as_written, const report::Json& summary,
+                  std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
+                  const std::string& reference,
+                  const std::vector<std::pair<std::string, const std::vector<double>*>>& maps) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+  const fs::path d(dir);
+  report::write_points_csv((d / "points.csv").string(), t);
+  report::write_flank_profile_csv((d / "flank_profile.csv").string(), as_written);
+  writer::write_file_atomically((d / "summary.json").string(), "",
+                                [&](std::ostream& o) { o << report::document(summary); });
+  write_maps(dir, j.settings.tolerance_mm, t, maps);
+  report::HtmlInput h;
+  h.title = fs::path(j.prog.source().name()).filename().string() + ": deflex " + what;
+  h.provenance = provenance(j, command, reference);
+  h.summary = summary;
+  h.table = &t;
+  h.contact_mm = report::contact_points(t, motions, j.physics, j.settings);
+  h.source = &j.prog.source();
+  h.tolerance_mm = j.settings.tolerance_mm;
+  h.facts = std::move(facts);
+  const report::Json cusp = summary.value("cusp_height_mm", report::Json());
+  if (!cusp.is_null() && cusp.value("points", 0) > 0)
+    h.facts.push_back({"cusp height, max / mean (Miko Eq. 7)", report_number(1000 * cusp.value("max", 0.0)) + " / " +
+                                                                   report_number(1000 * cusp.value("mean", 0.0)) + " µm",
+                       "cusp_height_mm"});
+  writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
 }
 
 }  // namespace
@@ -446,24 +439,38 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
            << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
            << " mm); the best iterate is written\n";
   const double tol = j.settings.tolerance_mm;
-  Stats before = stats_of(errors_against(r.nominal, {}), tol);
-  Stats after = stats_of(errors_against(r.final, r.offsets), tol);
+  const report::ErrorStats before = report::error_stats(report::landing_errors(r.nominal, {}), tol);
+  const report::ErrorStats after = report::error_stats(report::landing_errors(r.final, r.offsets), tol);
   io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
          << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
          << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
          << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
   summary_line(io, "predicted error, as written:", before, tol);
   summary_line(io, "predicted error, compensated:", after, tol);
+  const profile::AxisLimits& lim = j.setup.machine->axis_limits;
+  const process::MachiningTime t0 = process::machining_time(j.motions, lim);
+  const process::MachiningTime t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
+  time_line(io, t0, t1);
   if (!a.report.empty()) {
-    const report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", stats_json(after)},
-                          {"surface_error_as_written_mm", stats_json(before)}, {"cl_points", after.points},
-                          {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
-                          {"evaluations", r.evaluations}, {"converged", r.converged},
-                          {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted},
-                          {"capped_points", r.capped_lines.size()}, {"warnings", warnings_json(pl)}};
-    write_report(a.report, r.final, r.offsets, report::document(js), r.nominal);
-    write_maps(a.report, tol, {{"error_as_written", plot_points(r.nominal, {})},
-                               {"error_compensated", plot_points(r.final, r.offsets)}});
+    report::PointTable t = report::table_of_compensation(r, j.motions, j.physics, j.settings);
+    report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(after)},
+                    {"surface_error_as_written_mm", report::to_json(before)}, {"cl_points", after.points},
+                    {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
+                    {"evaluations", r.evaluations}, {"converged", r.converged},
+                    {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted},
+                    {"capped_points", r.capped_lines.size()}, {"feed_lowered_blocks", r.feed_lowered_lines.size()}};
+    js["cusp_height_mm"] = report::cusp_json(t);
+    js["machining_time"] = {{"as_written", report::to_json(t0)}, {"compensated", report::to_json(t1)}};
+    js["warnings"] = warnings_json(pl);
+    std::vector<std::vector<std::string>> facts = {
+        {"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(after.points), "compensated_points"},
+        {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},
+        {"blocks inserted to split moves", std::to_string(ws.blocks_inserted), "inserted_blocks"},
+        {"blocks with a lowered feed", std::to_string(r.feed_lowered_lines.size()), "feed_lowered_blocks"},
+        {"machining time as written / compensated", report::clock(t0.program.total_s) + " / " + report::clock(t1.program.total_s),
+         "machining_time"}};
+    write_folder(a.report, j, t, r.motions, r.nominal, js, std::move(facts), "compensate", command_of("compensate", args), "",
+                 {{"error_as_written", &t.error_as_written_mm}, {"error_compensated", &t.error_mm}});
   }
   if (a.output.empty() || a.output == "-") io.out << text;
   else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });
@@ -525,7 +532,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   if (progress) io.err << "\r\033[K";
   const compensate::Plausibility pl = report_plausibility(j, pts, io);
   const double tol = j.settings.tolerance_mm;
-  Stats st = stats_of(errors_against(pts, intent), tol);
+  const report::ErrorStats st = report::error_stats(report::landing_errors(pts, intent), tol);
   char buf[300];
   std::snprintf(buf, sizeof buf,
                 "%s: %zu CL points%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "
@@ -533,13 +540,21 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                 j.prog.source().name().c_str(), st.points, a.reference.empty() ? "" : " against the reference",
                 st.max_abs, st.rms, 100.0 * st.share_out, tol, st.max_under, -st.max_over);
   io.out << buf;
+  const process::MachiningTime tm = process::machining_time(j.motions, j.setup.machine->axis_limits);
+  time_line(io, tm, tm);
   if (!a.report.empty()) {
-    const report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", stats_json(st)},
-                          {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
-                          {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)},
-                          {"warnings", warnings_json(pl)}};
-    write_report(a.report, pts, intent, report::document(js), pts);
-    write_maps(a.report, tol, {{"surface_error", plot_points(pts, intent)}});
+    report::PointTable t = report::table_of_simulation(pts, intent, design, j.physics, j.settings);
+    report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(st)},
+                    {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
+                    {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
+    js["cusp_height_mm"] = report::cusp_json(t);
+    js["machining_time"] = report::to_json(tm);
+    js["warnings"] = warnings_json(pl);
+    std::vector<std::vector<std::string>> facts = {
+        {"CL points in material", std::to_string(st.points), "cl_points"},
+        {"machining time", report::clock(tm.program.total_s), "machining_time"}};
+    write_folder(a.report, j, t, design, pts, js, std::move(facts), "simulate", command_of("simulate", args), a.reference,
+                 {{"surface_error", &t.error_mm}});
   }
   return 0;
 }

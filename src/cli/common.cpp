@@ -144,7 +144,8 @@ std::string default_library(const char* rel) {
   return std::string(DEFLEX_SOURCE_DIR) + "/" + rel;
 }
 
-force::Coefficients coefficients_of(const MaterialOptions& a, const std::string& fallback_material) {
+force::Coefficients coefficients_of(const MaterialOptions& a, const std::string& fallback_material,
+                                    std::string* described) {
   const bool by_k = a.kt || a.kr || a.ka;
   const bool edge = a.kte || a.kre || a.kae;
   if (!a.material.empty() && (by_k || edge))
@@ -153,7 +154,10 @@ force::Coefficients coefficients_of(const MaterialOptions& a, const std::string&
   if (material.empty() && !by_k) throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
   if (!material.empty()) {
     const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml") : a.material_file;
-    return force::find_material(force::load_material_library(file), material).k;
+    const force::MaterialLibrary lib = force::load_material_library(file);
+    const force::MaterialEntry& m = force::find_material(lib, material);
+    if (described) *described = m.name + " (" + file + (m.source.empty() ? "" : "; source: " + m.source) + ")";
+    return m.k;
   }
   if (!a.material_file.empty()) throw Error(Exit::usage, "--material-file needs --material");
   if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
@@ -164,6 +168,12 @@ force::Coefficients coefficients_of(const MaterialOptions& a, const std::string&
   k.Kte_N_per_mm = a.kte.value_or(0);
   k.Kre_N_per_mm = a.kre.value_or(0);
   k.Kae_N_per_mm = a.kae.value_or(0);
+  if (described) {
+    char buf[240];
+    std::snprintf(buf, sizeof buf, "given: K_tc %g, K_rc %g, K_ac %g N/mm^2; K_te %g, K_re %g, K_ae %g N/mm",
+                  k.Ktc_N_per_mm2, k.Krc_N_per_mm2, k.Kac_N_per_mm2, k.Kte_N_per_mm, k.Kre_N_per_mm, k.Kae_N_per_mm);
+    *described = buf;
+  }
   return k;
 }
 

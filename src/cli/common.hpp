@@ -64,7 +64,10 @@ struct MaterialOptions {
 void add_material_options(po::options_description& d, MaterialOptions& m);
 // The coefficients the options name; `fallback_material` (e.g. from config.yaml)
 // is used when neither a material nor coefficients are given. Throws Error(usage/config).
-force::Coefficients coefficients_of(const MaterialOptions& m, const std::string& fallback_material = "");
+// `described` (may be null): the material's name, library and source, or the
+// coefficients given, for a report's provenance.
+force::Coefficients coefficients_of(const MaterialOptions& m, const std::string& fallback_material = "",
+                                    std::string* described = nullptr);
 // A library file given relative to the source tree (samples/...), for defaults.
 std::string default_library(const char* rel);
 

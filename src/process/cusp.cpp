@@ -57,7 +57,10 @@ Eigen::Vector2d horizontal(const Eigen::Vector3d& v) {
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
 
-bool usable(const CuspSample& s) { return s.cutting && s.profile_diameter_mm > 0 && horizontal(s.feed_dir).norm() > 0; }
+// A pass generates its surface whether or not a given sample of it met
+// material (the ends of a raster often run in air): every sample of a ball
+// travelling sideways may be a neighbour; only samples in material get a cusp.
+bool sideways(const CuspSample& s) { return s.profile_diameter_mm > 0 && horizontal(s.feed_dir).norm() > 0; }
 
 // The nearest neighbouring pass on each side of sample i: the distance across
 // the feed (NaN where none).
@@ -72,7 +75,7 @@ std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree
   const double parallel = std::cos(30 * kRad);
   for (std::size_t j : near) {
     const CuspSample& q = s[j];
-    if (!usable(q) || std::fabs(q.path_mm - p.path_mm) < 2 * de) continue;
+    if (!sideways(q)) continue;
     const Eigen::Vector2d tq = horizontal(q.feed_dir);
     if (std::fabs(tq.dot(t)) < parallel) continue;
     const Eigen::Vector2d d = q.tip_mm.head<2>() - xy;
@@ -99,12 +102,13 @@ std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
   std::vector<CuspResult> out(s.size());
   std::vector<std::size_t> idx;
   for (std::size_t i = 0; i < s.size(); ++i)
-    if (usable(s[i])) idx.push_back(i);
+    if (sideways(s[i])) idx.push_back(i);
   if (idx.empty()) return out;
   Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
   tree.build();
   for (std::size_t i : idx) {
     const CuspSample& p = s[i];
+    if (!p.cutting) continue;
     CuspResult& r = out[i];
     const Eigen::Vector3d n = p.normal.normalized();
     const double alpha1 = std::acos(std::clamp(n.z(), -1.0, 1.0));

@@ -43,9 +43,8 @@ struct CuspSample {
   Eigen::Vector3d tip_mm = Eigen::Vector3d::Zero();
   Eigen::Vector3d feed_dir = Eigen::Vector3d::Zero();  // direction of travel (any length; zero: none)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // outward unit normal of the design surface
-  double path_mm = 0;             // cutting path length from the program start to this point
   double profile_diameter_mm = 0; // D_e; 0: not a ball end, no cusp
-  bool cutting = false;           // in material (air points leave no surface)
+  bool cutting = false;           // in material: gets a cusp (a neighbour may be in air)
 };
 
 struct CuspResult {
@@ -60,11 +59,12 @@ struct CuspResult {
 // Per sample: the step-over to the nearest neighbouring pass on either side
 // (the larger of the two cusps where there are two), the angles and Ch.
 // A neighbouring pass is another stretch of cutting path within D_e across the
-// feed, running within 30 deg of parallel (either way: zig-zag reverses), at
-// least 2 D_e away along the program's cutting path (so the point's own pass,
-// even a curved one, is never its neighbour), and farther across than the
-// point's own path could be if it came round to it bent no tighter than the
-// ball's radius (a closed contour meeting its start). The distance across is
+// feed, running within 30 deg of parallel (either way: zig-zag reverses), and
+// farther across than the point's own path could be if it ran there bent no
+// tighter than the ball's radius: across > 1 um + along^2 / D_e. So the own
+// pass, curved or closed on itself (a contour meeting its start), is never
+// its neighbour, while the next pass of a zig-zag is, right up to the turn
+// where the two passes are a short link apart along the path. The distance across is
 // measured from the point to the line of travel of the neighbour's sample
 // nearest to it, so on straight passes it does not depend on where the samples
 // fall. Neighbours are found through CGAL's kd-tree; O(n log n).

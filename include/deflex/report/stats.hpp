@@ -1,0 +1,30 @@
+// Statistics of the surface error over the CL points in material: the
+// figures of the summary line, summary.json and report.html.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "deflex/report/json.hpp"
+
+namespace deflex::report {
+
+struct ErrorStats {
+  std::size_t points = 0;
+  double max_abs = 0, rms = 0, share_out = 0;
+  double max_under = 0;   // largest e (material left), >= 0
+  double max_over = 0;    // smallest e (dug in), <= 0
+  double p50_abs = 0, p95_abs = 0, p99_abs = 0;  // percentiles of |e| (nearest rank)
+};
+
+// NaN values are not points in material and are skipped.
+ErrorStats error_stats(const std::vector<double>& e_mm, double tolerance_mm);
+Json to_json(const ErrorStats& s);
+
+// The statistics of a per-point quantity that may be missing (NaN): cusp heights.
+struct ValueStats {
+  std::size_t points = 0;
+  double max = 0, mean = 0;
+};
+ValueStats value_stats(const std::vector<double>& v);
+
+}  // namespace deflex::report
