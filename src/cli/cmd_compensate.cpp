@@ -14,7 +14,6 @@
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/compensate/plausibility.hpp"
-#include "deflex/compensate/plot.hpp"
 #include "deflex/engage/path.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
@@ -62,7 +61,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
-      ("report", po::value(&a.report), "write points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
+      ("report", po::value(&a.report), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
       ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
@@ -224,23 +223,6 @@ std::string report_number(double v) {
   return b;
 }
 
-// Top-view maps of the surface error, on one colour scale.
-void write_maps(const std::string& dir, double tol, const report::PointTable& t,
-                const std::vector<std::pair<std::string, const std::vector<double>*>>& maps) {
-  double scale = 2 * tol;
-  std::vector<std::vector<compensate::PlotPoint>> pts(maps.size());
-  for (std::size_t m = 0; m < maps.size(); ++m)
-    for (std::size_t i = 0; i < t.points.size(); ++i)
-      if (t.cutting(i) && !std::isnan((*maps[m].second)[i])) {
-        pts[m].push_back({t.points[i].tip_mm.x(), t.points[i].tip_mm.y(), (*maps[m].second)[i]});
-        scale = std::max(scale, std::fabs((*maps[m].second)[i]));
-      }
-  for (std::size_t m = 0; m < maps.size(); ++m)
-    writer::write_file_atomically((fs::path(dir) / (maps[m].first + ".svg")).string(), "", [&](std::ostream& o) {
-      o << compensate::error_map_svg(pts[m], tol, scale, maps[m].first + " (top view, work frame)");
-    });
-}
-
 // The run's provenance for report.html: what a reader needs to trust or redo it.
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference) {
@@ -310,8 +292,10 @@ const char* kCompensateHelp =
     "capped at the machine profile's max_offset_mm. The written program is read back\n"
     "and checked against the original before anything is written; with --gain 0 the\n"
     "output is the input.\n"
-    "--report DIR writes points.csv, summary.json and top-view maps of the error\n"
-    "(error_as_written.svg, error_compensated.svg; one colour scale).\n"
+    "--report DIR writes report.html (open it in a browser: provenance, summary, the\n"
+    "surface in 3D and top views coloured by the error as written and compensated,\n"
+    "plots of force, deflection, engagement and cusp along the path, the worst lines),\n"
+    "points.csv (one row per CL point), flank_profile.csv and summary.json.\n"
     "--feed-limit N also lowers F (by the ratio of N to the predicted peak force) on\n"
     "cutting blocks whose peak force would exceed N, restoring the programmed F after.\n"
     "The surface normal comes from the tool and the programmed path: the wall for a\n"
@@ -345,15 +329,14 @@ std::string command_of(const char* cmd, const std::vector<std::string>& args) {
   return c;
 }
 
-// The report folder: points.csv, flank_profile.csv (flank cuts), summary.json,
-// the SVG maps and report.html.
+// The report folder: points.csv, flank_profile.csv (flank cuts), summary.json
+// and report.html (whose top views replaced the SVG maps of earlier versions).
 // `motions`: those the table's points index (a compensation's, with its inserted blocks).
 void write_folder(const std::string& dir, const Job& j, const report::PointTable& t,
                   const std::vector<interp::Motion>& motions,
                   const std::vector<compensate::Point>& as_written, const report::Json& summary,
                   std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
-                  const std::string& reference,
-                  const std::vector<std::pair<std::string, const std::vector<double>*>>& maps) {
+                  const std::string& reference) {
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
@@ -362,7 +345,6 @@ void write_folder(const std::string& dir, const Job& j, const report::PointTable
   report::write_flank_profile_csv((d / "flank_profile.csv").string(), as_written);
   writer::write_file_atomically((d / "summary.json").string(), "",
                                 [&](std::ostream& o) { o << report::document(summary); });
-  write_maps(dir, j.settings.tolerance_mm, t, maps);
   report::HtmlInput h;
   h.title = fs::path(j.prog.source().name()).filename().string() + ": deflex " + what;
   h.provenance = provenance(j, command, reference);
@@ -469,8 +451,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
         {"blocks with a lowered feed", std::to_string(r.feed_lowered_lines.size()), "feed_lowered_blocks"},
         {"machining time as written / compensated", report::clock(t0.program.total_s) + " / " + report::clock(t1.program.total_s),
          "machining_time"}};
-    write_folder(a.report, j, t, r.motions, r.nominal, js, std::move(facts), "compensate", command_of("compensate", args), "",
-                 {{"error_as_written", &t.error_as_written_mm}, {"error_compensated", &t.error_mm}});
+    write_folder(a.report, j, t, r.motions, r.nominal, js, std::move(facts), "compensate", command_of("compensate", args), "");
   }
   if (a.output.empty() || a.output == "-") io.out << text;
   else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });
@@ -490,7 +471,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                "tool lands against the programmed path, or with --reference, against the path of\n"
                "another program with the same blocks (the design intent): that is how a\n"
                "compensated program is judged. A summary goes to stdout; --report DIR writes\n"
-               "points.csv and summary.json.\n",
+               "report.html, points.csv and summary.json.\n",
                desc);
     return 0;
   }
@@ -553,8 +534,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     std::vector<std::vector<std::string>> facts = {
         {"CL points in material", std::to_string(st.points), "cl_points"},
         {"machining time", report::clock(tm.program.total_s), "machining_time"}};
-    write_folder(a.report, j, t, design, pts, js, std::move(facts), "simulate", command_of("simulate", args), a.reference,
-                 {{"surface_error", &t.error_mm}});
+    write_folder(a.report, j, t, design, pts, js, std::move(facts), "simulate", command_of("simulate", args), a.reference);
   }
   return 0;
 }

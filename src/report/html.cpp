@@ -331,6 +331,14 @@ std::string report_html(const HtmlInput& in) {
   }
   std::vector<const std::vector<double>*> vals;
   for (const MapSpec& m : maps) vals.push_back(&m.values);
+  std::vector<double> cusp(t.points.size(), kNone);
+  double cusp_max = 0;
+  for (std::size_t i = 0; i < t.points.size(); ++i)
+    if (t.cutting(i) && !std::isnan(t.cusp[i].height_mm)) {
+      cusp[i] = t.cusp[i].height_mm;
+      cusp_max = std::max(cusp_max, cusp[i]);
+    }
+  vals.push_back(&cusp);
   const Grid g = make_grid(in.contact_mm, vals, step);
   Json map_list = Json::array();
   Json prov = Json::array();
@@ -340,6 +348,9 @@ std::string report_html(const HtmlInput& in) {
   Json data{{"provenance", std::move(prov)}, {"summary", in.summary}, {"tolerance_mm", in.tolerance_mm},
             {"scale_mm", scale}, {"facts", std::move(facts)}};
   data["grid"] = grid_json(g, maps, map_list);
+  Json cv = Json::array();
+  for (double v : g.values.back()) cv.push_back(num_or_null(v, 6));
+  data["cusp"] = {{"max_mm", cusp_max}, {"values", std::move(cv)}};
   data["maps"] = std::move(map_list);
   data["series"] = series_json(t, maps, 4000);
   data["plots"] = plots_json(maps);
