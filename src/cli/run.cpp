@@ -19,6 +19,7 @@ struct Command {
 const Command kCommands[] = {
   {"compensate", cmd_compensate, "move cutting points so the deflected tool lands on the programmed surface"},
   {"simulate", cmd_simulate, "predict the surface error of a program (optionally against a reference)"},
+  {"compare", cmd_compare, "simulate several programs for one part on the same stock: a table of figures"},
   {"path", cmd_path, "print the tool path: one line per motion, end point in mm (work frame)"},
   {"check", cmd_check, "report every diagnostic of a program and check travel limits"},
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},

@@ -28,6 +28,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io);      // issue 4
 int cmd_calibrate(const std::vector<std::string>& args, Io& io);   // issue 4
 int cmd_compensate(const std::vector<std::string>& args, Io& io);  // issue 5
 int cmd_simulate(const std::vector<std::string>& args, Io& io);    // issue 5
+int cmd_compare(const std::vector<std::string>& args, Io& io);     // issue 12
 
 // Runs `deflex ARGS...` in-process (what main() does); used by golden tests.
 int run(const std::vector<std::string>& argv, Io& io);

@@ -1,0 +1,256 @@
+// The job of compensate, simulate and compare (job.hpp).
+#include "job.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "deflex/compensate/gouge.hpp"
+#include "deflex/engage/path.hpp"
+#include "deflex/interp/decimal.hpp"
+#include "deflex/interp/shape.hpp"
+#include "deflex/interp/travel.hpp"
+#include "deflex/report/html.hpp"
+#include "deflex/report/summary.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stock/build.hpp"
+
+namespace deflex::cli {
+
+void describe(po::options_description& d, Args& a, bool compensating) {
+  auto opt = [](std::optional<double>& dst) { return po::value<double>()->notifier([&dst](double v) { dst = v; }); };
+  d.add_options()("help,h", po::bool_switch(&a.help), "show this help");
+  if (compensating)
+    d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout")
+        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N");
+  else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
+  d.add_options()
+      ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else samples/tools.yaml)")
+      ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
+      ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
+      ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
+      ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
+      ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
+      ("report", po::value(&a.report), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
+      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
+      ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
+      ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
+      ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
+      ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
+  add_part_options(d, a.part);
+  add_material_options(d, a.mat);
+  add_read_options(d, a.read);
+}
+
+
+
+namespace {
+
+// The settings from the options and config.yaml, each checked (usage errors
+// before anything is read or computed).
+compensate::Settings settings_of(const Args& a, const profile::Config& cfg, const profile::MachineProfile& mp) {
+  compensate::Settings st;
+  st.tolerance_mm = a.tolerance ? *a.tolerance : config_number(cfg, "tolerance_mm", 0.01);
+  st.gain = a.gain ? *a.gain : config_number(cfg, "gain", 1.0);
+  st.max_offset_mm = mp.max_offset_mm;
+  st.cl_spacing_mm = a.cl_spacing_mm;
+  st.max_iterations = a.max_iterations;
+  st.threads = a.threads;
+  st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
+  st.feed_limit_N = a.feed_limit_N;
+  st.flank_profiles = !a.report.empty();  // flank_profile.csv of the program as written
+  if (a.feed_limit_N < 0) throw Error(Exit::usage, "--feed-limit must be > 0 N");
+  if (!(st.tolerance_mm > 0)) throw Error(Exit::usage, "--tolerance must be > 0 mm");
+  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
+  if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
+  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
+  if (a.threads < 0 || a.threads > 1024) throw Error(Exit::usage, "--threads must be 0 (all cores) .. 1024");
+  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
+  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(Exit::usage, "--spindle must be > 0 rpm");
+  if (a.feed_mm_per_min && !(*a.feed_mm_per_min > 0 && *a.feed_mm_per_min <= 1e6))
+    throw Error(Exit::usage, "--feed must be > 0 mm/min");
+  return st;
+}
+
+// What the simulation needs of every cutting motion, before it runs: a tool
+// in the library, a spindle speed and a feed (--spindle, --feed supply what
+// the program lacks). Errors at the line of the first motion lacking each.
+void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const compensate::Settings& st,
+                   const stiffness::ToolLibrary& lib, const SourceText& src, Diagnostics& diags) {
+  // A tool named on the command line that the library lacks is a usage error
+  // (exit 2, with the library's tools); a T word of the program the library
+  // lacks is the library's (exit 3).
+  if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);
+  bool no_s = false, no_f = false;
+  for (interp::Motion& m : motions) {
+    if (m.kind == interp::MotionKind::rapid) continue;
+    if (m.spindle_rpm <= 0 && a.spindle_rpm) m.spindle_rpm = *a.spindle_rpm;
+    if (m.feed_mm_per_min <= 0 && a.feed_mm_per_min) m.feed_mm_per_min = *a.feed_mm_per_min;
+    const std::string id = compensate::tool_id(m, st);
+    if (m.tool == 0 && st.tool_override.empty()) {
+      diags.report(Severity::error, src, m.line, 1, "cutting with no tool selected (T.. M6): give --tool");
+      throw Error(Exit::usage, src.name() + ": error: no tool; nothing done");
+    }
+    if (!lib.tools.count(id)) {
+      diags.report(Severity::error, src, m.line, 1,
+                   "tool " + id + " is not in the tool library " + lib.file + " (give --tool-file, or --tool)");
+      throw Error(Exit::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
+    }
+    if (!no_s && m.spindle_rpm <= 0) {
+      no_s = true;
+      diags.report(Severity::error, src, m.line, 1, "cutting with no spindle speed (S0 or no S word): give --spindle RPM");
+    }
+    if (!no_f && m.feed_mm_per_min <= 0) {
+      no_f = true;
+      diags.report(Severity::error, src, m.line, 1, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
+    }
+  }
+}
+
+}  // namespace
+
+Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
+  Setup s = resolve(a.read);
+  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  Job j{std::move(s), {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
+  const profile::Config& cfg = j.setup.config;
+  compensate::Settings& st = j.settings;
+  st = settings_of(a, cfg, *j.setup.machine);
+  std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
+  if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  j.stock_spec = stock;
+  j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
+  j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
+  j.physics.tool_only = a.tool_only;
+  MaterialOptions mat = a.mat;
+  if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
+  else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
+  j.physics.k = coefficients_of(mat, config_string(cfg, "material"), &j.material);
+  Diagnostics diags(&io.err, j.setup.max_errors);
+  interp::check_program_shape(j.prog, diags);
+  interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
+  Collect c;
+  c.out = &j.motions;
+  interp::interpret(j.prog, j.setup.interp(), diags, c);
+  // The machine's travel before any simulation: a move far outside it is a
+  // crash on the machine and unbounded work here.
+  for (const interp::Motion& m : j.motions) interp::check_travel(m, j.setup.machine->travel, j.prog.source(), diags);
+  if (!diags.errors()) check_cutting(j.motions, a, st, j.physics.tools, j.prog.source(), diags);
+  if (diags.errors())
+    throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
+                                 (compensating ? "nothing compensated, nothing written" : "not simulated"));
+  const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
+  if (!part.empty()) {
+    j.part_spec = part;
+    if (!shared) j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
+    j.physics.part = shared ? shared->physics.part : j.part.get();
+  }
+  if (shared) {
+    j.physics.stock = shared->physics.stock;
+  } else {
+    stock::SolidOptions so;
+    so.cell_mm = a.cell_mm;
+    j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
+    j.physics.stock = j.stock.get();
+  }
+  if (j.physics.part && a.reference.empty()) {
+    // The gouge check runs before the simulation: it needs no stock and no
+    // forces. Not on a program judged against a reference: a compensated
+    // program stands off the part on purpose (the reference is the design).
+    const double gap = a.part.gap_mm ? *a.part.gap_mm : config_number(cfg, "part_gap_mm", 0.02);
+    if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+    engage::PathOptions po;
+    po.cl_spacing_mm = st.cl_spacing_mm;
+    const compensate::PartGaps g = compensate::part_gaps(
+        j.motions, *j.physics.part, j.physics.tools, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); }, po,
+        gap, st.part_reach_mm);
+    report_part_gaps(g, j.prog.source(), gap, diags);
+  }
+  return j;
+}
+
+compensate::Progress progress_for(Io& io) {
+  if (!io.err_is_terminal) return {};
+  return [&io](const std::string& stage, double f) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "\r\033[Kdeflex: %s %3.0f%%", stage.c_str(), 100.0 * f);
+    io.err << buf << std::flush;
+  };
+}
+
+std::string report_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
+                                                            const std::string& reference) {
+  std::vector<std::pair<std::string, std::string>> p;
+  p.emplace_back("program", j.prog.source().name());
+  p.emplace_back("program SHA-256", report::sha256_hex(j.prog.source().bytes()));
+  if (!reference.empty()) p.emplace_back("judged against", reference);
+  p.emplace_back("machine", j.setup.machine->name + " (" + j.setup.machine->file + "), dialect " + j.setup.dialect.name);
+  std::set<std::string> tools;
+  for (const interp::Motion& m : j.motions)
+    if (m.kind != interp::MotionKind::rapid) tools.insert(compensate::tool_id(m, j.settings));
+  for (const std::string& id : tools) {
+    const stiffness::Tool& t = j.physics.tools.tools.at(id);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%s: %s D%g mm%s, %d flutes, helix %g deg, stick-out %g mm, flutes %g mm long",
+                  id.c_str(), t.type == stiffness::ToolType::ball ? "ball" : t.type == stiffness::ToolType::bull ? "bull nose" : "flat",
+                  t.diameter_mm, t.type == stiffness::ToolType::bull ? (" r" + report_number(t.corner_radius_mm)).c_str() : "",
+                  t.flutes, t.helix_deg, t.stickout_mm, t.flute_length_mm);
+    p.emplace_back("tool", buf);
+  }
+  p.emplace_back("tool library", j.physics.tools.file);
+  p.emplace_back("material", j.material);
+  p.emplace_back("stock", j.stock_spec);
+  p.emplace_back("part model", j.part_spec.empty() ? "none (normals fitted through the path, or from the travel)" : j.part_spec);
+  p.emplace_back("tolerance", report_number(j.settings.tolerance_mm) + " mm");
+  p.emplace_back("deflex", std::string(DEFLEX_VERSION));
+  p.emplace_back("date", report::utc_now());
+  p.emplace_back("command", command);
+  return p;
+}
+
+compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
+                                             const std::vector<std::uint32_t>* capped_lines) {
+  compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings, capped_lines);
+  Diagnostics diags(&io.err, 0);
+  for (const compensate::Finding& f : pl.findings)
+    diags.report(Severity::warning, j.prog.source(), f.line, 1, f.message + " [" + f.kind + "]");
+  return pl;
+}
+
+report::Json warnings_json(const compensate::Plausibility& pl) {
+  report::Json a = report::Json::array();
+  for (const compensate::Finding& f : pl.findings)
+    a.push_back({{"kind", f.kind}, {"count", f.count}, {"worst", report::fixed(f.worst, 4)},
+                 {"limit", report::fixed(f.limit, 4)}, {"tool", f.tool}, {"line", f.line},
+                 {"line_count", f.line_count}, {"lines", f.lines}, {"message", f.message}});
+  return a;
+}
+
+void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after) {
+  io.err << "  machining time:              " << report::clock(before.program.total_s) << " (cutting "
+         << report::clock(before.program.cutting_s) << ", rapids " << report::clock(before.program.rapid_s) << ")";
+  if (std::fabs(after.program.total_s - before.program.total_s) >= 0.5)
+    io.err << ", compensated " << report::clock(after.program.total_s);
+  io.err << " [m:ss, axis limits of the machine profile]\n";
+}
+
+std::string command_of(const char* cmd, const std::vector<std::string>& args) {
+  std::string c = std::string("deflex ") + cmd;
+  for (const std::string& w : args) {
+    const bool plain = !w.empty() && w.find_first_not_of(
+        "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.,:/=+@%") == std::string::npos;
+    std::string q = "'";
+    for (char ch : w) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    c += " " + (plain ? w : q + "'");
+  }
+  return c;
+}
+
+}  // namespace deflex::cli

@@ -1,0 +1,74 @@
+// What compensate, simulate and compare share: their options, the job a run
+// reads (program, machine, tools, material, stock, part), the checks before
+// any computation, and the pieces of their output.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common.hpp"
+#include "deflex/compensate/compensate.hpp"
+#include "deflex/compensate/plausibility.hpp"
+#include "deflex/part/part.hpp"
+#include "deflex/process/machining_time.hpp"
+#include "deflex/report/json.hpp"
+#include "deflex/stock/zmap.hpp"
+
+namespace deflex::cli {
+
+struct Args {
+  ReadOptions read;
+  MaterialOptions mat;
+  PartOptions part;
+  std::string file, output, reference, tool_file, tool, stock, report;
+  std::optional<double> tolerance, gain;
+  double feed_limit_N = 0;
+  std::optional<double> spindle_rpm, feed_mm_per_min;
+  double cell_mm = 0.05, cl_spacing_mm = 0.5;
+  int max_iterations = 8, threads = 0;
+  bool tool_only = false, help = false;
+};
+
+struct Job {
+  Setup setup;
+  std::string material, stock_spec, part_spec;  // as given, for the report's provenance
+  gcode::Program prog;
+  std::vector<interp::Motion> motions;
+  compensate::Physics physics;
+  compensate::Settings settings;
+  std::unique_ptr<stock::ZMap> stock;
+  std::unique_ptr<part::PartModel> part;
+};
+
+struct Collect : interp::MotionSink {
+  std::vector<interp::Motion>* out;
+  void motion(const interp::Motion& m) override { out->push_back(m); }
+};
+
+// The options of compensate (compensating) or simulate/compare.
+void describe(po::options_description& d, Args& a, bool compensating);
+// Reads the program and everything the physics needs; throws on any error.
+// Every check that can fail runs before the stock and part are built.
+// `shared` (may be null): a job whose stock and part model this one uses
+// instead of building its own (compare: every program on the same stock).
+Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr);
+// The progress line on a terminal (nothing elsewhere).
+compensate::Progress progress_for(Io& io);
+// A number as a person writes it: 0.01, 80, 2.5.
+std::string report_number(double v);
+// The run's provenance for report.html: what a reader needs to trust or redo it.
+std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
+                                                            const std::string& reference);
+// Plausibility warnings (compensate/plausibility.hpp), compiler style at the
+// line of the worst point, and their summary.json array.
+compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
+                                             const std::vector<std::uint32_t>* capped_lines = nullptr);
+report::Json warnings_json(const compensate::Plausibility& pl);
+// Machining time from the machine's axis limits, one line on stderr.
+void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after);
+// The command line as a shell would take it back (for the provenance).
+std::string command_of(const char* cmd, const std::vector<std::string>& args);
+
+}  // namespace deflex::cli
