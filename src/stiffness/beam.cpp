@@ -58,7 +58,12 @@ struct Chain {
 
 // Node heights of [z0, z1] with elements no longer than max_mm, plus `extra` inside.
 std::vector<double> grid(double z0, double z1, double max_mm) {
-  const int n = std::max(1, static_cast<int>(std::ceil((z1 - z0) / max_mm - 1e-9)));
+  // Range-checked before the cast: the readers bound every length, this is the
+  // last line of defence for a caller that does not.
+  const double count = std::ceil((z1 - z0) / max_mm - 1e-9);
+  if (!(count <= 1e6)) throw Error(Exit::config, "beam model: a section of " + std::to_string(z1 - z0) +
+                                                     " mm needs more than 10^6 elements");
+  const int n = std::max(1, static_cast<int>(count));
   std::vector<double> z;
   for (int i = 0; i <= n; ++i) z.push_back(z0 + (z1 - z0) * i / n);
   return z;

@@ -10,9 +10,12 @@ using yaml::Range;
 
 static Holder parse_holder(const Map& n) {
   Holder h;
-  h.length_mm = n.number("length_mm", Range::positive());
-  h.nose_diameter_mm = n.number("nose_diameter_mm", Range::positive());
-  h.base_diameter_mm = n.number("base_diameter_mm", h.nose_diameter_mm, Range::positive());
+  // At most a metre, like a tool's sizes (stiffness/tool.cpp): beyond it a
+  // number is a typo, and the beam mesh would count past an int.
+  const Range size_mm{0, 1000, true};
+  h.length_mm = n.number("length_mm", size_mm);
+  h.nose_diameter_mm = n.number("nose_diameter_mm", size_mm);
+  h.base_diameter_mm = n.number("base_diameter_mm", h.nose_diameter_mm, size_mm);
   h.material = n.has("material") ? parse_material(n.get("material"), n.file()) : *material_preset("steel");
   if (n.has("name")) n.text("name");
   return h;

@@ -53,10 +53,16 @@ static ToolType parse_type(const Map& tool) {
   tool.fail("type", "type must be ball, flat or bull, not '" + s + "'");
 }
 
+// Lengths and diameters of a cutting tool: positive and at most a metre. A
+// larger number is a typo or hostile input, and the beam model would mesh it
+// into more elements than an int counts (libFuzzer found a 5e103 mm stick-out:
+// tests/stiffness/data/fuzz_stickout_overflow.yaml).
+static Range size_mm() { return {0, 1000, true}; }
+
 // Corner radius by type: a ball's is D/2, a flat's 0, a bull's from the file.
 static double parse_corner(const Map& tool, ToolType type, double d_mm) {
   if (type == ToolType::bull) {
-    const double rc = tool.number("corner_radius_mm", Range::positive());
+    const double rc = tool.number("corner_radius_mm", size_mm());
     if (rc > 0.5 * d_mm) tool.fail("corner_radius_mm", "corner_radius_mm must be <= diameter_mm / 2");
     return rc;
   }
@@ -69,14 +75,14 @@ static double parse_corner(const Map& tool, ToolType type, double d_mm) {
 
 // The lengths along the tool, each checked against the corner it must clear.
 static void parse_lengths(const Map& n, Tool& t) {
-  t.flute_length_mm = n.number("flute_length_mm", Range::positive());
+  t.flute_length_mm = n.number("flute_length_mm", size_mm());
   if (t.flute_length_mm < t.corner_radius_mm)
     n.fail("flute_length_mm", "flute_length_mm must reach past the corner radius");
-  t.stickout_mm = n.number("stickout_mm", Range::positive());
+  t.stickout_mm = n.number("stickout_mm", size_mm());
   if (t.stickout_mm <= t.corner_radius_mm) n.fail("stickout_mm", "stickout_mm must exceed the corner radius");
   if (n.has("neck")) {
     const Map neck = n.map("neck", {"diameter_mm", "length_mm"});
-    t.neck = Neck{neck.number("diameter_mm", Range::positive()), neck.number("length_mm", Range::positive())};
+    t.neck = Neck{neck.number("diameter_mm", size_mm()), neck.number("length_mm", size_mm())};
   }
 }
 
@@ -89,13 +95,13 @@ Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string
   t.id = id;
   t.source = yaml::where(file, node.Mark());
   t.type = parse_type(n);
-  t.diameter_mm = n.number("diameter_mm", Range::positive());
+  t.diameter_mm = n.number("diameter_mm", size_mm());
   t.corner_radius_mm = parse_corner(n, t.type, t.diameter_mm);
   t.flutes = static_cast<int>(n.integer("flutes", t.flutes, 1, 100));
   t.helix_deg = n.number("helix_deg", t.helix_deg, Range::non_negative());
   if (t.helix_deg >= 90) n.fail("helix_deg", "helix_deg must be in [0, 90)");
   parse_lengths(n, t);
-  t.shank_diameter_mm = n.number("shank_diameter_mm", t.diameter_mm, Range::positive());
+  t.shank_diameter_mm = n.number("shank_diameter_mm", t.diameter_mm, size_mm());
   t.flute_diameter_ratio = n.number("flute_diameter_ratio", t.flute_diameter_ratio, {0, 1, true});
   t.material = parse_material(n.get("material"), file);
   if (n.has("max_force_N")) t.max_force_N = n.number("max_force_N", Range::positive());

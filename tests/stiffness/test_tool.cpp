@@ -6,6 +6,7 @@
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/shape.hpp"
 #include "deflex/stiffness/tool.hpp"
+#include "../support.hpp"
 #include "helpers.hpp"
 
 using namespace deflex;
@@ -80,7 +81,7 @@ TEST_SUITE("stiffness") {
               .find("lib.yaml:9:5: error: unknown key 'diamter_mm'") == 0);
     std::string bad = kGood;
     bad.replace(bad.find("diameter_mm: 12"), 15, "diameter_mm: -2");
-    CHECK(tool_error(bad).find("lib.yaml:4:18: error: diameter_mm must be > 0") == 0);
+    CHECK(tool_error(bad).find("lib.yaml:4:18: error: diameter_mm must be in (0, 1000]") == 0);
     bad = kGood;
     bad.replace(bad.find("type: bull"), 10, "type: drill");
     CHECK(tool_error(bad).find("lib.yaml:3:11: error: type must be ball, flat or bull") == 0);
@@ -95,6 +96,12 @@ TEST_SUITE("stiffness") {
     CHECK(tool_error(bad).find("lib.yaml:3:5: error: missing key 'stickout_mm'") == 0);
     CHECK(tool_error("tools:\n  A: [1, 2\n").find("lib.yaml:") == 0);
     CHECK(tool_error(kGood).empty());
+    // Sizes beyond a metre (libFuzzer's input: a 5e103 mm stick-out overflowed the beam mesh count).
+    bad = kGood;
+    bad.replace(bad.find("stickout_mm: 40"), 15, "stickout_mm: 4e5");
+    CHECK(tool_error(bad).find("lib.yaml:7:18: error: stickout_mm must be in (0, 1000]") == 0);
+    const std::string found = test::read_file("tests/stiffness/data/fuzz_stickout_overflow.yaml");
+    CHECK(tool_error(found).find("lib.yaml:10:18: error: stickout_mm must be") == 0);
   }
 
   TEST_CASE("machine: the sample profile and its units") {
