@@ -7,11 +7,14 @@ n=${1:-1000000}; out=${2:-bench/data/finish_${n}.nc}
 mkdir -p "$(dirname "$out")"
 awk -v n="$n" 'BEGIN {
   print "%"; print "O2000 (GENERATED RASTER FINISH)"
-  print "N1 G00 G17 G21 G40 G49 G80 G90"; print "N2 T5 M06"; print "N3 G54 G00 X0. Y0. S8000 M03"
+  print "N1 G00 G17 G21 G40 G49 G80 G90"; print "N2 T5 M06"; printf "N3 G54 G00 X0. Y%.3f S8000 M03\n", -0.125 * int(int((n - 10) / 501) - 1)
   print "N4 G43 H5 Z25. M08"; print "N5 G01 Z-1. F2500."
   ln = 6; per = 500; rows = int((n - 10) / (per + 1)); dx = 200.0 / per
+  # The rows are centred on Y0 so that 1,000,000 blocks (rows 0.25 mm apart,
+  # 499 mm) stay inside the Y travel of the sample machine of +-250 mm.
+  y0 = -0.125 * int(rows - 1)
   for (r = 0; r < rows; r++) {
-    y = r * 0.25
+    y = y0 + r * 0.25
     printf "N%d Y%.3f\n", ln++, y
     for (i = 1; i <= per; i++) {
       x = (r % 2 == 0) ? i * dx : 200.0 - i * dx

@@ -14,10 +14,10 @@ function tri(x0, y0, x1, y1, x2, y2) {
   print "facet normal 0 0 1"; print "outer loop"; v(x0, y0); v(x1, y1); v(x2, y2); print "endloop"; print "endfacet"
 }
 BEGIN {
-  rows = int((n - 10) / 501); ymax = (rows - 1) * 0.25
+  rows = int((n - 10) / 501); ymax = (rows - 1) * 0.125  # the rows are centred on Y0 (gen_program.sh)
   print "solid finish_stock"
   for (x = -10; x < 210; x += 2)
-    for (y = -10; y < ymax + 10; y += 2) { tri(x, y, x + 2, y, x + 2, y + 2); tri(x, y, x + 2, y + 2, x, y + 2) }
+    for (y = -ymax - 10; y < ymax + 10; y += 2) { tri(x, y, x + 2, y, x + 2, y + 2); tri(x, y, x + 2, y + 2, x, y + 2) }
   print "endsolid finish_stock"
 }' > "$out"
 echo "$out"

@@ -18,7 +18,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (const auto& p : t.p)
         for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
     const double cell = 0.5;
-    if (!tris.empty() && (hi[0] - lo[0]) / cell * ((hi[1] - lo[1]) / cell) > 1e6) return;
+    // Cells per axis as the Z-map counts them: at least one. (The product of
+    // the extents alone let a 3e-43 x 1.3e8 mm stock through as "0 cells": a
+    // legal 2.7e8-cell raster whose cost is time, found as a timeout.)
+    const double nx = std::max(1.0, std::ceil((hi[0] - lo[0]) / cell)), ny = std::max(1.0, std::ceil((hi[1] - lo[1]) / cell));
+    if (!tris.empty() && !(nx * ny <= 1e6)) return;
     stock::zmap_from_triangles(tris, cell);
   });
 }

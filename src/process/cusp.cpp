@@ -62,20 +62,20 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() 
 // travelling sideways may be a neighbour; only samples in material get a cusp.
 bool sideways(const CuspSample& s) { return s.profile_diameter_mm > 0 && horizontal(s.feed_dir).norm() > 0; }
 
-// The nearest neighbouring pass on each side of sample i: the distance across
-// the feed (NaN where none).
-std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i) {
+// The nearest neighbouring pass on each side of sample i within radius r of
+// it: the distance across the feed (NaN where none).
+std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i, double r,
+                                    std::vector<std::size_t>& near) {
   const CuspSample& p = s[i];
   const double de = p.profile_diameter_mm;
   const Eigen::Vector2d t = horizontal(p.feed_dir), xy = p.tip_mm.head<2>();
-  std::vector<std::size_t> near;
-  tree.search(std::back_inserter(near), Circle(K::Point_2(xy.x(), xy.y()), de, 0.0, Traits(XyMap{&s})));
+  near.clear();
+  tree.search(std::back_inserter(near), Circle(K::Point_2(xy.x(), xy.y()), r, 0.0, Traits(XyMap{&s})));
   double left = CuspResult::none, right = CuspResult::none;
   double left_dist = HUGE_VAL, right_dist = HUGE_VAL;
   const double parallel = std::cos(30 * kRad);
   for (std::size_t j : near) {
     const CuspSample& q = s[j];
-    if (!sideways(q)) continue;
     const Eigen::Vector2d tq = horizontal(q.feed_dir);
     if (std::fabs(tq.dot(t)) < parallel) continue;
     const Eigen::Vector2d d = q.tip_mm.head<2>() - xy;
@@ -96,6 +96,19 @@ std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree
   return {left, right};
 }
 
+// As above within D_e, searched in circles growing from 1 mm: a side's nearest
+// neighbour found within r is the one a search over all of D_e finds (it is
+// the nearest), so only the cost changes: a finishing step-over is found in the
+// first circle instead of among the thousands of samples a 16 mm ball covers.
+std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i,
+                                    std::vector<std::size_t>& near) {
+  const double de = s[i].profile_diameter_mm;
+  for (double r = std::min(de, 1.0);; r = std::min(de, 2 * r)) {
+    const auto lr = stepovers(s, tree, i, r, near);
+    if ((!std::isnan(lr.first) && !std::isnan(lr.second)) || r >= de) return lr;
+  }
+}
+
 }  // namespace
 
 std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
@@ -106,6 +119,7 @@ std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
   if (idx.empty()) return out;
   Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
   tree.build();
+  std::vector<std::size_t> near;
   for (std::size_t i : idx) {
     const CuspSample& p = s[i];
     if (!p.cutting) continue;
@@ -119,7 +133,7 @@ std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
     r.direction_deg = fall.norm() > 0 ? a / kRad : CuspResult::none;
     const double alpha3 = cusp_alpha3_rad(a, alpha1);
     r.alpha3_deg = alpha3 / kRad;
-    const auto [left, right] = stepovers(s, tree, i);
+    const auto [left, right] = stepovers(s, tree, i, near);
     double h = CuspResult::none;
     for (double ae : {left, right}) {
       if (std::isnan(ae)) continue;
