@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/report/text_out.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
@@ -14,79 +15,17 @@
 namespace deflex::cli {
 namespace {
 
-// Appends fixed-point text to a buffer and hands it to the stream in large
-// chunks: a million motions print in well under a second.
-class Out {
- public:
-  explicit Out(std::ostream& o) : o_(o) { buf_.reserve(1 << 20); }
-  ~Out() { flush(); }
-  // Fixed 6 decimals. std::to_chars with a precision costs ~450 instructions a
-  // number; scaling to an integer of micrometres is exact enough for a
-  // position (it can differ from correctly rounded output only at a tie in the
-  // 7th decimal) and ten times cheaper. Huge values fall back to to_chars.
-  void num6(double v) {
-    char b[48];
-    const double s = v * 1e6;
-    if (!(std::fabs(s) < 9e15)) {
-      auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::fixed, 6);
-      buf_.append(b, r.ptr);
-      return;
-    }
-    const long long u = static_cast<long long>(s < 0 ? s - 0.5 : s + 0.5);  // round half away from zero
-    unsigned long long a = u < 0 ? 0ull - static_cast<unsigned long long>(u) : static_cast<unsigned long long>(u);
-    char* e = b + sizeof b;
-    char* p = e;
-    // Two digits per step from a table: the six decimals, the point, the integer part.
-    static const char kPairs[] =
-        "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
-        "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
-        "8081828384858687888990919293949596979899";
-    for (int i = 0; i < 3; ++i) {
-      const unsigned d = static_cast<unsigned>(a % 100);
-      a /= 100;
-      *--p = kPairs[2 * d + 1];
-      *--p = kPairs[2 * d];
-    }
-    *--p = '.';
-    do {
-      if (a >= 10) {
-        const unsigned d = static_cast<unsigned>(a % 100);
-        a /= 100;
-        *--p = kPairs[2 * d + 1];
-        *--p = kPairs[2 * d];
-      } else {
-        *--p = static_cast<char>('0' + a);
-        a = 0;
-      }
-    } while (a);
-    if (u < 0) *--p = '-';  // u == 0 never gets a sign: no "-0.000000"
-    buf_.append(p, e);
-  }
-  void integer(unsigned long v) {
-    char b[24];
-    auto r = std::to_chars(b, b + sizeof b, v);
-    buf_.append(b, r.ptr);
-  }
-  Out& operator<<(std::string_view s) { buf_.append(s); if (buf_.size() > (1 << 20)) flush(); return *this; }
-  Out& operator<<(char c) { buf_.push_back(c); if (buf_.size() > (1 << 20)) flush(); return *this; }
-  void flush() { o_.write(buf_.data(), static_cast<std::streamsize>(buf_.size())); buf_.clear(); }
-
- private:
-  std::ostream& o_;
-  std::string buf_;
-};
-
 class PathPrinter : public interp::MotionSink {
  public:
   PathPrinter(std::ostream& o, bool lines) : out_(o), lines_(lines) {}
   void motion(const interp::Motion& m) override {
     if (lines_) { out_.integer(m.line); out_ << ' '; }
     out_ << interp::to_string(m.kind);
-    for (double v : m.end_mm) { out_ << ' '; out_.num6(v); }
+    for (double v : m.end_mm) { out_ << ' '; out_.fixed(v, 6); }
     out_ << '\n';
   }
  private:
-  Out out_;
+  report::TextOut out_;
   bool lines_;
 };
 

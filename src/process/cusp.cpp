@@ -7,7 +7,8 @@
 #include <CGAL/Search_traits_adapter.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/property_map.h>
-#include <boost/iterator/counting_iterator.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -109,6 +110,28 @@ std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree
   }
 }
 
+// The cusp result of sample i (in material, travelling sideways).
+CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i, std::vector<std::size_t>& near) {
+  const CuspSample& p = s[i];
+  CuspResult r;
+  const Eigen::Vector3d n = p.normal.normalized();
+  const double alpha1 = std::acos(std::clamp(n.z(), -1.0, 1.0));
+  r.inclination_deg = alpha1 / kRad;
+  // The fall line is the horizontal part of the outward normal (it points downhill).
+  const Eigen::Vector2d fall = horizontal(n), t = horizontal(p.feed_dir);
+  const double a = fall.norm() > 0 ? std::acos(std::min(1.0, std::fabs(t.dot(fall)))) : 0.0;
+  r.direction_deg = fall.norm() > 0 ? a / kRad : CuspResult::none;
+  const double alpha3 = cusp_alpha3_rad(a, alpha1);
+  r.alpha3_deg = alpha3 / kRad;
+  const auto [left, right] = stepovers(s, tree, i, near);
+  for (double ae : {left, right}) {
+    if (std::isnan(ae)) continue;
+    const double c = cusp_height_mm(p.profile_diameter_mm, ae, alpha3);
+    if (std::isnan(r.height_mm) || c > r.height_mm) { r.height_mm = c; r.stepover_mm = ae; }
+  }
+  return r;
+}
+
 }  // namespace
 
 std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
@@ -119,29 +142,17 @@ std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
   if (idx.empty()) return out;
   Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
   tree.build();
-  std::vector<std::size_t> near;
-  for (std::size_t i : idx) {
-    const CuspSample& p = s[i];
-    if (!p.cutting) continue;
-    CuspResult& r = out[i];
-    const Eigen::Vector3d n = p.normal.normalized();
-    const double alpha1 = std::acos(std::clamp(n.z(), -1.0, 1.0));
-    r.inclination_deg = alpha1 / kRad;
-    // The fall line is the horizontal part of the outward normal (it points downhill).
-    const Eigen::Vector2d fall = horizontal(n), t = horizontal(p.feed_dir);
-    const double a = fall.norm() > 0 ? std::acos(std::min(1.0, std::fabs(t.dot(fall)))) : 0.0;
-    r.direction_deg = fall.norm() > 0 ? a / kRad : CuspResult::none;
-    const double alpha3 = cusp_alpha3_rad(a, alpha1);
-    r.alpha3_deg = alpha3 / kRad;
-    const auto [left, right] = stepovers(s, tree, i, near);
-    double h = CuspResult::none;
-    for (double ae : {left, right}) {
-      if (std::isnan(ae)) continue;
-      const double c = cusp_height_mm(p.profile_diameter_mm, ae, alpha3);
-      if (std::isnan(h) || c > h) { h = c; r.stepover_mm = ae; }
+  // Each point reads the tree and writes its own result: in parallel, the
+  // same results whatever the threads.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, idx.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+    std::vector<std::size_t> near;
+    for (std::size_t k = r.begin(); k != r.end(); ++k) {
+      const std::size_t i = idx[k];
+      const CuspSample& p = s[i];
+      if (!p.cutting) continue;
+      out[i] = cusp_at(s, tree, i, near);
     }
-    r.height_mm = h;
-  }
+  });
   return out;
 }
 

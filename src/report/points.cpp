@@ -3,6 +3,7 @@
 
 #include <cstdio>
 
+#include "deflex/report/text_out.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/writer/writer.hpp"
 
@@ -117,38 +118,36 @@ PointTable table_of_compensation(const compensate::Result& r, const std::vector<
 }
 
 void write_points_csv(const std::string& path, const PointTable& t) {
-  writer::write_file_atomically(path, "", [&](std::ostream& o) {
+  writer::write_file_atomically(path, "", [&](std::ostream& os) {
+    TextOut o(os);
     o << "line,x_mm,y_mm,z_mm,path_mm,ap_mm,ae_mm,d_eff_mm,cwe_area_mm2,mrr_mm3_per_s,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,"
          "dz_mm,surface_error_mm,surface_error_as_written_mm,offset_mm,nx,ny,nz,normal_source,part_gap_mm,"
          "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm\n";
-    char buf[512];
-    // An empty field where a value is not known (air, no neighbour pass).
-    auto opt = [&](double v, const char* fmt) {
-      if (std::isnan(v)) return std::string(",");
-      std::snprintf(buf, sizeof buf, fmt, v);
-      return "," + std::string(buf);
+    // A field: a comma, then the number (nothing where it is not known: air, no neighbouring pass).
+    auto f = [&](double v, int decimals) {
+      o << ',';
+      if (!std::isnan(v)) o.fixed(v, decimals);
     };
     for (std::size_t i = 0; i < t.points.size(); ++i) {
       const compensate::Point& p = t.points[i];
       if (p.air) continue;
-      std::snprintf(buf, sizeof buf, "%u,%.4f,%.4f,%.4f,%.3f,%.4f,%.4f,%.4f,%.4f,%.2f,%.2f,%.2f,%.2f,%.6f,%.6f,%.6f",
-                    p.line, p.tip_mm.x(), p.tip_mm.y(), p.tip_mm.z(), t.path_mm[i], p.ap_mm, p.ae_mm, p.d_eff_mm,
-                    p.cwe_area_mm2, p.mrr_mm3_per_s, p.force_N.x(), p.force_N.y(), p.force_N.z(), p.delta_mm.x(),
-                    p.delta_mm.y(), p.delta_mm.z());
-      o << buf << opt(t.error_mm[i], "%.6f")
-        << opt(t.has_as_written ? t.error_as_written_mm[i] : t.error_mm[i], "%.6f");
-      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%.6f,%s", t.offset_n_mm[i], p.normal.x(), p.normal.y(),
-                    p.normal.z(), compensate::to_string(p.normal_source));
-      o << buf << opt(p.normal_source == compensate::NormalSource::part ? p.part_gap_mm : kNone, "%.6f");
-      if (p.flank) {
-        const double on = t.offset_n_mm[i];
-        std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.4f,%.4f", on + p.flank_min_mm, on + p.flank_max_mm,
-                      p.flank_z_min_mm, p.flank_z_max_mm);
-        o << buf;
-      } else {
-        o << ",,,,";
-      }
-      o << opt(t.cusp[i].stepover_mm, "%.4f") << opt(t.cusp[i].height_mm, "%.6f") << "\n";
+      o.integer(p.line);
+      for (int k = 0; k < 3; ++k) f(p.tip_mm[k], 4);
+      f(t.path_mm[i], 3);
+      f(p.ap_mm, 4), f(p.ae_mm, 4), f(p.d_eff_mm, 4), f(p.cwe_area_mm2, 4), f(p.mrr_mm3_per_s, 2);
+      for (int k = 0; k < 3; ++k) f(p.force_N[k], 2);
+      for (int k = 0; k < 3; ++k) f(p.delta_mm[k], 6);
+      f(t.error_mm[i], 6);
+      f(t.has_as_written ? t.error_as_written_mm[i] : t.error_mm[i], 6);
+      f(t.offset_n_mm[i], 6);
+      for (int k = 0; k < 3; ++k) f(p.normal[k], 6);
+      o << ',' << compensate::to_string(p.normal_source);
+      f(p.normal_source == compensate::NormalSource::part ? p.part_gap_mm : kNone, 6);
+      const double on = t.offset_n_mm[i];
+      f(p.flank ? on + p.flank_min_mm : kNone, 6), f(p.flank ? on + p.flank_max_mm : kNone, 6);
+      f(p.flank ? p.flank_z_min_mm : kNone, 4), f(p.flank ? p.flank_z_max_mm : kNone, 4);
+      f(t.cusp[i].stepover_mm, 4), f(t.cusp[i].height_mm, 6);
+      o << '\n';
     }
   });
 }

@@ -1,0 +1,41 @@
+// Fast text output of numbers for the large files deflex prints: `path` (a
+// line per motion) and points.csv (a row per CL point). printf's %f and
+// std::to_chars with a precision cost ~450 instructions a number; scaling to
+// an integer of the last decimal is exact enough for measured quantities (it
+// can differ from correctly rounded output only at a tie one decimal further)
+// and about ten times cheaper. Huge values fall back to std::to_chars.
+#pragma once
+#include <ostream>
+#include <string>
+#include <string_view>
+
+namespace deflex::report {
+
+// Appends text to a buffer and hands it to the stream in chunks of ~1 MiB.
+class TextOut {
+ public:
+  explicit TextOut(std::ostream& o) : o_(o) { buf_.reserve(1 << 21); }
+  ~TextOut() { flush(); }
+  TextOut(const TextOut&) = delete;
+  TextOut& operator=(const TextOut&) = delete;
+  // `v` with `decimals` (0..9) decimals, rounded half away from zero; never "-0.0".
+  void fixed(double v, int decimals);
+  void integer(unsigned long v);
+  TextOut& operator<<(std::string_view s) {
+    buf_.append(s);
+    if (buf_.size() > (1 << 20)) flush();
+    return *this;
+  }
+  TextOut& operator<<(char c) {
+    buf_.push_back(c);
+    if (buf_.size() > (1 << 20)) flush();
+    return *this;
+  }
+  void flush();
+
+ private:
+  std::ostream& o_;
+  std::string buf_;
+};
+
+}  // namespace deflex::report
