@@ -25,3 +25,5 @@ echo "== deflex simulate out/six_surfaces_comp.nc --reference $prog --part $part
 build/deflex simulate out/six_surfaces_comp.nc --reference $prog --stock $stock --part $part
 echo "== out/report/summary.json"
 cat out/report/summary.json
+echo "== the report: open it in a browser (works offline)"
+echo "$(pwd)/out/report/report.html"
