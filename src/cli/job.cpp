@@ -7,6 +7,7 @@
 
 #include "deflex/compensate/gouge.hpp"
 #include "deflex/engage/path.hpp"
+#include "deflex/engage/sweep_program.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
@@ -30,6 +31,8 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
+      ("stock-from", po::value(&a.stock_from)->composing(),
+       "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; repeat for several, in order")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
       ("report", po::value(&a.report), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
@@ -108,12 +111,61 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
   }
 }
 
+// An earlier operation swept into the job's stock: read and interpreted under
+// the job's machine and dialect, its diagnostics naming its own file, checked
+// like the program (travel, every cutting motion's tool in the library) before
+// anything is swept.
+std::vector<interp::Motion> read_earlier(const std::string& file, const Job& j, Io& io) {
+  if (file == "-") throw Error(Exit::usage, "--stock-from takes files (standard input is the program's)");
+  const gcode::Program prog(gcode::read_source(file, &io.in));
+  Diagnostics diags(&io.err, j.setup.max_errors);
+  std::vector<interp::Motion> motions;
+  Collect c;
+  c.out = &motions;
+  interp::interpret(prog, j.setup.interp(), diags, c);
+  for (const interp::Motion& m : motions) interp::check_travel(m, j.setup.machine->travel, prog.source(), diags);
+  for (const interp::Motion& m : motions) {
+    if (diags.errors()) break;
+    if (m.kind == interp::MotionKind::rapid) continue;
+    const std::string id = "T" + std::to_string(m.tool);
+    if (m.tool == 0 || !j.physics.tools.tools.count(id)) {
+      diags.report(Severity::error, prog.source(), m.line, 1,
+                   (m.tool == 0 ? std::string("cutting with no tool selected (T.. M6)")
+                                : "tool " + id + " is not in the tool library " + j.physics.tools.file) +
+                       ": an earlier operation sweeps the stock with its own tools");
+      throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
+    }
+  }
+  if (diags.errors())
+    throw Error(Exit::input, prog.source().name() + ": error: the earlier operation has errors; nothing done");
+  return motions;
+}
+
+// Sweeps an earlier operation's motions into the job's stock with their own tools.
+void sweep_earlier(const std::vector<interp::Motion>& motions, Job& j) {
+  engage::PathOptions po;
+  po.cl_spacing_mm = j.settings.cl_spacing_mm;
+  // Before the first tool change the tool is the one of the first cutting motion.
+  int first = 0;
+  for (const interp::Motion& m : motions)
+    if (m.tool) { first = m.tool; break; }
+  engage::sweep_motions(*j.stock, motions, [&](const interp::Motion& m) {
+    const stiffness::Tool& t = j.physics.tools.tools.at("T" + std::to_string(m.tool ? m.tool : first));
+    stock::ToolProfile p;
+    p.radius_mm = t.diameter_mm / 2;
+    p.kind = t.type == stiffness::ToolType::ball ? stock::ToolKind::ball
+             : t.type == stiffness::ToolType::bull ? stock::ToolKind::bull : stock::ToolKind::flat;
+    p.corner_radius_mm = t.corner_radius_mm;
+    return p;
+  }, po);
+}
+
 }  // namespace
 
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   Setup s = resolve(a.read);
   if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  Job j{std::move(s), {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
+  Job j{std::move(s), {}, {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
@@ -140,6 +192,11 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   if (diags.errors())
     throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
+  // The earlier operations read and checked before any stock is built.
+  std::vector<std::vector<interp::Motion>> earlier;
+  if (!shared)
+    for (const std::string& f : a.stock_from) earlier.push_back(read_earlier(f, j, io));
+  j.stock_from = a.stock_from;
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
   if (!part.empty()) {
     j.part_spec = part;
@@ -153,6 +210,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
     so.cell_mm = a.cell_mm;
     j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
     j.physics.stock = j.stock.get();
+    for (const auto& m : earlier) sweep_earlier(m, j);
   }
   if (j.physics.part && a.reference.empty()) {
     // The gouge check runs before the simulation: it needs no stock and no
@@ -207,6 +265,7 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   p.emplace_back("tool library", j.physics.tools.file);
   p.emplace_back("material", j.material);
   p.emplace_back("stock", j.stock_spec);
+  for (const std::string& f : j.stock_from) p.emplace_back("stock from", f);
   p.emplace_back("part model", j.part_spec.empty() ? "none (normals fitted through the path, or from the travel)" : j.part_spec);
   p.emplace_back("tolerance", report_number(j.settings.tolerance_mm) + " mm");
   p.emplace_back("deflex", std::string(DEFLEX_VERSION));

@@ -23,6 +23,7 @@ struct Args {
   MaterialOptions mat;
   PartOptions part;
   std::string file, output, reference, tool_file, tool, stock, report;
+  std::vector<std::string> stock_from;  // earlier operations swept into the stock, in order
   std::optional<double> tolerance, gain;
   double feed_limit_N = 0;
   std::optional<double> spindle_rpm, feed_mm_per_min;
@@ -34,6 +35,7 @@ struct Args {
 struct Job {
   Setup setup;
   std::string material, stock_spec, part_spec;  // as given, for the report's provenance
+  std::vector<std::string> stock_from;           // the earlier operations swept into the stock
   gcode::Program prog;
   std::vector<interp::Motion> motions;
   compensate::Physics physics;
