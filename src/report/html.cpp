@@ -212,6 +212,45 @@ std::string escape_html(const std::string& s) {
   return o;
 }
 
+// One pass of gap filling: an empty cell enclosed by filled ones - two on
+// opposite sides (across a row, a column or a diagonal), or five of its eight
+// neighbours - takes the value of largest magnitude among them per map and
+// their mean height. Steep walls move the contact points of a pass sideways and
+// leave such holes inside a part; the outside of a part is not enclosed and
+// stays "no data".
+void fill_gaps(Grid& g) {
+  const std::vector<double> z0 = g.z_mm;
+  const std::vector<std::vector<double>> v0 = g.values;
+  auto filled = [&](int i, int j) { return i >= 0 && j >= 0 && i < g.nx && j < g.ny && !std::isnan(z0[static_cast<std::size_t>(j) * g.nx + i]); };
+  static const int kDir[4][2] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * g.nx + i;
+      if (!std::isnan(z0[c])) continue;
+      bool enclosed = false;
+      for (const auto& d : kDir) enclosed = enclosed || (filled(i + d[0], j + d[1]) && filled(i - d[0], j - d[1]));
+      int n = 0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) n += (di || dj) && filled(i + di, j + dj);
+      if (!enclosed && n < 5) continue;
+      double zs = 0;
+      int zn = 0;
+      for (int dj = -1; dj <= 1; ++dj)
+        for (int di = -1; di <= 1; ++di) {
+          if (!(di || dj) || !filled(i + di, j + dj)) continue;
+          const std::size_t k = static_cast<std::size_t>(j + dj) * g.nx + (i + di);
+          zs += z0[k];
+          ++zn;
+          for (std::size_t m = 0; m < g.values.size(); ++m) {
+            const double v = v0[m][k];
+            double& cell = g.values[m][c];
+            if (!std::isnan(v) && (std::isnan(cell) || std::fabs(v) > std::fabs(cell))) cell = v;
+          }
+        }
+      g.z_mm[c] = zs / zn;
+    }
+}
+
 }  // namespace
 
 Grid make_grid(const std::vector<Eigen::Vector3d>& xyz, const std::vector<const std::vector<double>*>& values,
@@ -259,25 +298,8 @@ Grid make_grid(const std::vector<Eigen::Vector3d>& xyz, const std::vector<const 
   g.z_mm.assign(cells, kNone);
   for (std::size_t c = 0; c < cells; ++c)
     if (zn[c] > 0) g.z_mm[c] = zsum[c] / zn[c];
-  // One pass of gap filling from the grid as binned: a cell between two filled
-  // cells takes the one of larger magnitude per map, and their mean height.
-  const std::vector<double> z0 = g.z_mm;
-  const std::vector<std::vector<double>> v0 = g.values;
-  for (int j = 0; j < g.ny; ++j)
-    for (int i = 0; i < g.nx; ++i) {
-      const std::size_t c = static_cast<std::size_t>(j) * g.nx + i;
-      if (!std::isnan(z0[c])) continue;
-      for (const auto& [a, b] : {std::pair(i > 0 && i + 1 < g.nx ? c - 1 : c, i > 0 && i + 1 < g.nx ? c + 1 : c),
-                                 std::pair(j > 0 && j + 1 < g.ny ? c - g.nx : c, j > 0 && j + 1 < g.ny ? c + g.nx : c)}) {
-        if (a == c || std::isnan(z0[a]) || std::isnan(z0[b])) continue;
-        g.z_mm[c] = (z0[a] + z0[b]) / 2;
-        for (std::size_t m = 0; m < values.size(); ++m) {
-          const double va = v0[m][a], vb = v0[m][b];
-          g.values[m][c] = std::isnan(va) ? vb : std::isnan(vb) ? va : std::fabs(va) >= std::fabs(vb) ? va : vb;
-        }
-        break;
-      }
-    }
+  fill_gaps(g);
+  fill_gaps(g);
   return g;
 }
 

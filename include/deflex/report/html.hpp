@@ -32,8 +32,8 @@ struct Grid {
 // `xyz` the points' positions, `values` per map one value per point (NaN:
 // not drawn). The cell is the larger of extent / max_cells and `min_cell_mm`
 // (the step-over, so neighbouring passes leave no empty stripe between them);
-// an empty cell between two filled ones (left-right or below-above) takes
-// their values, once.
+// twice, an empty cell enclosed by filled ones (two opposite, or five of its
+// eight neighbours) takes their largest value and mean height.
 Grid make_grid(const std::vector<Eigen::Vector3d>& xyz, const std::vector<const std::vector<double>*>& values,
                double min_cell_mm, int max_cells = 300);
 
