@@ -24,6 +24,7 @@ const Command kCommands[] = {
   {"check", cmd_check, "report every diagnostic of a program and check travel limits"},
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
   {"rewrite", cmd_rewrite, "read, interpret and write a program back (byte-identical; atomic -o)"},
+  {"tools", cmd_tools, "import a Fusion 360 (JSON) or LinuxCNC (.tbl) tool library as deflex YAML"},
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
   {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},
   {"calibrate", cmd_calibrate, "fit cutting/edge coefficients from slot-test forces"},

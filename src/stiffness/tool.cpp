@@ -1,4 +1,5 @@
 #include "deflex/stiffness/tool.hpp"
+#include "deflex/stiffness/tool_import.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -132,7 +133,16 @@ ToolLibrary parse_tool_library(const std::string& yaml_text, const std::string& 
 }
 
 ToolLibrary load_tool_library(const std::string& path) {
-  return parse_tool_library(yaml::read_file(path), path);
+  if (!is_foreign_tool_library(path)) return parse_tool_library(yaml::read_file(path), path);
+  // A Fusion 360 or LinuxCNC library goes through its YAML, so one reader
+  // checks every library; what that reader refuses is named as such.
+  const ImportedLibrary imp = import_tool_library(path);
+  try {
+    return parse_tool_library(imp.yaml, path);
+  } catch (const Error& e) {
+    throw Error(e.code(), std::string(e.what()) + " (in the YAML deflex made of this " + imp.format +
+                              "; `deflex tools import " + path + "` shows it)");
+  }
 }
 
 const Tool& find_tool(const ToolLibrary& lib, const std::string& id) {
