@@ -62,6 +62,7 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
   desc.add_options()("format", po::value(&format)->default_value("text"), "text, csv or json");
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1000);
+  apply_job(a, files);
   if (a.help) {
     print_help(io.out, "deflex compare A.nc B.nc ... [--format text|csv|json] [--report DIR] (options as deflex simulate)",
                kCompareHelp, desc);

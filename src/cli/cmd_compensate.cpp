@@ -98,6 +98,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   describe(desc, a, true);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
+  apply_job(a, files);
   if (a.help) {
     print_help(io.out,
                "deflex compensate IN [-o OUT] [--machine M] [--tool-file F] [--tool ID] [--material M | --kt K --kr K "
@@ -192,6 +193,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   describe(desc, a, false);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
+  apply_job(a, files);
   if (a.help) {
     print_help(io.out,
                "deflex simulate IN [--reference ORIGINAL] [--report DIR] (options as deflex compensate)",

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 
 #include "deflex/compensate/gouge.hpp"
@@ -11,12 +12,14 @@
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
+#include "deflex/profile/yaml.hpp"
 #include "deflex/report/html.hpp"
 #include "deflex/report/summary.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
 
 namespace deflex::cli {
+namespace fs = std::filesystem;
 
 void describe(po::options_description& d, Args& a, bool compensating) {
   auto opt = [](std::optional<double>& dst) { return po::value<double>()->notifier([&dst](double v) { dst = v; }); };
@@ -31,6 +34,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
       ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
+      ("job", po::value(&a.job), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it")
       ("stock-from", po::value(&a.stock_from)->composing(),
        "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; repeat for several, in order")
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
@@ -161,6 +165,45 @@ void sweep_earlier(const std::vector<interp::Motion>& motions, Job& j) {
 }
 
 }  // namespace
+
+void apply_job(Args& a, std::vector<std::string>& files) {
+  if (a.job.empty()) return;
+  const std::string file = a.job;
+  const YAML::Node root = yaml::load_text(yaml::read_file(file), file);
+  const yaml::Map m(root, "job", file,
+                    {"program", "machine", "dialect", "tool_file", "tool", "material", "material_file", "stock",
+                     "stock_from", "part", "tolerance_mm", "gain", "output", "report"});
+  const fs::path dir = fs::path(file).parent_path();
+  // A path of the job is relative to the job's folder (the file sits beside
+  // the program); a box, a built-in name or an absolute path is taken as is.
+  auto path = [&](const std::string& p) { return p.empty() || fs::path(p).is_absolute() ? p : (dir / p).string(); };
+  auto text = [&](const char* key, std::string& dst, bool is_path) {
+    if (dst.empty() && m.has(key)) dst = is_path ? path(m.text(key)) : m.text(key);
+  };
+  if (files.empty() && m.has("program")) files.push_back(path(m.text("program")));
+  const std::string machine = m.has("machine") ? m.text("machine") : "";
+  if (a.read.machine.empty() && !machine.empty())
+    a.read.machine = machine.find('/') != std::string::npos || machine.ends_with(".yaml") ? path(machine) : machine;
+  text("dialect", a.read.dialect, false);
+  text("tool_file", a.tool_file, true);
+  text("tool", a.tool, false);
+  text("material", a.mat.material, false);
+  text("material_file", a.mat.material_file, true);
+  if (a.stock.empty() && m.has("stock")) {
+    const std::string st = m.text("stock");
+    a.stock = st.rfind("box:", 0) == 0 ? st : path(st);
+  }
+  if (a.stock_from.empty() && m.has("stock_from")) {
+    const YAML::Node list = m.get("stock_from");
+    if (!list.IsSequence()) m.fail("stock_from", "stock_from is a list of programs, in the order they ran");
+    for (const YAML::Node& n : list) a.stock_from.push_back(path(yaml::text(n, "stock_from", file)));
+  }
+  text("part", a.part.part, true);
+  if (!a.tolerance && m.has("tolerance_mm")) a.tolerance = m.number("tolerance_mm", yaml::Range::positive());
+  if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
+  text("output", a.output, true);
+  text("report", a.report, true);
+}
 
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   Setup s = resolve(a.read);

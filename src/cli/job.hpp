@@ -24,6 +24,7 @@ struct Args {
   PartOptions part;
   std::string file, output, reference, tool_file, tool, stock, report;
   std::vector<std::string> stock_from;  // earlier operations swept into the stock, in order
+  std::string job;                      // a job file: what the command line leaves out
   std::optional<double> tolerance, gain;
   double feed_limit_N = 0;
   std::optional<double> spindle_rpm, feed_mm_per_min;
@@ -51,6 +52,10 @@ struct Collect : interp::MotionSink {
 
 // The options of compensate (compensating) or simulate/compare.
 void describe(po::options_description& d, Args& a, bool compensating);
+// Fills what the command line left out from the job file `a.job` (if any);
+// `files` gets the job's program when the command line names none. Paths in
+// the job are relative to its folder. Throws Error(config) at line:col.
+void apply_job(Args& a, std::vector<std::string>& files);
 // Reads the program and everything the physics needs; throws on any error.
 // Every check that can fail runs before the stock and part are built.
 // `shared` (may be null): a job whose stock and part model this one uses
