@@ -119,23 +119,26 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
 // the job's machine and dialect, its diagnostics naming its own file, checked
 // like the program (travel, every cutting motion's tool in the library) before
 // anything is swept.
-std::vector<interp::Motion> read_earlier(const std::string& file, const Job& j, Io& io) {
+}  // namespace
+
+std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
+                                         Io& io) {
   if (file == "-") throw Error(Exit::usage, "--stock-from takes files (standard input is the program's)");
   const gcode::Program prog(gcode::read_source(file, &io.in));
-  Diagnostics diags(&io.err, j.setup.max_errors);
+  Diagnostics diags(&io.err, setup.max_errors);
   std::vector<interp::Motion> motions;
   Collect c;
   c.out = &motions;
-  interp::interpret(prog, j.setup.interp(), diags, c);
-  for (const interp::Motion& m : motions) interp::check_travel(m, j.setup.machine->travel, prog.source(), diags);
+  interp::interpret(prog, setup.interp(), diags, c);
+  for (const interp::Motion& m : motions) interp::check_travel(m, setup.machine->travel, prog.source(), diags);
   for (const interp::Motion& m : motions) {
     if (diags.errors()) break;
     if (m.kind == interp::MotionKind::rapid) continue;
     const std::string id = "T" + std::to_string(m.tool);
-    if (m.tool == 0 || !j.physics.tools.tools.count(id)) {
+    if (m.tool == 0 || !lib.tools.count(id)) {
       diags.report(Severity::error, prog.source(), m.line, 1,
                    (m.tool == 0 ? std::string("cutting with no tool selected (T.. M6)")
-                                : "tool " + id + " is not in the tool library " + j.physics.tools.file) +
+                                : "tool " + id + " is not in the tool library " + lib.file) +
                        ": an earlier operation sweeps the stock with its own tools");
       throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
     }
@@ -146,15 +149,19 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Job& j, 
 }
 
 // Sweeps an earlier operation's motions into the job's stock with their own tools.
-void sweep_earlier(const std::vector<interp::Motion>& motions, Job& j) {
+void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
+                   double cl_spacing_mm) {
   engage::PathOptions po;
-  po.cl_spacing_mm = j.settings.cl_spacing_mm;
+  po.cl_spacing_mm = cl_spacing_mm;
   // Before the first tool change the tool is the one of the first cutting motion.
   int first = 0;
   for (const interp::Motion& m : motions)
     if (m.tool) { first = m.tool; break; }
-  engage::sweep_motions(*j.stock, motions, [&](const interp::Motion& m) {
-    const stiffness::Tool& t = j.physics.tools.tools.at("T" + std::to_string(m.tool ? m.tool : first));
+  // A program with no tool at all has only rapids (read_earlier checked the
+  // cutting moves): nothing is known to sweep.
+  if (!first) return;
+  engage::sweep_motions(z, motions, [&](const interp::Motion& m) {
+    const stiffness::Tool& t = lib.tools.at("T" + std::to_string(m.tool ? m.tool : first));
     stock::ToolProfile p;
     p.radius_mm = t.diameter_mm / 2;
     p.kind = t.type == stiffness::ToolType::ball ? stock::ToolKind::ball
@@ -163,8 +170,6 @@ void sweep_earlier(const std::vector<interp::Motion>& motions, Job& j) {
     return p;
   }, po);
 }
-
-}  // namespace
 
 void apply_job(Args& a, std::vector<std::string>& files) {
   if (a.job.empty()) return;
@@ -238,7 +243,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   // The earlier operations read and checked before any stock is built.
   std::vector<std::vector<interp::Motion>> earlier;
   if (!shared)
-    for (const std::string& f : a.stock_from) earlier.push_back(read_earlier(f, j, io));
+    for (const std::string& f : a.stock_from) earlier.push_back(read_earlier(f, j.setup, j.physics.tools, io));
   j.stock_from = a.stock_from;
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
   if (!part.empty()) {
@@ -253,7 +258,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
     so.cell_mm = a.cell_mm;
     j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
     j.physics.stock = j.stock.get();
-    for (const auto& m : earlier) sweep_earlier(m, j);
+    for (const auto& m : earlier) sweep_earlier(m, *j.stock, j.physics.tools, st.cl_spacing_mm);
   }
   if (j.physics.part && a.reference.empty()) {
     // The gouge check runs before the simulation: it needs no stock and no

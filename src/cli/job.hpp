@@ -52,6 +52,15 @@ struct Collect : interp::MotionSink {
 
 // The options of compensate (compensating) or simulate/compare.
 void describe(po::options_description& d, Args& a, bool compensating);
+// An earlier operation (--stock-from): read and interpreted under `setup`,
+// its diagnostics naming its own file, checked (travel, every cutting motion's
+// tool in `lib`) before anything is swept. Throws on any error.
+std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
+                                         Io& io);
+// Sweeps its motions into `z` with their own tools, geometry only.
+void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
+                   double cl_spacing_mm);
+
 // Fills what the command line left out from the job file `a.job` (if any);
 // `files` gets the job's program when the command line names none. Paths in
 // the job are relative to its folder. Throws Error(config) at line:col.
