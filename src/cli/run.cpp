@@ -24,6 +24,7 @@ const Command kCommands[] = {
   {"check", cmd_check, "report every diagnostic of a program and check travel limits"},
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
   {"rewrite", cmd_rewrite, "read, interpret and write a program back (byte-identical; atomic -o)"},
+  {"stock", cmd_stock, "the stock after earlier programs as a closed STL (for the next operation or CAM)"},
   {"tools", cmd_tools, "import a Fusion 360 (JSON) or LinuxCNC (.tbl) tool library as deflex YAML"},
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
   {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},

@@ -1,0 +1,34 @@
+// The Z-map as a closed triangle mesh (issue 13 item 2: the in-process stock
+// for the next operation, a CAM system or a viewer).
+//
+// The top surface runs through the cell centres at their heights, extended by
+// half a cell at the border so that its outline is the grid's: read back at the
+// same cell size the mesh gives the same grid and, at tolerance 0, the same
+// heights. Vertical walls close it down to a flat bottom 0.01 mm under the
+// stock's base (cells without material lie on the base, over that thin plate),
+// so it is one solid: every edge is shared by exactly two triangles, with
+// opposite orientations, all normals outward.
+//
+// Reduction: a quadtree over the grid merges squares whose vertex heights lie
+// within `tolerance_mm` of each other (max - min) into one leaf, triangulated
+// as a fan from its centre vertex through every leaf corner on its sides (so no
+// T-junction: neighbouring leaves share the same vertices along a side). Every
+// triangle's vertices lie within its leaf's band, so the surface is within
+// `tolerance_mm` of every cell height it covers. Flat floors and untouched
+// stock become a few large triangles; a scallop field stays fine.
+#pragma once
+#include <iosfwd>
+#include <vector>
+
+#include "deflex/stock/build.hpp"
+#include "deflex/stock/zmap.hpp"
+
+namespace deflex::stock {
+
+std::vector<Triangle> zmap_mesh(const ZMap& z, double tolerance_mm);
+
+// Binary STL (little-endian float32, normals from the vertex order); throws
+// Error(Exit::io) when the stream fails.
+void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, const std::string& header);
+
+}  // namespace deflex::stock

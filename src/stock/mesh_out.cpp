@@ -1,0 +1,172 @@
+// The Z-map as a closed, reduced triangle mesh and binary STL
+// (include/deflex/stock/mesh_out.hpp).
+#include "deflex/stock/mesh_out.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <ostream>
+
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::stock {
+namespace {
+
+// The vertex grid: (nx + 2) x (ny + 2) positions, the cell centres plus a ring
+// on the grid's outline; quads between them (nx + 1) x (ny + 1).
+struct Vertices {
+  const ZMap& z;
+  int vx, vy;      // vertex counts
+  double floor_z;  // where cells without material lie
+  double x(int i) const {
+    const GridSpec& g = z.grid();
+    return i == 0 ? g.x0_mm : i == vx - 1 ? g.x0_mm + g.nx * g.cell_mm : z.cx(i - 1);
+  }
+  double y(int j) const {
+    const GridSpec& g = z.grid();
+    return j == 0 ? g.y0_mm : j == vy - 1 ? g.y0_mm + g.ny * g.cell_mm : z.cy(j - 1);
+  }
+  double h(int i, int j) const {
+    const float v = z.at(std::clamp(i - 1, 0, z.grid().nx - 1), std::clamp(j - 1, 0, z.grid().ny - 1));
+    return v == no_material || v < floor_z ? floor_z : static_cast<double>(v);
+  }
+  std::array<double, 3> p(int i, int j) const { return {x(i), y(j), h(i, j)}; }
+};
+
+struct Leaf {
+  int i0, j0, s;  // quads [i0, i0 + s) x [j0, j0 + s)
+};
+
+struct Stats {
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  bool inside = true;  // the node lies within the quad grid
+};
+
+// Post-order quadtree: a node whose vertices lie within `tol` and whose four
+// children were leaves becomes one leaf.
+Stats build(const Vertices& v, int i0, int j0, int s, double tol, std::vector<Leaf>& leaves) {
+  const int qx = v.vx - 1, qy = v.vy - 1;
+  Stats st;
+  if (i0 >= qx || j0 >= qy) {
+    st.inside = false;
+    return st;
+  }
+  if (s == 1) {
+    for (int dj = 0; dj <= 1; ++dj)
+      for (int di = 0; di <= 1; ++di) {
+        const double h = v.h(i0 + di, j0 + dj);
+        st.lo = std::min(st.lo, h);
+        st.hi = std::max(st.hi, h);
+      }
+    leaves.push_back({i0, j0, 1});
+    return st;
+  }
+  const std::size_t before = leaves.size();
+  const int h = s / 2;
+  for (const auto& [di, dj] : {std::pair(0, 0), std::pair(h, 0), std::pair(0, h), std::pair(h, h)}) {
+    const Stats c = build(v, i0 + di, j0 + dj, h, tol, leaves);
+    st.lo = std::min(st.lo, c.lo);
+    st.hi = std::max(st.hi, c.hi);
+    st.inside = st.inside && c.inside;
+  }
+  if (st.inside && i0 + s <= qx && j0 + s <= qy && st.hi - st.lo <= tol && leaves.size() == before + 4) {
+    leaves.resize(before);
+    leaves.push_back({i0, j0, s});
+  }
+  return st;
+}
+
+}  // namespace
+
+std::vector<Triangle> zmap_mesh(const ZMap& z, double tol) {
+  const GridSpec& g = z.grid();
+  Vertices v{z, g.nx + 2, g.ny + 2, 0};
+  double lowest = z.base_z_mm();
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i)
+      if (const float h = z.at(i, j); h != no_material) lowest = std::min(lowest, static_cast<double>(h));
+  v.floor_z = std::min(lowest, z.base_z_mm());
+  const double bottom = v.floor_z - 0.01;
+  const int qx = v.vx - 1, qy = v.vy - 1;
+  int size = 1;
+  while (size < std::max(qx, qy)) size *= 2;
+  std::vector<Leaf> leaves;
+  build(v, 0, 0, size, tol, leaves);
+  // Every leaf corner is a vertex of the mesh; a leaf's fan takes all of them on its sides.
+  std::vector<std::uint8_t> used(static_cast<std::size_t>(v.vx) * v.vy, 0);
+  auto mark = [&](int i, int j) { used[static_cast<std::size_t>(j) * v.vx + i] = 1; };
+  auto is_used = [&](int i, int j) { return used[static_cast<std::size_t>(j) * v.vx + i] != 0; };
+  for (const Leaf& l : leaves) {
+    mark(l.i0, l.j0), mark(l.i0 + l.s, l.j0), mark(l.i0, l.j0 + l.s), mark(l.i0 + l.s, l.j0 + l.s);
+  }
+  std::vector<Triangle> out;
+  std::vector<std::pair<int, int>> ring;
+  for (const Leaf& l : leaves) {
+    // The perimeter counter-clockwise seen from above.
+    ring.clear();
+    for (int i = l.i0; i < l.i0 + l.s; ++i) if (is_used(i, l.j0)) ring.emplace_back(i, l.j0);
+    for (int j = l.j0; j < l.j0 + l.s; ++j) if (is_used(l.i0 + l.s, j)) ring.emplace_back(l.i0 + l.s, j);
+    for (int i = l.i0 + l.s; i > l.i0; --i) if (is_used(i, l.j0 + l.s)) ring.emplace_back(i, l.j0 + l.s);
+    for (int j = l.j0 + l.s; j > l.j0; --j) if (is_used(l.i0, j)) ring.emplace_back(l.i0, j);
+    if (ring.size() == 4) {
+      out.push_back({{v.p(ring[0].first, ring[0].second), v.p(ring[1].first, ring[1].second), v.p(ring[2].first, ring[2].second)}});
+      out.push_back({{v.p(ring[0].first, ring[0].second), v.p(ring[2].first, ring[2].second), v.p(ring[3].first, ring[3].second)}});
+      continue;
+    }
+    const auto c = v.p(l.i0 + l.s / 2, l.j0 + l.s / 2);
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+      const auto& a = ring[k];
+      const auto& b = ring[(k + 1) % ring.size()];
+      out.push_back({{c, v.p(a.first, a.second), v.p(b.first, b.second)}});
+    }
+  }
+  // The walls around the outline (counter-clockwise from above: outward to the right) and the bottom.
+  ring.clear();
+  for (int i = 0; i < qx; ++i) if (is_used(i, 0)) ring.emplace_back(i, 0);
+  for (int j = 0; j < qy; ++j) if (is_used(qx, j)) ring.emplace_back(qx, j);
+  for (int i = qx; i > 0; --i) if (is_used(i, qy)) ring.emplace_back(i, qy);
+  for (int j = qy; j > 0; --j) if (is_used(0, j)) ring.emplace_back(0, j);
+  const std::array<double, 3> centre{(v.x(0) + v.x(qx)) / 2, (v.y(0) + v.y(qy)) / 2, bottom};
+  for (std::size_t k = 0; k < ring.size(); ++k) {
+    const auto a = v.p(ring[k].first, ring[k].second);
+    const auto b = v.p(ring[(k + 1) % ring.size()].first, ring[(k + 1) % ring.size()].second);
+    const std::array<double, 3> A{a[0], a[1], bottom}, B{b[0], b[1], bottom};
+    out.push_back({{a, A, B}});
+    out.push_back({{a, B, b}});
+    out.push_back({{centre, B, A}});
+  }
+  return out;
+}
+
+void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, const std::string& header) {
+  char head[80] = {};
+  std::memcpy(head, header.data(), std::min<std::size_t>(header.size(), 79));
+  out.write(head, 80);
+  const std::uint32_t n = static_cast<std::uint32_t>(tris.size());
+  char b[4];
+  std::memcpy(b, &n, 4);  // STL is little-endian, as x86-64 and arm64 are
+  out.write(b, 4);
+  std::vector<char> buf;
+  buf.reserve(tris.size() * 50);
+  auto put = [&](float f) {
+    char c[4];
+    std::memcpy(c, &f, 4);
+    buf.insert(buf.end(), c, c + 4);
+  };
+  for (const Triangle& t : tris) {
+    const Eigen::Vector3d a(t.p[0][0], t.p[0][1], t.p[0][2]), bb(t.p[1][0], t.p[1][1], t.p[1][2]),
+        c(t.p[2][0], t.p[2][1], t.p[2][2]);
+    const Eigen::Vector3d nrm = (bb - a).cross(c - a).normalized();
+    for (int k = 0; k < 3; ++k) put(static_cast<float>(nrm[k]));
+    for (const auto& p : t.p)
+      for (int k = 0; k < 3; ++k) put(static_cast<float>(p[k]));
+    buf.push_back(0), buf.push_back(0);
+  }
+  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  if (!out) throw Error(Exit::io, "writing the STL failed");
+}
+
+}  // namespace deflex::stock
