@@ -103,11 +103,13 @@ TEST_SUITE("stiffness") {
     CHECK(r.err.find("5 tools converted, 3 skipped") != std::string::npos);
     const ToolLibrary a = load_tool_library(out), b = load_tool_library("samples/tool-libraries/fusion_library.json");
     REQUIRE(a.tools.size() == b.tools.size());
-    for (const auto& [id, tool] : a.tools) {
+    // A named pair, not a structured binding: clang 14 cannot capture bindings (CAPTURE is a lambda).
+    for (const auto& entry : a.tools) {
+      const std::string& id = entry.first;
       CAPTURE(id);
-      CHECK(tool.diameter_mm == b.tools.at(id).diameter_mm);
-      CHECK(tool.stickout_mm == b.tools.at(id).stickout_mm);
-      CHECK(tool.type == b.tools.at(id).type);
+      CHECK(entry.second.diameter_mm == b.tools.at(id).diameter_mm);
+      CHECK(entry.second.stickout_mm == b.tools.at(id).stickout_mm);
+      CHECK(entry.second.type == b.tools.at(id).type);
     }
     CHECK(test::run_cli({"tools", "import", "samples/tools.yaml"}).rc == 2);
     // A program runs with the imported library directly.
