@@ -136,6 +136,10 @@ ImportedLibrary import_fusion_json(const std::string& text, const std::string& f
     root = Json::parse(text);
   } catch (const Json::parse_error& e) {
     fail(file + ":" + position(text, e.byte ? e.byte - 1 : 0), std::string("not valid JSON: ") + e.what());
+  } catch (const Json::exception& e) {
+    // A number beyond a double (4e333) is an out_of_range error, without a position
+    // (libFuzzer's find: it escaped as an internal error).
+    fail(file, std::string("not valid JSON: ") + e.what());
   }
   if (!root.is_object() || !root.contains("data") || !root["data"].is_array())
     fail(file, "a Fusion 360 tool library is a JSON object with a \"data\" array of tools");

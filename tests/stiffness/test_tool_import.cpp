@@ -84,6 +84,9 @@ TEST_SUITE("stiffness") {
 
   TEST_CASE("tool import: malformed libraries at their position") {
     CHECK(import_error("{\"data\": [\n  {\"type\": \"flat end mill\",, }\n]}", true).find("lib.json:2:28: error: not valid JSON") == 0);
+    // libFuzzer's inputs: a number beyond a double is a config error, not an internal one.
+    CHECK(import_error("4e0333", true).find("lib.json: error: not valid JSON") == 0);
+    CHECK(import_error(test::read_file("tests/stiffness/data/fuzz_json_overflow.json"), true).find("lib.json: error: not valid JSON") == 0);
     CHECK(import_error("[1, 2]", true).find("lib.json: error: a Fusion 360 tool library is a JSON object") == 0);
     CHECK(import_error(R"({"data": [{"type": "ball end mill", "description": "B", "geometry": {"DC": "6"}, "post-process": {"number": 3}}]})", true)
               .find("lib.json: data[0] 'B' (ball end mill) T3: error: geometry.DC must be a number") == 0);
