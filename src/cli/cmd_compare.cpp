@@ -111,12 +111,12 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
     writer::write_file_atomically((d / "compare.json").string(), "",
                                   [&](std::ostream& o) { o << report::document(report::compare_json(rows, tol)); });
     // Every program with its checksum, then what they share (the first job's
-    // provenance less its program and checksum).
+    // provenance without its own program rows).
     std::vector<std::pair<std::string, std::string>> prov;
     for (const Job& j : jobs)
       prov.emplace_back("program", j.prog.source().name() + "  (SHA-256 " + report::sha256_hex(j.prog.source().bytes()) + ")");
-    const auto shared = provenance(jobs.front(), command_of("compare", args), "");
-    prov.insert(prov.end(), shared.begin() + 2, shared.end());
+    for (auto& row : provenance(jobs.front(), command_of("compare", args), ""))
+      if (row.first != "program" && row.first != "program SHA-256") prov.push_back(std::move(row));
     writer::write_file_atomically((d / "compare.html").string(), "",
                                   [&](std::ostream& o) { o << report::compare_html(rows, tol, prov); });
   }

@@ -82,11 +82,6 @@ void write_folder(const std::string& dir, const Job& j, const report::PointTable
   h.source = &j.prog.source();
   h.tolerance_mm = j.settings.tolerance_mm;
   h.facts = std::move(facts);
-  const report::Json cusp = summary.value("cusp_height_mm", report::Json());
-  if (!cusp.is_null() && cusp.value("points", 0) > 0)
-    h.facts.push_back({"cusp height, max / mean (Miko Eq. 7)", report_number(1000 * cusp.value("max", 0.0)) + " / " +
-                                                                   report_number(1000 * cusp.value("mean", 0.0)) + " µm",
-                       "cusp_height_mm"});
   writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
 }
 
@@ -163,7 +158,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
   time_line(io, t0, t1);
   if (!a.report.empty()) {
-    report::PointTable t = report::table_of_compensation(r, j.motions, j.physics, j.settings);
+    report::PointTable t = report::table_of_compensation(std::move(r.final), r, j.motions, j.physics, j.settings);
     report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(after)},
                     {"surface_error_as_written_mm", report::to_json(before)}, {"cl_points", after.points},
                     {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
@@ -254,7 +249,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime tm = process::machining_time(j.motions, j.setup.machine->axis_limits);
   time_line(io, tm, tm);
   if (!a.report.empty()) {
-    report::PointTable t = report::table_of_simulation(pts, intent, design, j.physics, j.settings);
+    report::PointTable t = report::table_of_simulation(std::move(pts), intent, design, j.physics, j.settings);
     report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(st)},
                     {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
                     {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
@@ -264,7 +259,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     std::vector<std::vector<std::string>> facts = {
         {"CL points in material", std::to_string(st.points), "cl_points"},
         {"machining time", report::clock(tm.program.total_s), "machining_time"}};
-    write_folder(a.report, j, t, design, pts, js, std::move(facts), "simulate", command_of("simulate", args), a.reference);
+    write_folder(a.report, j, t, design, t.points, js, std::move(facts), "simulate", command_of("simulate", args), a.reference);
   }
   return 0;
 }

@@ -54,6 +54,13 @@ void describe(po::options_description& d, Args& a, bool compensating) {
 
 namespace {
 
+// A number as a person writes it: 0.01, 80, 2.5.
+std::string report_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
 // The settings from the options and config.yaml, each checked (usage errors
 // before anything is read or computed).
 compensate::Settings settings_of(const Args& a, const profile::Config& cfg, const profile::MachineProfile& mp) {
@@ -285,11 +292,6 @@ compensate::Progress progress_for(Io& io) {
   };
 }
 
-std::string report_number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference) {

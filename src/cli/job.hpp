@@ -72,8 +72,6 @@ void apply_job(Args& a, std::vector<std::string>& files);
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr);
 // The progress line on a terminal (nothing elsewhere).
 compensate::Progress progress_for(Io& io);
-// A number as a person writes it: 0.01, 80, 2.5.
-std::string report_number(double v);
 // The run's provenance for report.html: what a reader needs to trust or redo it.
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference);

@@ -367,6 +367,12 @@ std::string report_html(const HtmlInput& in) {
   for (const auto& [k, v] : in.provenance) prov.push_back({k, v});
   Json facts = Json::array();
   for (const auto& f : in.facts) facts.push_back(f);
+  const ValueStats cs = value_stats(cusp);
+  if (cs.points) {
+    char b[96];
+    std::snprintf(b, sizeof b, "%.1f / %.1f µm", 1000 * cs.max, 1000 * cs.mean);
+    facts.push_back({"cusp height, max / mean (Mikó Eq. 7)", b, "cusp_height_mm"});
+  }
   Json data{{"provenance", std::move(prov)}, {"summary", in.summary}, {"tolerance_mm", in.tolerance_mm},
             {"scale_mm", scale}, {"facts", std::move(facts)}};
   data["grid"] = grid_json(g, maps, map_list);

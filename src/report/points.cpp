@@ -64,15 +64,18 @@ std::vector<process::CuspSample> cusp_samples(const std::vector<compensate::Poin
   return out;
 }
 
-PointTable table_of_simulation(std::vector<compensate::Point> pts, const std::vector<V3>& intent,
-                               const std::vector<interp::Motion>& motions, const compensate::Physics& ph,
-                               const compensate::Settings& s) {
+namespace {
+
+// The columns every table has: offsets along n, errors, path length; the cusp
+// column sized but empty (its source differs: the points' own, or the
+// program as written).
+PointTable base_table(std::vector<compensate::Point> pts, const std::vector<V3>& intent) {
   PointTable t;
-  t.cusp = cusp_of(pts, motions, ph, s);
   t.path_mm = path_lengths(pts);
   t.offset_n_mm.resize(pts.size());
   t.error_mm.assign(pts.size(), kNone);
   t.error_as_written_mm.assign(pts.size(), kNone);
+  t.cusp.resize(pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const V3 off = offset_at(pts[i], intent);
     t.offset_n_mm[i] = off.dot(pts[i].normal);
@@ -82,9 +85,20 @@ PointTable table_of_simulation(std::vector<compensate::Point> pts, const std::ve
   return t;
 }
 
-PointTable table_of_compensation(const compensate::Result& r, const std::vector<interp::Motion>& original,
-                                 const compensate::Physics& ph, const compensate::Settings& s) {
-  PointTable t = table_of_simulation(r.final, r.offsets, r.motions, ph, s);
+}  // namespace
+
+PointTable table_of_simulation(std::vector<compensate::Point> pts, const std::vector<V3>& intent,
+                               const std::vector<interp::Motion>& motions, const compensate::Physics& ph,
+                               const compensate::Settings& s) {
+  PointTable t = base_table(std::move(pts), intent);
+  t.cusp = cusp_of(t.points, motions, ph, s);
+  return t;
+}
+
+PointTable table_of_compensation(std::vector<compensate::Point> final, const compensate::Result& r,
+                                 const std::vector<interp::Motion>& original, const compensate::Physics& ph,
+                                 const compensate::Settings& s) {
+  PointTable t = base_table(std::move(final), r.offsets);
   t.has_as_written = true;
   // The original move of each motion of the result: an inserted block splits
   // the next motion that is not inserted.
@@ -99,20 +113,21 @@ PointTable table_of_compensation(const compensate::Result& r, const std::vector<
   for (std::size_t i = r.nominal.size(); i-- > 0;) first[r.nominal[i].motion] = i;
   for (std::size_t m = original.size(); m-- > 0;) first[m] = std::min(first[m], first[m + 1]);
   const std::vector<process::CuspResult> cusp = cusp_of(r.nominal, original, ph, s);
+  // The points of one original move (its inserted pieces first) run along it
+  // in order, as its as-written samples do: the nearest sample is found by a
+  // cursor that only moves forward, O(n) over the program.
+  std::size_t m_cur = original.size(), cur = 0;
   for (std::size_t i = 0; i < t.points.size(); ++i) {
     const compensate::Point& p = t.points[i];
     const std::size_t m = parent[p.motion];
+    if (first[m] == first[m + 1]) continue;  // no sample as written
+    if (m != m_cur) m_cur = m, cur = first[m];
     const V3 design = p.tip_mm - offset_at(p, r.offsets);
-    std::size_t best = r.nominal.size();
-    double best_d = HUGE_VAL;
-    for (std::size_t j = first[m]; j < first[m + 1]; ++j) {
-      const double d = (r.nominal[j].tip_mm - design).squaredNorm();
-      if (d < best_d) { best_d = d; best = j; }
-    }
-    if (best == r.nominal.size()) continue;
-    const compensate::Point& q = r.nominal[best];
+    auto d2 = [&](std::size_t j) { return (r.nominal[j].tip_mm - design).squaredNorm(); };
+    while (cur + 1 < first[m + 1] && d2(cur + 1) < d2(cur)) ++cur;  // a tie keeps the earlier, as a full scan would
+    const compensate::Point& q = r.nominal[cur];
     if (!q.air && !q.plunge) t.error_as_written_mm[i] = q.error_mm;
-    t.cusp[i] = cusp[best];
+    t.cusp[i] = cusp[cur];
   }
   return t;
 }

@@ -31,6 +31,7 @@ struct Entry {
   std::map<std::string, std::string> note;
 };
 
+// A number as YAML reads it back: 6 significant digits, written as a plain scalar.
 std::string number_text(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.6g", v);
@@ -50,13 +51,13 @@ std::string to_yaml(const std::vector<Entry>& tools, const std::string& header, 
     };
     if (!e.description.empty()) key("description", e.description);
     key("type", e.type);
-    key("diameter_mm", YAML::Load(number_text(e.d_mm)));
-    if (e.type == "bull") key("corner_radius_mm", YAML::Load(number_text(e.corner_mm)));
+    key("diameter_mm", number_text(e.d_mm));
+    if (e.type == "bull") key("corner_radius_mm", number_text(e.corner_mm));
     key("flutes", e.flutes);
-    key("helix_deg", YAML::Load(number_text(e.helix_deg)));
-    key("flute_length_mm", YAML::Load(number_text(e.flute_mm)));
-    key("stickout_mm", YAML::Load(number_text(e.stickout_mm)));
-    if (e.shank_mm) key("shank_diameter_mm", YAML::Load(number_text(*e.shank_mm)));
+    key("helix_deg", number_text(e.helix_deg));
+    key("flute_length_mm", number_text(e.flute_mm));
+    key("stickout_mm", number_text(e.stickout_mm));
+    if (e.shank_mm) key("shank_diameter_mm", number_text(*e.shank_mm));
     key("material", e.material);
     out << YAML::EndMap;
   }
