@@ -11,14 +11,14 @@ namespace deflex::cli {
 
 int cmd_stock(const std::vector<std::string>& args, Io& io) {
   ReadOptions read;
-  std::string stock_spec, tool_file, output;
+  std::string stock_given, tool_file, output;
   std::vector<std::string> stock_from;
   double cell_mm = 0.05, tol_mm = 0.001, cl_spacing_mm = 0.5;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
       "output,o", po::value(&output), "the STL to write (binary; atomically)")(
-      "stock", po::value(&stock_spec), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")(
+      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")(
       "stock-from", po::value(&stock_from)->composing(), "an earlier program swept into the stock with its own tools; repeat, in order")(
       "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
       "cell-mm", po::value(&cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
@@ -42,10 +42,8 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
   writer::check_output_path(output, "");
   if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(Exit::usage, "--mesh-tolerance must be in [0, 10] mm");
   if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
-  const Setup s = resolve(read);
-  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
-  const std::string spec = !stock_spec.empty() ? stock_spec : config_path(s.config, "stock");
-  if (spec.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
+  const Setup s = resolve_with_machine(read);
+  const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
   std::vector<std::vector<interp::Motion>> earlier;
   for (const std::string& f : stock_from) earlier.push_back(read_earlier(f, s, lib, io));

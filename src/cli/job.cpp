@@ -7,7 +7,9 @@
 #include <set>
 
 #include "deflex/compensate/gouge.hpp"
+#include "deflex/engage/engagement.hpp"
 #include "deflex/engage/path.hpp"
+#include "deflex/force/tool.hpp"
 #include "deflex/engage/sweep_program.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
@@ -129,7 +131,7 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
 }  // namespace
 
 std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
-                                         Io& io) {
+                                         Io& io, const std::string& tool_override) {
   if (file == "-") throw Error(Exit::usage, "--stock-from takes files (standard input is the program's)");
   const gcode::Program prog(gcode::read_source(file, &io.in));
   Diagnostics diags(&io.err, setup.max_errors);
@@ -141,10 +143,10 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
   for (const interp::Motion& m : motions) {
     if (diags.errors()) break;
     if (m.kind == interp::MotionKind::rapid) continue;
-    const std::string id = "T" + std::to_string(m.tool);
-    if (m.tool == 0 || !lib.tools.count(id)) {
+    const std::string id = !tool_override.empty() ? tool_override : "T" + std::to_string(m.tool);
+    if ((m.tool == 0 && tool_override.empty()) || !lib.tools.count(id)) {
       diags.report(Severity::error, prog.source(), m.line, 1,
-                   (m.tool == 0 ? std::string("cutting with no tool selected (T.. M6)")
+                   (m.tool == 0 && tool_override.empty() ? std::string("cutting with no tool selected (T.. M6)")
                                 : "tool " + id + " is not in the tool library " + lib.file) +
                        ": an earlier operation sweeps the stock with its own tools");
       throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
@@ -157,7 +159,7 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
 
 // Sweeps an earlier operation's motions into the job's stock with their own tools.
 void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
-                   double cl_spacing_mm) {
+                   double cl_spacing_mm, const std::string& tool_override) {
   engage::PathOptions po;
   po.cl_spacing_mm = cl_spacing_mm;
   // Before the first tool change the tool is the one of the first cutting motion.
@@ -166,17 +168,13 @@ void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, c
     if (m.tool) { first = m.tool; break; }
   // A program with no tool at all has only rapids (read_earlier checked the
   // cutting moves): nothing is known to sweep.
-  if (!first) return;
+  if (!first && tool_override.empty()) return;
   engage::sweep_motions(z, motions, [&](const interp::Motion& m) {
-    const stiffness::Tool& t = lib.tools.at("T" + std::to_string(m.tool ? m.tool : first));
-    stock::ToolProfile p;
-    p.radius_mm = t.diameter_mm / 2;
-    p.kind = t.type == stiffness::ToolType::ball ? stock::ToolKind::ball
-             : t.type == stiffness::ToolType::bull ? stock::ToolKind::bull : stock::ToolKind::flat;
-    p.corner_radius_mm = t.corner_radius_mm;
-    return p;
+    return profile_of(lib.tools.at(!tool_override.empty() ? tool_override : "T" + std::to_string(m.tool ? m.tool : first)));
   }, po);
 }
+
+stock::ToolProfile profile_of(const stiffness::Tool& t) { return engage::tool_profile(force::cutter_of(t)); }
 
 void apply_job(Args& a, std::vector<std::string>& files) {
   if (a.job.empty()) return;
@@ -217,15 +215,25 @@ void apply_job(Args& a, std::vector<std::string>& files) {
   text("report", a.report, true);
 }
 
-Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
-  Setup s = resolve(a.read);
+Setup resolve_with_machine(const ReadOptions& r) {
+  Setup s = resolve(r);
   if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  return s;
+}
+
+std::string stock_spec(const std::string& given, const profile::Config& cfg) {
+  const std::string s = !given.empty() ? given : config_path(cfg, "stock");
+  if (s.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  return s;
+}
+
+Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
+  Setup s = resolve_with_machine(a.read);
   Job j{std::move(s), {}, {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
-  std::string stock = !a.stock.empty() ? a.stock : config_path(cfg, "stock");
-  if (stock.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  const std::string stock = stock_spec(a.stock, cfg);
   j.stock_spec = stock;
   j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);

@@ -14,6 +14,7 @@
 #include "deflex/part/part.hpp"
 #include "deflex/process/machining_time.hpp"
 #include "deflex/report/json.hpp"
+#include "deflex/stock/tool.hpp"
 #include "deflex/stock/zmap.hpp"
 
 namespace deflex::cli {
@@ -54,12 +55,19 @@ struct Collect : interp::MotionSink {
 void describe(po::options_description& d, Args& a, bool compensating);
 // An earlier operation (--stock-from): read and interpreted under `setup`,
 // its diagnostics naming its own file, checked (travel, every cutting motion's
-// tool in `lib`) before anything is swept. Throws on any error.
+// tool in `lib`, or `tool_override` for every cut) before anything is
+// swept. Throws on any error.
 std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
-                                         Io& io);
-// Sweeps its motions into `z` with their own tools, geometry only.
+                                         Io& io, const std::string& tool_override = "");
+// Sweeps its motions into `z` with their own tools (or `tool_override`), geometry only.
 void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
-                   double cl_spacing_mm);
+                   double cl_spacing_mm, const std::string& tool_override = "");
+// The setup of a run that needs a machine (travel, dialect): throws Error(usage) without one.
+Setup resolve_with_machine(const ReadOptions& r);
+// The stock a run starts from: `given` (--stock), else config.yaml's; throws Error(usage) when neither.
+std::string stock_spec(const std::string& given, const profile::Config& cfg);
+// The Z-map's view of a library tool: its lower surface.
+stock::ToolProfile profile_of(const stiffness::Tool& t);
 
 // Fills what the command line left out from the job file `a.job` (if any);
 // `files` gets the job's program when the command line names none. Paths in

@@ -31,6 +31,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io);    // issue 5
 int cmd_compare(const std::vector<std::string>& args, Io& io);     // issue 12
 int cmd_tools(const std::vector<std::string>& args, Io& io);       // issue 13
 int cmd_stock(const std::vector<std::string>& args, Io& io);       // issue 13
+int cmd_rough(const std::vector<std::string>& args, Io& io);       // issue 13
 
 // Runs `deflex ARGS...` in-process (what main() does); used by golden tests.
 int run(const std::vector<std::string>& argv, Io& io);
