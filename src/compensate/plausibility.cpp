@@ -48,103 +48,165 @@ struct Acc {
   Finding f;
   std::set<std::uint32_t> seen;
   bool any = false;
-  void add(const Point& p, double value, const std::string& tool) {
+  void add(std::uint32_t line, double value, const std::string& tool) {
     ++f.count;
     if (!any || value > f.worst) {
       f.worst = value;
-      f.line = p.line;
+      f.line = line;
       f.tool = tool;
     }
     any = true;
-    if (seen.insert(p.line).second && f.lines.size() < 12) f.lines.push_back(p.line);
+    if (seen.insert(line).second && f.lines.size() < 12) f.lines.push_back(line);
   }
+};
+
+// A point of a full-width slot run (kept until the run is judged).
+struct RunPoint {
+  std::uint32_t line = 0, motion = 0;
+  V3 tip_mm = V3::Zero();
+  double ap_mm = 0;
 };
 
 }  // namespace
 
-Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
-                          const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines) {
-  const std::set<std::uint32_t> capped =
-      capped_lines ? std::set<std::uint32_t>(capped_lines->begin(), capped_lines->end()) : std::set<std::uint32_t>{};
+struct PlausibilityScan::State {
+  const std::vector<interp::Motion>& motions;
+  const stiffness::ToolLibrary& tools;
+  const Settings& s;
   Acc flute, force, cap, centre, rough;
-  flute.f.kind = "flute_length";
-  force.f.kind = "peak_force";
-  cap.f.kind = "offset_cap";
-  centre.f.kind = "centre_cutting";
-  rough.f.kind = "roughing";
   std::map<std::string, ForceLimit> limits;
   double force_peak = 0, force_lim = 0;  // peak_force: the worst by F / limit
   // Full-width deep slot runs (flat and bull ends): points and path length.
-  std::vector<const Point*> run;
+  std::vector<RunPoint> run;
   double run_mm = 0;
   std::string run_tool;
-  auto end_run = [&] {
+  // For the cap with the capped lines (known only at the end): the worst |e|
+  // and its tool per line, of the points that are neither in air nor plunges.
+  std::vector<double> line_worst;
+  std::vector<std::string> line_tool;
+
+  State(const std::vector<interp::Motion>& m, const stiffness::ToolLibrary& t, const Settings& st)
+      : motions(m), tools(t), s(st) {
+    flute.f.kind = "flute_length";
+    force.f.kind = "peak_force";
+    cap.f.kind = "offset_cap";
+    centre.f.kind = "centre_cutting";
+    rough.f.kind = "roughing";
+  }
+  void end_run() {
     if (run_mm > 1.0)
-      for (const Point* q : run) rough.add(*q, q->ap_mm, run_tool);
+      for (const RunPoint& q : run) rough.add(q.line, q.ap_mm, run_tool);
     run.clear();
     run_mm = 0;
-  };
-  for (const Point& p : points) {
-    if (p.motion >= motions.size()) continue;
-    const std::string id = tool_id(motions[p.motion], s);
-    const auto it = tools.tools.find(id);
-    if (it == tools.tools.end()) continue;
-    const stiffness::Tool& t = it->second;
-    const double D = t.diameter_mm, R = 0.5 * D;
-    // 1. Above the flutes: the engaged edge reaches their top and the stock stands higher.
-    if (!p.air && p.ap_mm >= t.flute_length_mm - s.slice_mm && p.stock_depth_mm > t.flute_length_mm + 0.01) {
-      flute.add(p, p.stock_depth_mm, id);
-      flute.f.limit = t.flute_length_mm;
-    }
-    // 2. Peak force over the limit (the worst by its ratio to its tool's limit).
-    if (!p.air) {
-      auto li = limits.find(id);
-      if (li == limits.end()) li = limits.emplace(id, force_limit(t)).first;
-      const double lim = li->second.N;
-      if (p.peak_N > lim) {
-        const bool worse = !force.any || p.peak_N / lim > force.f.worst;
-        force.add(p, p.peak_N / lim, id);
-        if (worse) {
-          force_peak = p.peak_N;
-          force_lim = lim;
-        }
-      }
-    }
-    // 3. The offset cap bites.
-    if (!p.air && !p.plunge && (capped_lines ? capped.count(p.line) > 0 : s.gain * std::fabs(p.error_mm) > s.max_offset_mm)) {
-      cap.add(p, std::fabs(p.error_mm), id);
-      cap.f.limit = s.max_offset_mm;
-    }
-    // 4. A plunge into material with an end that does not cut at its centre.
-    if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
-      centre.add(p, std::max(p.ap_mm, p.stock_depth_mm), id);
-    }
-    // 5. Roughing under a finishing tool.
-    if (t.type == stiffness::ToolType::ball) {
-      if (!p.air && p.ap_mm > R + 1e-6) {
-        // a_p stops at the top of the flutes: past them the stock tells the depth.
-        rough.add(p, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
-        rough.f.limit = R;
-      }
-    } else {
-      const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D;
-      if (slot && (run.empty() || (run_tool == id && run.back()->motion + 1 >= p.motion))) {
-        if (!run.empty()) run_mm += (p.tip_mm - run.back()->tip_mm).norm();
-        run.push_back(&p);
-        run_tool = id;
-        rough.f.limit = std::max(rough.f.limit, 0.5 * D);
-      } else {
-        end_run();
-        if (slot) {
-          run.push_back(&p);
-          run_tool = id;
-        }
+  }
+  void add(const Point& p);
+};
+
+void PlausibilityScan::State::add(const Point& p) {
+  if (p.motion >= motions.size()) return;
+  const std::string id = tool_id(motions[p.motion], s);
+  const auto it = tools.tools.find(id);
+  if (it == tools.tools.end()) return;
+  const stiffness::Tool& t = it->second;
+  const double D = t.diameter_mm, R = 0.5 * D;
+  // 1. Above the flutes: the engaged edge reaches their top and the stock stands higher.
+  if (!p.air && p.ap_mm >= t.flute_length_mm - s.slice_mm && p.stock_depth_mm > t.flute_length_mm + 0.01) {
+    flute.add(p.line, p.stock_depth_mm, id);
+    flute.f.limit = t.flute_length_mm;
+  }
+  // 2. Peak force over the limit (the worst by its ratio to its tool's limit).
+  if (!p.air) {
+    auto li = limits.find(id);
+    if (li == limits.end()) li = limits.emplace(id, force_limit(t)).first;
+    const double lim = li->second.N;
+    if (p.peak_N > lim) {
+      const bool worse = !force.any || p.peak_N / lim > force.f.worst;
+      force.add(p.line, p.peak_N / lim, id);
+      if (worse) {
+        force_peak = p.peak_N;
+        force_lim = lim;
       }
     }
   }
-  end_run();
+  // 3. The offset cap bites (by the nominal error; finish() redoes it with the capped lines).
+  if (!p.air && !p.plunge) {
+    if (s.gain * std::fabs(p.error_mm) > s.max_offset_mm) {
+      cap.add(p.line, std::fabs(p.error_mm), id);
+      cap.f.limit = s.max_offset_mm;
+    }
+    if (p.line >= line_worst.size()) {
+      line_worst.resize(p.line + 1, -1.0);
+      line_tool.resize(p.line + 1);
+    }
+    if (std::fabs(p.error_mm) > line_worst[p.line]) {
+      line_worst[p.line] = std::fabs(p.error_mm);
+      line_tool[p.line] = id;
+    }
+  }
+  // 4. A plunge into material with an end that does not cut at its centre.
+  if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
+    centre.add(p.line, std::max(p.ap_mm, p.stock_depth_mm), id);
+  }
+  // 5. Roughing under a finishing tool.
+  if (t.type == stiffness::ToolType::ball) {
+    if (!p.air && p.ap_mm > R + 1e-6) {
+      // a_p stops at the top of the flutes: past them the stock tells the depth.
+      rough.add(p.line, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
+      rough.f.limit = R;
+    }
+  } else {
+    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D;
+    const RunPoint q{p.line, p.motion, p.tip_mm, p.ap_mm};
+    if (slot && (run.empty() || (run_tool == id && run.back().motion + 1 >= p.motion))) {
+      if (!run.empty()) run_mm += (p.tip_mm - run.back().tip_mm).norm();
+      run.push_back(q);
+      run_tool = id;
+      rough.f.limit = std::max(rough.f.limit, 0.5 * D);
+    } else {
+      end_run();
+      if (slot) {
+        run.push_back(q);
+        run_tool = id;
+      }
+    }
+  }
+}
 
+PlausibilityScan::PlausibilityScan(const std::vector<interp::Motion>& motions, const stiffness::ToolLibrary& tools,
+                                   const Settings& s)
+    : st_(std::make_unique<State>(motions, tools, s)) {}
+PlausibilityScan::~PlausibilityScan() = default;
+void PlausibilityScan::add(const Point& p) { st_->add(p); }
+
+Plausibility PlausibilityScan::finish(const std::vector<std::uint32_t>* capped_lines) {
+  State& z = *st_;
+  z.end_run();
+  const stiffness::ToolLibrary& tools = z.tools;
+  const Settings& s = z.s;
+  Acc &flute = z.flute, &force = z.force, &centre = z.centre, &rough = z.rough;
+  Acc cap;
+  cap.f.kind = "offset_cap";
+  if (!capped_lines) {
+    cap = z.cap;
+  } else {
+    // The cap bit at the motion ends: count those, the lines in program order;
+    // the worst |e| of the points on their lines (the earliest line on a tie).
+    const std::set<std::uint32_t> capped(capped_lines->begin(), capped_lines->end());
+    for (std::uint32_t l : capped)
+      if (l < z.line_worst.size() && z.line_worst[l] >= 0 && (!cap.any || z.line_worst[l] > cap.f.worst)) {
+        cap.f.worst = z.line_worst[l];
+        cap.f.line = l;
+        cap.f.tool = z.line_tool[l];
+        cap.any = true;
+      }
+    cap.f.limit = s.max_offset_mm;
+    cap.f.count = capped_lines->size();
+    std::set<std::uint32_t> seen;
+    for (std::uint32_t l : *capped_lines)
+      if (seen.insert(l).second && cap.f.lines.size() < 12) cap.f.lines.push_back(l);
+    cap.seen = seen;
+  }
+  const double force_peak = z.force_peak, force_lim = z.force_lim;
   Plausibility out;
   auto lines_text = [](const Finding& f) {
     std::string l;
@@ -176,15 +238,6 @@ Plausibility plausibility(const std::vector<interp::Motion>& motions, const std:
     emit(force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
                     num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
   }
-  if (cap.any && capped_lines) {
-    // The cap bit at the motion ends: count those, the lines in program order.
-    cap.f.count = capped_lines->size();
-    cap.f.lines.clear();
-    std::set<std::uint32_t> seen;
-    for (std::uint32_t l : *capped_lines)
-      if (seen.insert(l).second && cap.f.lines.size() < 12) cap.f.lines.push_back(l);
-    cap.seen = seen;
-  }
   if (cap.any)
     emit(cap, "the deflection along the surface normal reaches " + num(cap.f.worst, 4) +
                   " mm, over the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) +
@@ -202,6 +255,15 @@ Plausibility plausibility(const std::vector<interp::Motion>& motions, const std:
                     "): the stock looks like a raw blank that needs roughing first");
   }
   return out;
+}
+
+
+Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
+                          const stiffness::ToolLibrary& tools, const Settings& s,
+                          const std::vector<std::uint32_t>* capped_lines) {
+  PlausibilityScan scan(motions, tools, s);
+  for (const Point& p : points) scan.add(p);
+  return scan.finish(capped_lines);
 }
 
 }  // namespace deflex::compensate

@@ -16,6 +16,7 @@
 //                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,5 +60,20 @@ ForceLimit force_limit(const stiffness::Tool& t);
 Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
                           const stiffness::ToolLibrary& tools, const Settings& s,
                           const std::vector<std::uint32_t>* capped_lines = nullptr);
+
+// The same, point by point as a simulation produces them (program order), so
+// that the points need not be kept: memory is the findings, the distinct lines
+// they name, and a worst |e| per line for the offset cap.
+class PlausibilityScan {
+ public:
+  PlausibilityScan(const std::vector<interp::Motion>& motions, const stiffness::ToolLibrary& tools, const Settings& s);
+  ~PlausibilityScan();
+  void add(const Point& p);
+  Plausibility finish(const std::vector<std::uint32_t>* capped_lines = nullptr);
+
+ private:
+  struct State;
+  std::unique_ptr<State> st_;
+};
 
 }  // namespace deflex::compensate
