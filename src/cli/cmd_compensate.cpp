@@ -110,7 +110,22 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   Job j = prepare(a, io, true);
   auto progress = progress_for(io);
   const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
-  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok);
+  // Without --report the points are not kept: the figures and the
+  // plausibility scan take them as the simulations produce them.
+  const double tol = j.settings.tolerance_mm;
+  const bool keep = !a.report.empty();
+  report::ErrorAccumulator before_acc(tol, keep), after_acc(tol, keep);
+  compensate::PlausibilityScan scan(j.motions, j.physics.tools, j.settings);
+  compensate::PointSinks sinks;
+  sinks.nominal = [&](const compensate::Point& p) {
+    scan.add(p);
+    if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
+  };
+  sinks.final = [&](const compensate::Point& p, const V3& off) {
+    if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
+  };
+  compensate::Result r =
+      compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, keep ? nullptr : &sinks);
   if (progress) io.err << "\r\033[K";
   std::vector<bool> can = compensate::movable(r.motions);
   compensate::WriteStats ws;
@@ -125,7 +140,13 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
-  const compensate::Plausibility pl = report_plausibility(j, r.nominal, io, &r.capped_lines);
+  compensate::Plausibility pl;
+  if (keep) {
+    pl = report_plausibility(j, r.nominal, io, &r.capped_lines);
+  } else {
+    pl = scan.finish(&r.capped_lines);
+    print_plausibility(j, pl, io);
+  }
   if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
@@ -144,9 +165,10 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
            << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
            << " mm); the best iterate is written\n";
-  const double tol = j.settings.tolerance_mm;
-  const report::ErrorStats before = report::error_stats(report::landing_errors(r.nominal, {}), tol);
-  const report::ErrorStats after = report::error_stats(report::landing_errors(r.final, r.offsets), tol);
+  const report::ErrorStats before =
+      keep ? report::error_stats(report::landing_errors(r.nominal, {}), tol) : before_acc.stats();
+  const report::ErrorStats after =
+      keep ? report::error_stats(report::landing_errors(r.final, r.offsets), tol) : after_acc.stats();
   io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
          << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
          << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "

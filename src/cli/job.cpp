@@ -335,10 +335,14 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
 compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
                                              const std::vector<std::uint32_t>* capped_lines) {
   compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings, capped_lines);
+  print_plausibility(j, pl, io);
+  return pl;
+}
+
+void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io) {
   Diagnostics diags(&io.err, 0);
   for (const compensate::Finding& f : pl.findings)
     diags.report(Severity::warning, j.prog.source(), f.line, 1, f.message + " [" + f.kind + "]");
-  return pl;
 }
 
 report::Json warnings_json(const compensate::Plausibility& pl) {

@@ -87,6 +87,8 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
 // line of the worst point, and their summary.json array.
 compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
                                              const std::vector<std::uint32_t>* capped_lines = nullptr);
+// The findings of a scan already made (compensate::PlausibilityScan), printed as above.
+void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io);
 report::Json warnings_json(const compensate::Plausibility& pl);
 // Machining time from the machine's axis limits, one line on stderr.
 void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after);

@@ -261,43 +261,61 @@ double displacement_mm(const std::vector<interp::Motion>& om, const std::vector<
 }
 
 // Every motion read back against the one deflex meant, through the pairing.
-void check_motions(const std::vector<interp::Motion>& om, const std::vector<interp::Motion>& ym,
-                   const LinePairing& pairing, const interp::Options& opt, const std::vector<bool>& movable,
-                   double max_offset_mm, const std::vector<bool>* inserted, const std::vector<double>* feeds,
-                   const Fail& fail) {
-  // Numbers are written with the dialect's decimals: allow their rounding.
-  const double round_mm = 0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001;
-  const double round_in = 0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001;
-  MotionPairer pairer(pairing, om, inserted);
-  for (std::size_t i = 0; i < ym.size(); ++i) {
-    const interp::Motion& y = ym[i];
-    if (i >= om.size()) fail(1, "the written program has more motions than the original");
-    const interp::Motion& x = om[i];
-    const bool ins = inserted && (*inserted)[i];
-    const MotionPair p = pairer.next(y);
+// Each motion of the written program, as the interpreter gives it, against
+// the original's (nothing kept: the check runs while the output is read back).
+class MotionCheck : public interp::MotionSink {
+ public:
+  MotionCheck(const std::vector<interp::Motion>& om, const LinePairing& pairing, const interp::Options& opt,
+              const std::vector<bool>& movable, double max_offset_mm, const std::vector<bool>* inserted,
+              const std::vector<double>* feeds, const Fail& fail)
+      : om_(om), pairer_(pairing, om, inserted), movable_(movable), max_offset_mm_(max_offset_mm),
+        inserted_(inserted), feeds_(feeds), fail_(fail),
+        // Numbers are written with the dialect's decimals: allow their rounding.
+        round_mm_(0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001),
+        round_in_(0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001) {}
+
+  void motion(const interp::Motion& y) override {
+    const std::size_t i = i_++;
+    if (i >= om_.size()) fail_(1, "the written program has more motions than the original");
+    const interp::Motion& x = om_[i];
+    const bool ins = inserted_ && (*inserted_)[i];
+    const MotionPair p = pairer_.next(y);
     if (p.original == MotionPair::none || p.inserted != ins || (!ins && p.original != i))
-      fail(x.line, "a motion has no counterpart in the original");
-    if (ins && om[p.original].kind == interp::MotionKind::rapid) fail(x.line, "an inserted block before a rapid");
-    if (x.kind != y.kind) fail(x.line, "a motion changed its kind");
+      fail_(x.line, "a motion has no counterpart in the original");
+    if (ins && om_[p.original].kind == interp::MotionKind::rapid) fail_(x.line, "an inserted block before a rapid");
+    if (x.kind != y.kind) fail_(x.line, "a motion changed its kind");
     if (x.kind != interp::MotionKind::rapid) {
       // Feeds: as programmed, or as --feed-limit lowered them (never higher).
-      const double want = feeds ? (*feeds)[i] : x.feed_mm_per_min;
+      const double want = feeds_ ? (*feeds_)[i] : x.feed_mm_per_min;
       if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0))
-        fail(x.line, "a feed rate is not the one deflex meant");
-      if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail(x.line, "a feed rate went up");
+        fail_(x.line, "a feed rate is not the one deflex meant");
+      if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail_(x.line, "a feed rate went up");
     }
-    const double r = (x.inch ? round_in : round_mm) * std::sqrt(3.0);
-    const double allowed = movable[i] || ins ? max_offset_mm + r : r;
-    const double dist = displacement_mm(om, inserted, i, p, y);
+    const double r = (x.inch ? round_in_ : round_mm_) * std::sqrt(3.0);
+    const double allowed = movable_[i] || ins ? max_offset_mm_ + r : r;
+    const double dist = displacement_mm(om_, inserted_, i, p, y);
     if (dist > allowed) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a %s motion moved by %.6f mm (allowed %.6f mm)",
-                    ins ? "inserted" : movable[i] ? "compensated" : "fixed", dist, allowed);
-      fail(x.line, buf);
+                    ins ? "inserted" : movable_[i] ? "compensated" : "fixed", dist, allowed);
+      fail_(x.line, buf);
     }
   }
-  if (!pairer.complete() || ym.size() != om.size()) fail(1, "the written program has a different number of motions");
-}
+  void finish() {
+    if (!pairer_.complete() || i_ != om_.size()) fail_(1, "the written program has a different number of motions");
+  }
+
+ private:
+  const std::vector<interp::Motion>& om_;
+  MotionPairer pairer_;
+  const std::vector<bool>& movable_;
+  double max_offset_mm_;
+  const std::vector<bool>* inserted_;
+  const std::vector<double>* feeds_;
+  const Fail& fail_;
+  double round_mm_, round_in_;
+  std::size_t i_ = 0;
+};
 
 }  // namespace
 
@@ -335,17 +353,16 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   }
   std::ostringstream errs;
   Diagnostics diags(&errs, 0);
-  std::vector<interp::Motion> ym;
-  Collect collect;
-  collect.out = &ym;
+  const Fail failing = fail;
+  MotionCheck check(om, want, opt, movable, max_offset_mm, inserted, feeds, failing);
   LineFactsSink facts;
   facts.lines = &fb;
   struct Both : interp::MotionSink {
     interp::MotionSink *x, *y;
     void motion(const interp::Motion& m) override { x->motion(m); y->motion(m); }
   } both;
-  both.x = &collect;
-  both.y = &facts;
+  both.x = &facts;
+  both.y = &check;
   interp::interpret(out, opt, diags, both);
   if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
   // What diff and simulate --reference will find from the structure alone must
@@ -356,7 +373,7 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
       fail(want.a_of_b[ol] ? want.a_of_b[ol] : want.parent_of_b[ol],
            "the written program does not pair with the original block by block (line " + std::to_string(ol) +
                " of the output)");
-  check_motions(om, ym, want, opt, movable, max_offset_mm, inserted, feeds, fail);
+  check.finish();
 }
 
 }  // namespace deflex::compensate

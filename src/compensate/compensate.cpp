@@ -258,13 +258,19 @@ std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>&
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                             const Physics& ph, const Settings& s, const Progress& progress,
                             const DesignNormals* normals) {
+  std::vector<Point> out;
+  out.reserve(motions.size() * 2);
+  simulate(motions, offsets, ph, s, [&out](const Point& p) { out.push_back(p); }, progress, normals);
+  return out;
+}
+
+void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
+              const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
   std::unique_ptr<DesignNormals> own;
   if (!normals) {
     own = design_normals(motions, ph, s);
     normals = own.get();
   }
-  std::vector<Point> out;
-  out.reserve(motions.size() * 2);
   std::vector<force::Vec3> rev;
   // CLSample::motion counts the motions one Simulator has run; ran[] maps it
   // back to the index in `motions` (rapids before the first cut are not run,
@@ -281,7 +287,7 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
     Point p = point_of(cl, mt, eng, *tm, design, design, a, b, *normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);
     if (zmap) p.stock_depth_mm = stock_depth(*zmap, cl, 0.5 * tm->tool.diameter_mm);
-    out.push_back(p);
+    out(p);
   };
   Run run(ph, s, sink);
   zmap = &run.zmap();
@@ -304,7 +310,6 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
     if (progress && (i % 4096 == 0)) progress("simulating", static_cast<double>(i) / static_cast<double>(n));
   }
   run.finish();
-  return out;
 }
 
 std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
@@ -345,8 +350,10 @@ namespace {
 class Stream {
  public:
   Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
-         const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress)
-      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress), run_(ph, s) {}
+         const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress,
+         const PointSinks* sinks)
+      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress),
+        sinks_(sinks), run_(ph, s) {}
 
   // Fills r.motions (and the rest of the result) anew; `motions` must not be r.motions.
   void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
@@ -432,7 +439,12 @@ class Stream {
     capped_ = false;
     for (Point& p : pts) {
       p.motion = index;
-      r_.final.push_back(p);
+      if (!sinks_) {
+        r_.final.push_back(p);
+      } else if (sinks_->final) {
+        const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
+        sinks_->final(p, V3(prev_ + u * (off - prev_)));
+      }
     }
     prev_ = off;
   }
@@ -579,6 +591,7 @@ class Stream {
   const std::vector<bool>* split_;
   const DesignNormals& normals_;
   const Progress& progress_;
+  const PointSinks* sinks_;
   Run run_;
   force::Engagement eng_;
   std::vector<force::Vec3> rev_;
@@ -594,7 +607,7 @@ class Stream {
 }  // namespace
 
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
-                  const Progress& progress, const std::vector<bool>* splittable) {
+                  const Progress& progress, const std::vector<bool>* splittable, const PointSinks* sinks) {
   const std::size_t n = motions.size();
   Result r;
   r.motions = motions;
@@ -607,10 +620,25 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   // its own thread, unless the feed limit needs its forces first (or one
   // thread was asked for).
   const std::unique_ptr<DesignNormals> normals = design_normals(motions, ph, s);
+  // The as-written points: kept in r.nominal, or handed to the sink; the feed
+  // limit needs their peak force per motion, and with gain 0 they are the
+  // final points as well (no feed lowered: the same program).
+  std::vector<double> peak(s.feed_limit_N > 0 ? n : 0, 0.0);
+  const bool same = s.gain == 0.0;
+  const PointSink keep = [&](const Point& p) {
+    if (!peak.empty()) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
+    if (!sinks) {
+      r.nominal.push_back(p);
+      return;
+    }
+    if (sinks->nominal) sinks->nominal(p);
+    if (same && s.feed_limit_N <= 0 && sinks->final) sinks->final(p, V3::Zero());
+  };
   std::exception_ptr nominal_failed;
   std::thread nominal;
-  if (s.feed_limit_N > 0 || s.gain == 0.0 || s.threads == 1) {
-    r.nominal = simulate(motions, {}, ph, s, progress, normals.get());
+  if (s.feed_limit_N > 0 || same || s.threads == 1) {
+    if (!sinks) r.nominal.reserve(n * 2);
+    simulate(motions, {}, ph, s, keep, progress, normals.get());
   } else {
     nominal = std::thread([&] {
       try {
@@ -618,7 +646,8 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
         // wall time is the run's.
         Settings one = s;
         one.threads = 1;
-        r.nominal = simulate(motions, {}, ph, one, {}, normals.get());
+        if (!sinks) r.nominal.reserve(n * 2);
+        simulate(motions, {}, ph, one, keep, {}, normals.get());
       } catch (...) {
         nominal_failed = std::current_exception();
       }
@@ -635,8 +664,6 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
     // peak force would exceed the limit. The cutting force grows with the chip
     // (f_z) while the edge force does not, so scaling F by limit/peak brings the
     // peak to the limit or below; the compensation then runs at these feeds.
-    std::vector<double> peak(n, 0.0);
-    for (const Point& p : r.nominal) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
     for (std::size_t i = 0; i < n; ++i) {
       const interp::Motion& m = motions[i];
       if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
@@ -647,13 +674,20 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
     }
   }
   r.feeds_mm_per_min = feeds;
-  if (s.gain == 0.0) {
-    r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress, normals.get());
+  if (same) {
+    // Nothing moves: the final points are those of the program as run (at the
+    // lowered feeds where the feed limit lowered them).
+    if (!sinks) {
+      r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress, normals.get());
+    } else if (sinks->final && s.feed_limit_N > 0) {  // else `keep` passed them on
+      simulate(r.feed_lowered_lines.empty() ? motions : r.motions, {}, ph, s,
+               [&](const Point& p) { sinks->final(p, V3::Zero()); }, progress, normals.get());
+    }
     r.converged = true;
     return r;
   }
   const std::vector<bool> can = movable(motions);
-  Stream(ph, s, r, can, splittable, *normals, progress).go(motions, feeds);
+  Stream(ph, s, r, can, splittable, *normals, progress, sinks).go(motions, feeds);
   if (nominal.joinable()) nominal.join();
   if (nominal_failed) std::rethrow_exception(nominal_failed);
   for (std::size_t i = 0; i < r.motions.size(); ++i)

@@ -5,36 +5,43 @@
 
 namespace deflex::report {
 
-ErrorStats error_stats(const std::vector<double>& e, double tol) {
-  ErrorStats s;
-  std::vector<double> mag;
-  mag.reserve(e.size());
-  double sq = 0;
-  std::size_t out = 0;
-  for (double v : e) {
-    if (std::isnan(v)) continue;
-    mag.push_back(std::fabs(v));
-    s.max_under = std::max(s.max_under, v);
-    s.max_over = std::min(s.max_over, v);
-    sq += v * v;
-    out += std::fabs(v) > tol;
+void ErrorAccumulator::add(double v) {
+  if (std::isnan(v)) return;
+  const double a = std::fabs(v);
+  if (keep_) mag_.push_back(a);
+  ++s_.points;
+  s_.max_under = std::max(s_.max_under, v);
+  s_.max_over = std::min(s_.max_over, v);
+  max_abs_ = std::max(max_abs_, a);
+  sq_ += v * v;
+  out_ += a > tol_;
+}
+
+ErrorStats ErrorAccumulator::stats() {
+  ErrorStats s = s_;
+  if (!s.points) return s;
+  const double n = static_cast<double>(s.points);
+  s.rms = std::sqrt(sq_ / n);
+  s.share_out = static_cast<double>(out_) / n;
+  s.max_abs = max_abs_;
+  if (keep_) {
+    // Nearest-rank percentiles: the smallest value with at least p of the points at or below it.
+    auto rank = [&](double p) {
+      const std::size_t k = static_cast<std::size_t>(std::ceil(p * n)) - 1;
+      std::nth_element(mag_.begin(), mag_.begin() + static_cast<std::ptrdiff_t>(k), mag_.end());
+      return mag_[k];
+    };
+    s.p50_abs = rank(0.50);
+    s.p95_abs = rank(0.95);
+    s.p99_abs = rank(0.99);
   }
-  s.points = mag.size();
-  if (mag.empty()) return s;
-  const double n = static_cast<double>(mag.size());
-  s.rms = std::sqrt(sq / n);
-  s.share_out = static_cast<double>(out) / n;
-  // Nearest-rank percentiles: the smallest value with at least p of the points at or below it.
-  auto rank = [&](double p) {
-    const std::size_t k = static_cast<std::size_t>(std::ceil(p * n)) - 1;
-    std::nth_element(mag.begin(), mag.begin() + static_cast<std::ptrdiff_t>(k), mag.end());
-    return mag[k];
-  };
-  s.p50_abs = rank(0.50);
-  s.p95_abs = rank(0.95);
-  s.p99_abs = rank(0.99);
-  s.max_abs = *std::max_element(mag.begin(), mag.end());
   return s;
+}
+
+ErrorStats error_stats(const std::vector<double>& e, double tol) {
+  ErrorAccumulator acc(tol, true);
+  for (double v : e) acc.add(v);
+  return acc.stats();
 }
 
 Json to_json(const ErrorStats& s) {

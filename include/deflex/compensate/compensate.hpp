@@ -131,6 +131,12 @@ using Progress = std::function<void(const std::string& stage, double fraction)>;
 std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                             const Physics& ph, const Settings& s, const Progress& progress = {},
                             const DesignNormals* normals = nullptr);
+// The same, each point handed to `sink` as it is produced (program order)
+// instead of kept: memory does not grow with the points.
+using PointSink = std::function<void(const Point&)>;
+void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
+              const Settings& s, const PointSink& sink, const Progress& progress = {},
+              const DesignNormals* normals = nullptr);
 
 // The tool id a motion cuts with: Settings::tool_override, else "T<n>".
 std::string tool_id(const interp::Motion& m, const Settings& s);
@@ -170,8 +176,19 @@ struct Result {
 // tolerance (Settings::max_splits_per_move at most); an arc whose compensation
 // varies by more than the tolerance is linearised: chords within chord_tol_mm
 // as inserted G1 blocks, the arc block keeping the last chord's piece.
+//
+// `sinks` (may be null): the points go to them as they are produced and
+// Result::nominal and Result::final stay empty; `nominal` is called on the
+// thread of the as-written simulation, `final` on the caller's, with the
+// offset the point lands with (its motion's offsets interpolated, as
+// report::offset_at does).
+struct PointSinks {
+  PointSink nominal;
+  std::function<void(const Point&, const V3& offset)> final;
+};
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
-                  const Progress& progress = {}, const std::vector<bool>* splittable = nullptr);
+                  const Progress& progress = {}, const std::vector<bool>* splittable = nullptr,
+                  const PointSinks* sinks = nullptr);
 
 // Which motions may be moved: compensable, and followed by a block the writer
 // can re-target (a plain G90 G0-G3 block) or by nothing.

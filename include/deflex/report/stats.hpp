@@ -18,6 +18,24 @@ struct ErrorStats {
 
 // NaN values are not points in material and are skipped.
 ErrorStats error_stats(const std::vector<double>& e_mm, double tolerance_mm);
+
+// The same one value at a time, as a simulation produces them. Percentiles
+// need every |e|: with `percentiles` false nothing is kept (memory constant)
+// and they stay 0.
+class ErrorAccumulator {
+ public:
+  ErrorAccumulator(double tolerance_mm, bool percentiles) : tol_(tolerance_mm), keep_(percentiles) {}
+  void add(double e_mm);
+  ErrorStats stats();
+
+ private:
+  double tol_;
+  bool keep_;
+  ErrorStats s_;
+  double sq_ = 0, max_abs_ = 0;
+  std::size_t out_ = 0;
+  std::vector<double> mag_;
+};
 Json to_json(const ErrorStats& s);
 
 // The statistics of a per-point quantity that may be missing (NaN): cusp heights.
