@@ -124,8 +124,11 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   sinks.final = [&](const compensate::Point& p, const V3& off) {
     if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
   };
+  // Nothing reads the initial stock after this: the mirror pass may cut it.
+  j.physics.consumable_stock = j.stock.get();
   compensate::Result r =
       compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, keep ? nullptr : &sinks);
+  j.physics.stock = j.physics.consumable_stock = nullptr;
   if (progress) io.err << "\r\033[K";
   std::vector<bool> can = compensate::movable(r.motions);
   compensate::WriteStats ws;

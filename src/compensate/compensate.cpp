@@ -169,9 +169,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
 // The stock and the tool's simulator along one run through the program.
 class Run {
  public:
-  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}) : ph_(ph), s_(s), sink_(std::move(sink)) {
+  // `own` (may be null): the map to cut, else a copy of the physics' stock.
+  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}, std::unique_ptr<stock::ZMap> own = nullptr)
+      : ph_(ph), s_(s), sink_(std::move(sink)), z_(std::move(own)) {
     if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
-    z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
+    if (!z_) z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
     so_.path.cl_spacing_mm = s.cl_spacing_mm;
     so_.threads = s.threads;
   }
@@ -264,8 +266,22 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
   return out;
 }
 
+namespace {
+void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Motion>& motions,
+                 const std::vector<V3>& offsets, const Physics& ph, const Settings& s, const PointSink& out,
+                 const Progress& progress, const DesignNormals* normals);
+}  // namespace
+
 void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
               const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
+  simulate_on(nullptr, motions, offsets, ph, s, out, progress, normals);
+}
+
+namespace {
+// simulate() on `map` (null: a copy of the physics' stock).
+void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Motion>& motions,
+                 const std::vector<V3>& offsets, const Physics& ph, const Settings& s, const PointSink& out,
+                 const Progress& progress, const DesignNormals* normals) {
   std::unique_ptr<DesignNormals> own;
   if (!normals) {
     own = design_normals(motions, ph, s);
@@ -289,7 +305,7 @@ void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>&
     if (zmap) p.stock_depth_mm = stock_depth(*zmap, cl, 0.5 * tm->tool.diameter_mm);
     out(p);
   };
-  Run run(ph, s, sink);
+  Run run(ph, s, sink, std::move(map));
   zmap = &run.zmap();
   auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
   const std::size_t n = motions.size();
@@ -311,6 +327,7 @@ void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>&
   }
   run.finish();
 }
+}  // namespace
 
 std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
   const std::size_t n = motions.size();
@@ -351,9 +368,9 @@ class Stream {
  public:
   Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
          const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress,
-         const PointSinks* sinks)
+         const PointSinks* sinks, std::unique_ptr<stock::ZMap> own)
       : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress),
-        sinks_(sinks), run_(ph, s) {}
+        sinks_(sinks), run_(ph, s, {}, std::move(own)) {}
 
   // Fills r.motions (and the rest of the result) anew; `motions` must not be r.motions.
   void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
@@ -634,11 +651,15 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
     if (sinks->nominal) sinks->nominal(p);
     if (same && s.feed_limit_N <= 0 && sinks->final) sinks->final(p, V3::Zero());
   };
+  // With a consumable stock the as-written simulation cuts a copy made here,
+  // before the mirror pass takes the caller's map over.
+  const bool take = ph.consumable_stock && ph.consumable_stock == ph.stock && !same;
+  std::unique_ptr<stock::ZMap> nominal_map = take ? std::make_unique<stock::ZMap>(clone(*ph.stock)) : nullptr;
   std::exception_ptr nominal_failed;
   std::thread nominal;
   if (s.feed_limit_N > 0 || same || s.threads == 1) {
     if (!sinks) r.nominal.reserve(n * 2);
-    simulate(motions, {}, ph, s, keep, progress, normals.get());
+    simulate_on(std::move(nominal_map), motions, {}, ph, s, keep, progress, normals.get());
   } else {
     nominal = std::thread([&] {
       try {
@@ -647,7 +668,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
         Settings one = s;
         one.threads = 1;
         if (!sinks) r.nominal.reserve(n * 2);
-        simulate(motions, {}, ph, one, keep, {}, normals.get());
+        simulate_on(std::move(nominal_map), motions, {}, ph, one, keep, {}, normals.get());
       } catch (...) {
         nominal_failed = std::current_exception();
       }
@@ -687,7 +708,9 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
     return r;
   }
   const std::vector<bool> can = movable(motions);
-  Stream(ph, s, r, can, splittable, *normals, progress, sinks).go(motions, feeds);
+  std::unique_ptr<stock::ZMap> mirror_map =
+      take ? std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock)) : nullptr;
+  Stream(ph, s, r, can, splittable, *normals, progress, sinks, std::move(mirror_map)).go(motions, feeds);
   if (nominal.joinable()) nominal.join();
   if (nominal_failed) std::rethrow_exception(nominal_failed);
   for (std::size_t i = 0; i < r.motions.size(); ++i)

@@ -80,6 +80,10 @@ struct Physics {
   bool tool_only = false;       // no holder/spindle/structure in C(h)
   force::Coefficients k;
   const stock::ZMap* stock = nullptr;  // initial stock; copied per simulation
+  // The same map when the caller no longer needs it: compensate() then runs
+  // its mirror pass on it instead of on a copy (one Z-map less in memory) and
+  // leaves it moved from. Null: every simulation copies `stock`.
+  stock::ZMap* consumable_stock = nullptr;
   const part::PartModel* part = nullptr;  // the design surface (may be null)
 };
 
