@@ -247,6 +247,9 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
   Collect c;
   c.out = &j.motions;
+  // About one motion per line: reserved once, the list is not copied while it
+  // grows (at 10M motions a doubling would hold 2 GB for a moment).
+  j.motions.reserve(j.prog.line_count());
   interp::interpret(j.prog, j.setup.interp(), diags, c);
   // The machine's travel before any simulation: a move far outside it is a
   // crash on the machine and unbounded work here.

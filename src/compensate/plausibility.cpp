@@ -83,7 +83,14 @@ struct PlausibilityScan::State {
   // For the cap with the capped lines (known only at the end): the worst |e|
   // and its tool per line, of the points that are neither in air nor plunges.
   std::vector<double> line_worst;
-  std::vector<std::string> line_tool;
+  std::vector<std::uint16_t> line_tool;  // index into tool_names
+  std::vector<std::string> tool_names;
+  std::uint16_t tool_index(const std::string& id) {
+    for (std::size_t k = 0; k < tool_names.size(); ++k)
+      if (tool_names[k] == id) return static_cast<std::uint16_t>(k);
+    tool_names.push_back(id);
+    return static_cast<std::uint16_t>(tool_names.size() - 1);
+  }
 
   State(const std::vector<interp::Motion>& m, const stiffness::ToolLibrary& t, const Settings& st)
       : motions(m), tools(t), s(st) {
@@ -140,7 +147,7 @@ void PlausibilityScan::State::add(const Point& p) {
     }
     if (std::fabs(p.error_mm) > line_worst[p.line]) {
       line_worst[p.line] = std::fabs(p.error_mm);
-      line_tool[p.line] = id;
+      line_tool[p.line] = tool_index(id);
     }
   }
   // 4. A plunge into material with an end that does not cut at its centre.
@@ -196,7 +203,7 @@ Plausibility PlausibilityScan::finish(const std::vector<std::uint32_t>* capped_l
       if (l < z.line_worst.size() && z.line_worst[l] >= 0 && (!cap.any || z.line_worst[l] > cap.f.worst)) {
         cap.f.worst = z.line_worst[l];
         cap.f.line = l;
-        cap.f.tool = z.line_tool[l];
+        cap.f.tool = z.tool_names[z.line_tool[l]];
         cap.any = true;
       }
     cap.f.limit = s.max_offset_mm;
