@@ -252,18 +252,34 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   auto progress = progress_for(io);
   // The design path: this program's motions less the intent offsets (the
   // surface normals follow it), run with those offsets.
-  std::vector<interp::Motion> design = j.motions;
+  // (No reference: the program itself, not a copy.)
+  std::vector<interp::Motion> moved;
+  if (!intent.empty()) moved = j.motions;
   for (std::size_t i = 0; i < intent.size(); ++i)
     for (int c = 0; c < 3; ++c) {
-      design[i].start_mm[c] -= i ? intent[i - 1][c] : 0.0;
-      design[i].end_mm[c] -= intent[i][c];
-      design[i].center_mm[c] -= intent[i][c];
+      moved[i].start_mm[c] -= i ? intent[i - 1][c] : 0.0;
+      moved[i].end_mm[c] -= intent[i][c];
+      moved[i].center_mm[c] -= intent[i][c];
     }
-  std::vector<compensate::Point> pts = compensate::simulate(design, intent, j.physics, j.settings, progress);
-  if (progress) io.err << "\r\033[K";
-  const compensate::Plausibility pl = report_plausibility(j, pts, io);
+  const std::vector<interp::Motion>& design = intent.empty() ? j.motions : moved;
+  // Nothing reads the initial stock after the simulation: it may cut it.
+  j.physics.consumable_stock = j.stock.get();
+  // Without --report the points are not kept (as in compensate).
   const double tol = j.settings.tolerance_mm;
-  const report::ErrorStats st = report::error_stats(report::landing_errors(pts, intent), tol);
+  const bool keep = !a.report.empty();
+  std::vector<compensate::Point> pts;
+  report::ErrorAccumulator acc(tol, keep);
+  compensate::PlausibilityScan scan(j.motions, j.physics.tools, j.settings);
+  compensate::simulate(design, intent, j.physics, j.settings, [&](const compensate::Point& p) {
+    scan.add(p);
+    if (!p.air && !p.plunge) acc.add(compensate::landing_error(p, report::offset_at(p, intent)));
+    if (keep) pts.push_back(p);
+  }, progress);
+  j.physics.stock = j.physics.consumable_stock = nullptr;
+  if (progress) io.err << "\r\033[K";
+  const compensate::Plausibility pl = scan.finish();
+  print_plausibility(j, pl, io);
+  const report::ErrorStats st = acc.stats();
   char buf[300];
   std::snprintf(buf, sizeof buf,
                 "%s: %zu CL points%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "

@@ -274,7 +274,10 @@ void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Mot
 
 void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
               const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
-  simulate_on(nullptr, motions, offsets, ph, s, out, progress, normals);
+  std::unique_ptr<stock::ZMap> map;
+  if (ph.consumable_stock && ph.consumable_stock == ph.stock)
+    map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
+  simulate_on(std::move(map), motions, offsets, ph, s, out, progress, normals);
 }
 
 namespace {

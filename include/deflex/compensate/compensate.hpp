@@ -81,8 +81,9 @@ struct Physics {
   force::Coefficients k;
   const stock::ZMap* stock = nullptr;  // initial stock; copied per simulation
   // The same map when the caller no longer needs it: compensate() then runs
-  // its mirror pass on it instead of on a copy (one Z-map less in memory) and
-  // leaves it moved from. Null: every simulation copies `stock`.
+  // its mirror pass on it instead of on a copy (one Z-map less in memory),
+  // simulate() its simulation, and leaves it moved from. Null: every
+  // simulation copies `stock`.
   stock::ZMap* consumable_stock = nullptr;
   const part::PartModel* part = nullptr;  // the design surface (may be null)
 };
