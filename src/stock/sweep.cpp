@@ -19,6 +19,9 @@ namespace deflex::stock {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
+// sweep_rows leaves a row alone when its stock lies this far below the tool's
+// lowest possible surface on it (float rounding at |z| = 1000 mm: 6e-5 mm).
+constexpr double kRowSkipMargin_mm = 1e-3;
 
 }  // namespace
 
@@ -985,6 +988,11 @@ double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, c
       i1 = last(xb);
     }
     if (i1 < i0) continue;
+    // Nothing on this row stands above the tool: in a finishing raster, the
+    // rows on the side the pass before has cut (about half the footprint).
+    // The margin is far above the rounding of the row kernels, so every height
+    // they would compute stays above every cell and the row is left as it is.
+    if (!z.row_above(j, i0, i1, static_cast<float>(s.row_floor(y) - kRowSkipMargin_mm))) continue;
     // Cells [e0, e1] are left to next (inside next's cells on this row).
     int e0 = i1 + 1, e1 = i1;
     if (r >= q0 && r < q1) {

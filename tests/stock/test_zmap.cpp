@@ -42,6 +42,38 @@ double brute_lower(const ToolProfile& tool, const Point3& a, const Point3& b, do
 
 TEST_SUITE("stock") {
 
+TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above the stock from above") {
+  // The two bounds sweep_rows uses to leave a row alone (issue 14): checked
+  // against lower_height at every cell of random rows and the cells themselves.
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<double> u(0, 1);
+  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 3, 0}, {ToolKind::bull, 5, 1.5}};
+  int rows = 0;
+  for (const ToolProfile& t : tools)
+    for (int k = 0; k < 40; ++k) {
+      const Point3 a{5 + 20 * u(rng), 5 + 20 * u(rng), -2 * u(rng)};
+      const Point3 b{a[0] + 4 * (u(rng) - 0.5), a[1] + 4 * (u(rng) - 0.5), a[2] + (u(rng) - 0.5)};
+      const LineSweep s(t, a, b);
+      for (double y = s.y_min(); y <= s.y_max(); y += 0.37, ++rows) {
+        const double f = s.row_floor(y);
+        // Equal up to rounding where the row touches the footprint's rim (5e-8
+        // mm seen); sweep_rows keeps a margin of 1e-3 mm.
+        for (double x = s.x_min(); x <= s.x_max(); x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
+      }
+    }
+  CHECK(rows > 1000);
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
+  sweep_line_reference(z, LineSweep({ToolKind::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  for (int j = 0; j < z.grid().ny; j += 7)
+    for (int i0 = 0; i0 < z.grid().nx; i0 += 29) {
+      const int i1 = std::min(z.grid().nx - 1, i0 + 90);
+      float top = no_material;
+      for (int i = i0; i <= i1; ++i) top = std::max(top, z.at(i, j));
+      CHECK(z.row_above(j, i0, i1, top - 1e-4f));
+      CHECK_FALSE(z.row_above(j, i0, i1, 1e-3f));  // nothing above the box top
+    }
+}
+
 TEST_CASE("box spec parsing") {
   const BoxSpec b = parse_box("box:10,-5,0,-10,5,-20");
   CHECK(b.x0_mm == -10);

@@ -65,6 +65,15 @@ class LineSweep {
   // flat end that next does not lower.
   bool end_handoff(const LineSweep& next, double y_mm, double& x0_mm, double& x1_mm) const;
 
+  // A lower bound of the lower surface anywhere on the line y = y_mm: the
+  // segment's lowest tip plus the profile at the row's least distance in Y to
+  // the segment (every point of the row is at least that far from the axis).
+  double row_floor(double y_mm) const {
+    const double lo = std::min(a_[1], b_[1]), hi = std::max(a_[1], b_[1]);
+    const double dy = y_mm < lo ? lo - y_mm : y_mm > hi ? y_mm - hi : 0.0;
+    return std::min(a_[2], b_[2]) + profile_height(tool_, dy);
+  }
+
   const Point3& a() const { return a_; }
   const Point3& b() const { return b_; }
   const ToolProfile& tool() const { return tool_; }

@@ -124,6 +124,18 @@ class ZMap {
   // An upper bound of the heights in the cells overlapping [x0,x1] x [y0,y1]
   // (exact per tile row band; no_material when the rectangle misses the grid).
   float max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const;
+  // Whether any cell of row j in [i0, i1] may stand above h, by the row maxima
+  // of the tiles the range touches (an upper bound: false proves none does).
+  bool row_above(int j, int i0, int i1, float h) const {
+    const Tile* t = &tiles_[tile_index(i0, j)];
+    const Tile* end = t + (i1 / tile_cells - i0 / tile_cells) + 1;
+    const std::size_t r = static_cast<std::size_t>(j % tile_cells);
+    for (; t != end; ++t) {
+      if (t->max <= h) continue;
+      if (!t->cells || t->cells[static_cast<std::size_t>(tile_cells) * tile_cells + r] > h) return true;
+    }
+    return false;
+  }
   // max_height_in(...) <= h, stopping at the first tile above h: the cheap way to
   // prove that a region is above the stock.
   bool none_above(double x0_mm, double y0_mm, double x1_mm, double y1_mm, float h) const;
