@@ -91,8 +91,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
   const stiffness::Tool& rt = stiffness::find_tool(lib, rough_tool);
   if (!finish_tool.empty()) (void)stiffness::find_tool(lib, finish_tool);
-  if (rough_tool.size() < 2 || rough_tool[0] != 'T' || rough_tool.find_first_not_of("0123456789", 1) != std::string::npos)
-    throw Error(Exit::usage, "--rough-tool must be a tool number T<n>: the program calls it with T and H words");
+  if (rough_tool.size() < 2 || rough_tool.size() > 6 || rough_tool[0] != 'T' ||
+      rough_tool.find_first_not_of("0123456789", 1) != std::string::npos)
+    throw Error(Exit::usage, "--rough-tool must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
   o.tool = profile_of(rt);
   o.tool_number = std::stoi(rough_tool.substr(1));
   o.stepdown_mm = stepdown ? *stepdown : rt.diameter_mm / 2;

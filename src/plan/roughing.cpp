@@ -14,6 +14,8 @@ namespace deflex::plan {
 namespace {
 
 constexpr double kNone = -std::numeric_limits<double>::infinity();
+// Most floor samples of one plan (lines x samples per line): 800 MB of doubles.
+constexpr double kMaxSamples = 1e8;
 
 // Points evenly spaced from a to b, at most `step` apart (both ends included).
 std::vector<double> even(double a, double b, double step) {
@@ -119,6 +121,14 @@ RoughingPlan plan_roughing(const stock::ZMap& target, double stock_top_mm, const
   p.top_mm = stock_top_mm;
   p.x_start_mm = g.x0_mm - margin;
   p.x_end_mm = g.x0_mm + g.nx * g.cell_mm + margin;
+  // The raster's size before anything is allocated: a tiny stepover or sample
+  // over a large stock would be a run away, not a roughing.
+  const double lines = std::ceil(g.ny * g.cell_mm / o.stepover_mm) + 1,
+               samples = std::ceil((p.x_end_mm - p.x_start_mm) / o.sample_mm) + 1;
+  if (!(lines * samples <= kMaxSamples))
+    throw Error(Exit::usage, "the raster would have " + std::to_string(static_cast<long long>(lines * samples)) +
+                                 " floor samples (at most " + std::to_string(static_cast<long long>(kMaxSamples)) +
+                                 "): raise --stepover or --sample");
   p.line_y_mm = even(g.y0_mm, g.y0_mm + g.ny * g.cell_mm, o.stepover_mm);
   const std::vector<double> xs = even(p.x_start_mm, p.x_end_mm, o.sample_mm);
   const std::vector<double> h = floor_samples(target, o, p.line_y_mm, xs);
