@@ -83,6 +83,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (files.empty()) throw Error(Exit::usage, "rough: give the finishing program (see deflex rough --help)");
+  if (files[0] == "-") throw Error(Exit::usage, "rough: the finishing program must be a file, not standard input");
   if (rough_tool.empty()) throw Error(Exit::usage, "rough: --rough-tool T<n> is required (a flat, bull-nose or ball end mill of the library)");
   if (!output.empty() && output != "-") writer::check_output_path(output, files[0]);
   if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");

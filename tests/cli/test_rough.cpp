@@ -87,6 +87,7 @@ TEST_SUITE("cli") {
       return r.rc;
     };
     CHECK(rc({}, "--rough-tool T<n> is required") == 2);
+    CHECK(test::run_cli({"rough", "-", "--stock", box, "--rough-tool", "T1"}).rc == 2);
     CHECK(rc({"--rough-tool", "T99"}, "T99") == 2);
     CHECK(rc({"--rough-tool", "T1", "--stepover", "11"}, "--stepover must be") == 2);
     CHECK(rc({"--rough-tool", "T1", "--stepover", "0.0001", "--sample", "0.01"}, "floor samples") == 2);
