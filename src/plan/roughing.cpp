@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <string>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/writer/writer.hpp"
