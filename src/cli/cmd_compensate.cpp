@@ -133,8 +133,12 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   std::vector<bool> can = compensate::movable(r.motions);
   compensate::WriteStats ws;
   const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
-  std::string text = compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted, feeds);
-  compensate::safety_check(j.prog, r.motions, text, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
+  // The written program read back holds the only copy of the text.
+  const gcode::Program written(
+      SourceText(j.prog.source().name() + " (compensated)",
+                 compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted, feeds)));
+  const std::string& text = written.bytes();
+  compensate::safety_check(j.prog, r.motions, written, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
   if (!r.feed_lowered_lines.empty()) {
     std::string lines;
     for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)

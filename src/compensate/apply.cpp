@@ -322,7 +322,13 @@ class MotionCheck : public interp::MotionSink {
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const std::string& text,
                   const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
                   const std::vector<bool>* inserted, const std::vector<double>* feeds) {
-  gcode::Program out(SourceText(original.source().name() + " (compensated)", text));
+  const gcode::Program out(SourceText(original.source().name() + " (compensated)", text));
+  safety_check(original, om, out, opt, movable, max_offset_mm, inserted, feeds);
+}
+
+void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const gcode::Program& out,
+                  const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
+                  const std::vector<bool>* inserted, const std::vector<double>* feeds) {
   auto fail = [&](std::uint32_t line, const std::string& what) {
     throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line) +
                                     ":1: error: safety check failed: " + what +

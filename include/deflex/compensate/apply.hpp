@@ -46,5 +46,11 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
                   const std::string& text, const interp::Options& opt, const std::vector<bool>& movable,
                   double max_offset_mm, const std::vector<bool>* inserted = nullptr,
                   const std::vector<double>* feeds_mm_per_min = nullptr);
+// The same on the written program already read (it keeps the only copy of the
+// text: at 10M blocks a second one is 280 MB).
+void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& original_motions,
+                  const gcode::Program& written, const interp::Options& opt, const std::vector<bool>& movable,
+                  double max_offset_mm, const std::vector<bool>* inserted = nullptr,
+                  const std::vector<double>* feeds_mm_per_min = nullptr);
 
 }  // namespace deflex::compensate
