@@ -110,24 +110,26 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   Job j = prepare(a, io, true);
   auto progress = progress_for(io);
   const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
-  // Without --report the points are not kept: the figures and the
-  // plausibility scan take them as the simulations produce them.
+  // The figures and the plausibility scan take the points as the simulations
+  // produce them; only --report keeps them (a million points are 270 MB).
   const double tol = j.settings.tolerance_mm;
   const bool keep = !a.report.empty();
   report::ErrorAccumulator before_acc(tol, keep), after_acc(tol, keep);
   compensate::PlausibilityScan scan(j.motions, j.physics.tools, j.settings);
+  std::vector<compensate::Point> nominal, final;
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
     if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
+    if (keep) nominal.push_back(p);
   };
   sinks.final = [&](const compensate::Point& p, const V3& off) {
     if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
+    if (keep) final.push_back(p);
   };
   // Nothing reads the initial stock after this: the mirror pass may cut it.
   j.physics.consumable_stock = j.stock.get();
-  compensate::Result r =
-      compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, keep ? nullptr : &sinks);
+  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, &sinks);
   j.physics.stock = j.physics.consumable_stock = nullptr;
   if (progress) io.err << "\r\033[K";
   std::vector<bool> can = compensate::movable(r.motions);
@@ -147,13 +149,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
-  compensate::Plausibility pl;
-  if (keep) {
-    pl = report_plausibility(j, r.nominal, io, &r.capped_lines);
-  } else {
-    pl = scan.finish(&r.capped_lines);
-    print_plausibility(j, pl, io);
-  }
+  const compensate::Plausibility pl = scan.finish(&r.capped_lines);
+  print_plausibility(j, pl, io);
   if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
     std::string lines;
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
@@ -172,10 +169,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
            << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
            << " mm); the best iterate is written\n";
-  const report::ErrorStats before =
-      keep ? report::error_stats(report::landing_errors(r.nominal, {}), tol) : before_acc.stats();
-  const report::ErrorStats after =
-      keep ? report::error_stats(report::landing_errors(r.final, r.offsets), tol) : after_acc.stats();
+  const report::ErrorStats before = before_acc.stats(), after = after_acc.stats();
   io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
          << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
          << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
@@ -187,7 +181,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
   time_line(io, t0, t1);
   if (!a.report.empty()) {
-    report::PointTable t = report::table_of_compensation(std::move(r.final), r, j.motions, j.physics, j.settings);
+    report::PointTable t = report::table_of_compensation(std::move(final), nominal, r, j.motions, j.physics, j.settings);
     report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(after)},
                     {"surface_error_as_written_mm", report::to_json(before)}, {"cl_points", after.points},
                     {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
@@ -204,7 +198,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
         {"blocks with a lowered feed", std::to_string(r.feed_lowered_lines.size()), "feed_lowered_blocks"},
         {"machining time as written / compensated", report::clock(t0.program.total_s) + " / " + report::clock(t1.program.total_s),
          "machining_time"}};
-    write_folder(a.report, j, t, r.motions, r.nominal, js, std::move(facts), "compensate", command_of("compensate", args), "");
+    write_folder(a.report, j, t, r.motions, nominal, js, std::move(facts), "compensate", command_of("compensate", args), "");
   }
   if (a.output.empty() || a.output == "-") io.out << text;
   else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });

@@ -124,10 +124,6 @@ void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const co
   }
 }
 
-// An earlier operation swept into the job's stock: read and interpreted under
-// the job's machine and dialect, its diagnostics naming its own file, checked
-// like the program (travel, every cutting motion's tool in the library) before
-// anything is swept.
 }  // namespace
 
 std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
@@ -143,11 +139,12 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
   for (const interp::Motion& m : motions) {
     if (diags.errors()) break;
     if (m.kind == interp::MotionKind::rapid) continue;
+    const bool no_tool = m.tool == 0 && tool_override.empty();
     const std::string id = !tool_override.empty() ? tool_override : "T" + std::to_string(m.tool);
-    if ((m.tool == 0 && tool_override.empty()) || !lib.tools.count(id)) {
+    if (no_tool || !lib.tools.count(id)) {
       diags.report(Severity::error, prog.source(), m.line, 1,
-                   (m.tool == 0 && tool_override.empty() ? std::string("cutting with no tool selected (T.. M6)")
-                                : "tool " + id + " is not in the tool library " + lib.file) +
+                   (no_tool ? std::string("cutting with no tool selected (T.. M6)")
+                            : "tool " + id + " is not in the tool library " + lib.file) +
                        ": an earlier operation sweeps the stock with its own tools");
       throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
     }
@@ -169,8 +166,17 @@ void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, c
   // A program with no tool at all has only rapids (read_earlier checked the
   // cutting moves): nothing is known to sweep.
   if (!first && tool_override.empty()) return;
+  // The profile looked up once per tool change, not per motion (a program of
+  // a million moves changes tools a few times).
+  int last = -1;
+  stock::ToolProfile profile;
   engage::sweep_motions(z, motions, [&](const interp::Motion& m) {
-    return profile_of(lib.tools.at(!tool_override.empty() ? tool_override : "T" + std::to_string(m.tool ? m.tool : first)));
+    const int t = m.tool ? m.tool : first;
+    if (t != last) {
+      profile = profile_of(lib.tools.at(!tool_override.empty() ? tool_override : "T" + std::to_string(t)));
+      last = t;
+    }
+    return profile;
   }, po);
 }
 
@@ -333,13 +339,6 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   p.emplace_back("date", report::utc_now());
   p.emplace_back("command", command);
   return p;
-}
-
-compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
-                                             const std::vector<std::uint32_t>* capped_lines) {
-  compensate::Plausibility pl = compensate::plausibility(j.motions, pts, j.physics.tools, j.settings, capped_lines);
-  print_plausibility(j, pl, io);
-  return pl;
 }
 
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io) {

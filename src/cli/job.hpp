@@ -83,11 +83,8 @@ compensate::Progress progress_for(Io& io);
 // The run's provenance for report.html: what a reader needs to trust or redo it.
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference);
-// Plausibility warnings (compensate/plausibility.hpp), compiler style at the
+// Plausibility warnings (compensate::PlausibilityScan), compiler style at the
 // line of the worst point, and their summary.json array.
-compensate::Plausibility report_plausibility(const Job& j, const std::vector<compensate::Point>& pts, Io& io,
-                                             const std::vector<std::uint32_t>* capped_lines = nullptr);
-// The findings of a scan already made (compensate::PlausibilityScan), printed as above.
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io);
 report::Json warnings_json(const compensate::Plausibility& pl);
 // Machining time from the machine's axis limits, one line on stderr.

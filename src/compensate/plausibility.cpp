@@ -1,5 +1,6 @@
 #include "deflex/compensate/plausibility.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -82,7 +83,7 @@ struct PlausibilityScan::State {
   std::string run_tool;
   // For the cap with the capped lines (known only at the end): the worst |e|
   // and its tool per line, of the points that are neither in air nor plunges.
-  std::vector<double> line_worst;
+  std::vector<double> line_worst_mm;
   std::vector<std::uint16_t> line_tool;  // index into tool_names
   std::vector<std::string> tool_names;
   std::uint16_t tool_index(const std::string& id) {
@@ -141,12 +142,12 @@ void PlausibilityScan::State::add(const Point& p) {
       cap.add(p.line, std::fabs(p.error_mm), id);
       cap.f.limit = s.max_offset_mm;
     }
-    if (p.line >= line_worst.size()) {
-      line_worst.resize(p.line + 1, -1.0);
+    if (p.line >= line_worst_mm.size()) {
+      line_worst_mm.resize(p.line + 1, -1.0);
       line_tool.resize(p.line + 1);
     }
-    if (std::fabs(p.error_mm) > line_worst[p.line]) {
-      line_worst[p.line] = std::fabs(p.error_mm);
+    if (std::fabs(p.error_mm) > line_worst_mm[p.line]) {
+      line_worst_mm[p.line] = std::fabs(p.error_mm);
       line_tool[p.line] = tool_index(id);
     }
   }
@@ -198,20 +199,21 @@ Plausibility PlausibilityScan::finish(const std::vector<std::uint32_t>* capped_l
   } else {
     // The cap bit at the motion ends: count those, the lines in program order;
     // the worst |e| of the points on their lines (the earliest line on a tie).
-    const std::set<std::uint32_t> capped(capped_lines->begin(), capped_lines->end());
+    std::set<std::uint32_t> capped(capped_lines->begin(), capped_lines->end());
     for (std::uint32_t l : capped)
-      if (l < z.line_worst.size() && z.line_worst[l] >= 0 && (!cap.any || z.line_worst[l] > cap.f.worst)) {
-        cap.f.worst = z.line_worst[l];
+      if (l < z.line_worst_mm.size() && z.line_worst_mm[l] >= 0 && (!cap.any || z.line_worst_mm[l] > cap.f.worst)) {
+        cap.f.worst = z.line_worst_mm[l];
         cap.f.line = l;
         cap.f.tool = z.tool_names[z.line_tool[l]];
         cap.any = true;
       }
     cap.f.limit = s.max_offset_mm;
     cap.f.count = capped_lines->size();
-    std::set<std::uint32_t> seen;
-    for (std::uint32_t l : *capped_lines)
-      if (seen.insert(l).second && cap.f.lines.size() < 12) cap.f.lines.push_back(l);
-    cap.seen = seen;
+    for (std::uint32_t l : *capped_lines) {
+      if (cap.f.lines.size() == 12) break;
+      if (std::find(cap.f.lines.begin(), cap.f.lines.end(), l) == cap.f.lines.end()) cap.f.lines.push_back(l);
+    }
+    cap.seen = std::move(capped);
   }
   const double force_peak = z.force_peak, force_lim = z.force_lim;
   Plausibility out;

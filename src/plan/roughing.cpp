@@ -30,23 +30,33 @@ std::vector<double> even(double a, double b, double step) {
 // Keeps the points of a line whose removal would bring the move below the
 // floor or more than `tol` above it: the move from the last kept point to a
 // candidate must pass on or above every dropped point and within tol of it.
-// Greedy from the start (Douglas-Peucker would not keep the one-sided bound).
+// Each dropped point bounds the slope of that move from both sides, so the
+// slopes still allowed are an interval narrowed point by point: one pass, O(n)
+// (Douglas-Peucker would not keep the one-sided bound).
 std::vector<Point> merge(const std::vector<Point>& pts, double tol) {
   if (pts.size() < 3) return pts;
+  constexpr double inf = std::numeric_limits<double>::infinity();
   std::vector<Point> out{pts[0]};
   std::size_t anchor = 0;
-  for (std::size_t k = 2; k < pts.size(); ++k) {
+  double lo = -inf, hi = inf;  // slopes dz/dx from the anchor the points dropped so far allow
+  for (std::size_t k = 1; k < pts.size(); ++k) {
     const Point& a = pts[anchor];
-    const Point& b = pts[k];
-    bool ok = true;
-    for (std::size_t m = anchor + 1; m < k && ok; ++m) {
-      const double t = (pts[m][0] - a[0]) / (b[0] - a[0]);
-      const double gap = a[2] + t * (b[2] - a[2]) - pts[m][2];
-      ok = gap >= -1e-9 && gap <= tol;
-    }
-    if (!ok) {
-      anchor = k - 1;
+    const double dx = pts[k][0] - a[0];
+    const double slope = (pts[k][2] - a[2]) / dx;
+    if (k > anchor + 1 && !(slope >= lo && slope <= hi)) {
+      anchor = k - 1;  // the move to k would cut into the floor or leave too much: keep k - 1
       out.push_back(pts[anchor]);
+      lo = -inf;
+      hi = inf;
+    }
+    // Point k as a dropped point of a later move from the anchor: the move's
+    // height over it within [z_k - 1e-9, z_k + tol].
+    const Point& b = pts[anchor];
+    const double d = pts[k][0] - b[0];
+    if (k > anchor) {
+      const double s1 = (pts[k][2] - 1e-9 - b[2]) / d, s2 = (pts[k][2] + tol - b[2]) / d;
+      lo = std::max(lo, std::min(s1, s2));
+      hi = std::min(hi, std::max(s1, s2));
     }
   }
   out.push_back(pts.back());

@@ -95,9 +95,9 @@ PointTable table_of_simulation(std::vector<compensate::Point> pts, const std::ve
   return t;
 }
 
-PointTable table_of_compensation(std::vector<compensate::Point> final, const compensate::Result& r,
-                                 const std::vector<interp::Motion>& original, const compensate::Physics& ph,
-                                 const compensate::Settings& s) {
+PointTable table_of_compensation(std::vector<compensate::Point> final, const std::vector<compensate::Point>& nominal,
+                                 const compensate::Result& r, const std::vector<interp::Motion>& original,
+                                 const compensate::Physics& ph, const compensate::Settings& s) {
   PointTable t = base_table(std::move(final), r.offsets);
   t.has_as_written = true;
   // The original move of each motion of the result: an inserted block splits
@@ -109,10 +109,10 @@ PointTable table_of_compensation(std::vector<compensate::Point> final, const com
     if (!(k < r.inserted.size() && r.inserted[k])) ++o;
   }
   // The as-written samples of each original motion: a contiguous range.
-  std::vector<std::size_t> first(original.size() + 1, r.nominal.size());
-  for (std::size_t i = r.nominal.size(); i-- > 0;) first[r.nominal[i].motion] = i;
+  std::vector<std::size_t> first(original.size() + 1, nominal.size());
+  for (std::size_t i = nominal.size(); i-- > 0;) first[nominal[i].motion] = i;
   for (std::size_t m = original.size(); m-- > 0;) first[m] = std::min(first[m], first[m + 1]);
-  const std::vector<process::CuspResult> cusp = cusp_of(r.nominal, original, ph, s);
+  const std::vector<process::CuspResult> cusp = cusp_of(nominal, original, ph, s);
   // The points of one original move (its inserted pieces first) run along it
   // in order, as its as-written samples do: the nearest sample is found by a
   // cursor that only moves forward, O(n) over the program.
@@ -123,9 +123,9 @@ PointTable table_of_compensation(std::vector<compensate::Point> final, const com
     if (first[m] == first[m + 1]) continue;  // no sample as written
     if (m != m_cur) m_cur = m, cur = first[m];
     const V3 design = p.tip_mm - offset_at(p, r.offsets);
-    auto d2 = [&](std::size_t j) { return (r.nominal[j].tip_mm - design).squaredNorm(); };
+    auto d2 = [&](std::size_t j) { return (nominal[j].tip_mm - design).squaredNorm(); };
     while (cur + 1 < first[m + 1] && d2(cur + 1) < d2(cur)) ++cur;  // a tie keeps the earlier, as a full scan would
-    const compensate::Point& q = r.nominal[cur];
+    const compensate::Point& q = nominal[cur];
     if (!q.air && !q.plunge) t.error_as_written_mm[i] = q.error_mm;
     t.cusp[i] = cusp[cur];
   }

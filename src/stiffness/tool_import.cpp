@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -73,15 +74,16 @@ std::string to_yaml(const std::vector<Entry>& tools, const std::string& header, 
 
 using Json = nlohmann::json;
 
-// 1-based line and column of byte offset `at` of `text`.
-std::string position(const std::string& text, std::size_t at) {
-  std::size_t line = 1, col = 1;
-  for (std::size_t i = 0; i < at && i < text.size(); ++i) {
-    if (text[i] == '\n') { ++line; col = 1; }
-    else ++col;
-  }
-  return std::to_string(line) + ":" + std::to_string(col);
+// "line:col" (1-based) of byte offset `at` of `text`, by SourceText's line index.
+std::string position(const std::string& file, const std::string& text, std::size_t at) {
+  const SourceText src(file, text);
+  const auto off = static_cast<std::uint32_t>(std::min(at, text.size()));
+  const std::uint32_t line = src.line_of(off);
+  if (line == 0) return "1:1";  // an empty file has no lines
+  return std::to_string(line) + ":" + std::to_string(off - src.line_begin(line) + 1);
 }
+
+bool is_json(const std::string& path) { return path.ends_with(".json") || path.ends_with(".JSON"); }
 
 struct FusionTool {
   const Json& j;
@@ -120,11 +122,7 @@ const std::map<std::string, std::string>& fusion_types() {
 }  // namespace
 
 bool is_foreign_tool_library(const std::string& path) {
-  auto ends = [&](const char* e) {
-    const std::string s(e);
-    return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
-  };
-  return ends(".json") || ends(".JSON") || ends(".tbl") || ends(".TBL");
+  return is_json(path) || path.ends_with(".tbl") || path.ends_with(".TBL");
 }
 
 namespace {
@@ -136,7 +134,7 @@ ImportedLibrary import_fusion_json(const std::string& text, const std::string& f
   try {
     root = Json::parse(text);
   } catch (const Json::parse_error& e) {
-    fail(file + ":" + position(text, e.byte ? e.byte - 1 : 0), std::string("not valid JSON: ") + e.what());
+    fail(file + ":" + position(file, text, e.byte ? e.byte - 1 : 0), std::string("not valid JSON: ") + e.what());
   } catch (const Json::exception& e) {
     // A number beyond a double (4e333) is an out_of_range error, without a position
     // (libFuzzer's find: it escaped as an internal error).
@@ -311,8 +309,7 @@ ImportedLibrary import_linuxcnc_tbl(const std::string& text, const std::string& 
 
 ImportedLibrary import_tool_library(const std::string& path) {
   const std::string text = yaml::read_file(path);
-  const bool json = path.size() >= 5 && (path.compare(path.size() - 5, 5, ".json") == 0 || path.compare(path.size() - 5, 5, ".JSON") == 0);
-  return json ? import_fusion_json(text, path) : import_linuxcnc_tbl(text, path);
+  return is_json(path) ? import_fusion_json(text, path) : import_linuxcnc_tbl(text, path);
 }
 
 }  // namespace deflex::stiffness

@@ -52,14 +52,14 @@ PointTable table_of_simulation(std::vector<compensate::Point> pts, const std::ve
                                const std::vector<interp::Motion>& motions, const compensate::Physics& ph,
                                const compensate::Settings& s);
 
-// The table of a compensation: its final points (`final`, moved out of
-// r.final by the caller: a million points are not copied), each beside the
-// point of the program as written nearest to it on the same original move (the
+// The table of a compensation: its final points (`final`, moved in by the
+// caller: a million points are not copied), each beside the point of the
+// program as written (`nominal`) nearest to it on the same original move (the
 // result's motions hold inserted blocks the program as written does not have),
 // whose cusp it takes.
-PointTable table_of_compensation(std::vector<compensate::Point> final, const compensate::Result& r,
-                                 const std::vector<interp::Motion>& original, const compensate::Physics& ph,
-                                 const compensate::Settings& s);
+PointTable table_of_compensation(std::vector<compensate::Point> final, const std::vector<compensate::Point>& nominal,
+                                 const compensate::Result& r, const std::vector<interp::Motion>& original,
+                                 const compensate::Physics& ph, const compensate::Settings& s);
 
 // points.csv, one row per CL point in material or air (air rows have no error).
 void write_points_csv(const std::string& path, const PointTable& t);
