@@ -211,11 +211,6 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
 
 namespace {
 
-struct Collect : interp::MotionSink {
-  std::vector<interp::Motion>* out = nullptr;
-  void motion(const interp::Motion& m) override { out->push_back(m); }
-};
-
 // The line facts of the original program: its motions are those of `om` that
 // deflex did not insert.
 std::vector<LineFacts> original_facts(const gcode::Program& original, const std::vector<interp::Motion>& om,
@@ -287,8 +282,12 @@ class MotionCheck : public interp::MotionSink {
     if (x.kind != interp::MotionKind::rapid) {
       // Feeds: as programmed, or as --feed-limit lowered them (never higher).
       const double want = feeds_ ? (*feeds_)[i] : x.feed_mm_per_min;
-      if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0))
-        fail_(x.line, "a feed rate is not the one deflex meant");
+      if (std::fabs(y.feed_mm_per_min - want) > 1e-6 * std::max(1.0, want) + (x.inch ? 1e-4 : 0.0)) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "a feed rate is not the one deflex meant (%.4f mm/min read back, %.4f meant)",
+                      y.feed_mm_per_min, want);
+        fail_(x.line, buf);
+      }
       if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail_(x.line, "a feed rate went up");
     }
     const double r = (x.inch ? round_in_ : round_mm_) * std::sqrt(3.0);
@@ -329,7 +328,7 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const gcode::Program& out,
                   const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
                   const std::vector<bool>* inserted, const std::vector<double>* feeds) {
-  auto fail = [&](std::uint32_t line, const std::string& what) {
+  const Fail fail = [&](std::uint32_t line, const std::string& what) {
     throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line) +
                                     ":1: error: safety check failed: " + what +
                                     "; nothing was written (this is a bug in deflex, please report it)");
@@ -359,8 +358,7 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   }
   std::ostringstream errs;
   Diagnostics diags(&errs, 0);
-  const Fail failing = fail;
-  MotionCheck check(om, want, opt, movable, max_offset_mm, inserted, feeds, failing);
+  MotionCheck check(om, want, opt, movable, max_offset_mm, inserted, feeds, fail);
   LineFactsSink facts;
   facts.lines = &fb;
   struct Both : interp::MotionSink {

@@ -267,20 +267,6 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
 }
 
 namespace {
-void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Motion>& motions,
-                 const std::vector<V3>& offsets, const Physics& ph, const Settings& s, const PointSink& out,
-                 const Progress& progress, const DesignNormals* normals);
-}  // namespace
-
-void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
-              const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
-  std::unique_ptr<stock::ZMap> map;
-  if (ph.consumable_stock && ph.consumable_stock == ph.stock)
-    map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
-  simulate_on(std::move(map), motions, offsets, ph, s, out, progress, normals);
-}
-
-namespace {
 // simulate() on `map` (null: a copy of the physics' stock).
 void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Motion>& motions,
                  const std::vector<V3>& offsets, const Physics& ph, const Settings& s, const PointSink& out,
@@ -332,6 +318,14 @@ void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Mot
 }
 }  // namespace
 
+void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
+              const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
+  std::unique_ptr<stock::ZMap> map;
+  if (ph.consumable_stock && ph.consumable_stock == ph.stock)
+    map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
+  simulate_on(std::move(map), motions, offsets, ph, s, out, progress, normals);
+}
+
 std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
   const std::size_t n = motions.size();
   std::vector<bool> ok(n, false);
@@ -371,7 +365,7 @@ class Stream {
  public:
   Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
          const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress,
-         const PointSinks* sinks, std::unique_ptr<stock::ZMap> own)
+         const PointSinks& sinks, std::unique_ptr<stock::ZMap> own)
       : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress),
         sinks_(sinks), run_(ph, s, {}, std::move(own)) {}
 
@@ -385,7 +379,10 @@ class Stream {
     r_.converged = true;
     const std::size_t n = motions.size();
     for (std::size_t i = 0; i < n; ++i) {
+      // Run at the planned feed; written down at the programmed one (r.motions
+      // are the motions as written, r.feeds_mm_per_min the plan).
       interp::Motion m = motions[i];
+      programmed_feed_ = m.feed_mm_per_min;
       m.feed_mm_per_min = feed_ = feeds[i];
       splits_ = 0;
       if (!run_.prepare(m)) {
@@ -452,6 +449,7 @@ class Stream {
     const auto index = static_cast<std::uint32_t>(r_.motions.size());
     if (cut) run_.sim().run(moved(m, prev_, off));
     r_.motions.push_back(m);
+    r_.motions.back().feed_mm_per_min = programmed_feed_;
     r_.inserted.push_back(inserted);
     r_.offsets.push_back(off);
     r_.feeds_mm_per_min.push_back(feed_);
@@ -459,11 +457,9 @@ class Stream {
     capped_ = false;
     for (Point& p : pts) {
       p.motion = index;
-      if (!sinks_) {
-        r_.final.push_back(p);
-      } else if (sinks_->final) {
+      if (sinks_.final) {
         const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
-        sinks_->final(p, V3(prev_ + u * (off - prev_)));
+        sinks_.final(p, V3(prev_ + u * (off - prev_)));
       }
     }
     prev_ = off;
@@ -611,12 +607,13 @@ class Stream {
   const std::vector<bool>* split_;
   const DesignNormals& normals_;
   const Progress& progress_;
-  const PointSinks* sinks_;
+  const PointSinks& sinks_;
   Run run_;
   force::Engagement eng_;
   std::vector<force::Vec3> rev_;
   V3 prev_ = V3::Zero();       // offset of the last motion written
-  double feed_ = 0;
+  double feed_ = 0;            // planned feed of the motion being written, mm/min
+  double programmed_feed_ = 0; // its programmed feed, mm/min
   double slope_ = 0;           // de/ds at the last solved point
   bool capped_ = false;
   int splits_ = 0;
@@ -640,17 +637,21 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   // its own thread, unless the feed limit needs its forces first (or one
   // thread was asked for).
   const std::unique_ptr<DesignNormals> normals = design_normals(motions, ph, s);
-  // The as-written points: kept in r.nominal, or handed to the sink; the feed
-  // limit needs their peak force per motion, and with gain 0 they are the
-  // final points as well (no feed lowered: the same program).
+  // Without sinks of the caller's the points are kept in the result.
+  PointSinks kept;
+  if (!sinks) {
+    r.nominal.reserve(n * 2);
+    kept.nominal = [&r](const Point& p) { r.nominal.push_back(p); };
+    kept.final = [&r](const Point& p, const V3&) { r.final.push_back(p); };
+    sinks = &kept;
+  }
+  // The as-written points go to the nominal sink; the feed limit needs their
+  // peak force per motion, and with gain 0 and no feed limit they are the
+  // final points as well (the same program).
   std::vector<double> peak(s.feed_limit_N > 0 ? n : 0, 0.0);
   const bool same = s.gain == 0.0;
-  const PointSink keep = [&](const Point& p) {
+  const PointSink nominal_sink = [&](const Point& p) {
     if (!peak.empty()) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
-    if (!sinks) {
-      r.nominal.push_back(p);
-      return;
-    }
     if (sinks->nominal) sinks->nominal(p);
     if (same && s.feed_limit_N <= 0 && sinks->final) sinks->final(p, V3::Zero());
   };
@@ -661,8 +662,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   std::exception_ptr nominal_failed;
   std::thread nominal;
   if (s.feed_limit_N > 0 || same || s.threads == 1) {
-    if (!sinks) r.nominal.reserve(n * 2);
-    simulate_on(std::move(nominal_map), motions, {}, ph, s, keep, progress, normals.get());
+    simulate_on(std::move(nominal_map), motions, {}, ph, s, nominal_sink, progress, normals.get());
   } else {
     nominal = std::thread([&] {
       try {
@@ -670,8 +670,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
         // wall time is the run's.
         Settings one = s;
         one.threads = 1;
-        if (!sinks) r.nominal.reserve(n * 2);
-        simulate_on(std::move(nominal_map), motions, {}, ph, one, keep, {}, normals.get());
+        simulate_on(std::move(nominal_map), motions, {}, ph, one, nominal_sink, {}, normals.get());
       } catch (...) {
         nominal_failed = std::current_exception();
       }
@@ -693,7 +692,6 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
       if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
       const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
       feeds[i] = std::max(f, 0.1);
-      r.motions[i].feed_mm_per_min = feeds[i];
       r.feed_lowered_lines.push_back(m.line);
     }
   }
@@ -701,11 +699,17 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   if (same) {
     // Nothing moves: the final points are those of the program as run (at the
     // lowered feeds where the feed limit lowered them).
-    if (!sinks) {
-      r.final = r.feed_lowered_lines.empty() ? r.nominal : simulate(r.motions, {}, ph, s, progress, normals.get());
-    } else if (sinks->final && s.feed_limit_N > 0) {  // else `keep` passed them on
-      simulate(r.feed_lowered_lines.empty() ? motions : r.motions, {}, ph, s,
-               [&](const Point& p) { sinks->final(p, V3::Zero()); }, progress, normals.get());
+    // Without a feed limit nominal_sink passed them on; with one they are
+    // simulated again (the nominal points were handed over before the feeds
+    // were known).
+    if (sinks->final && s.feed_limit_N > 0) {
+      std::vector<interp::Motion> planned;  // the program at the planned feeds
+      if (!r.feed_lowered_lines.empty()) {
+        planned = motions;
+        for (std::size_t i = 0; i < n; ++i) planned[i].feed_mm_per_min = feeds[i];
+      }
+      simulate(planned.empty() ? motions : planned, {}, ph, s, [&](const Point& p) { sinks->final(p, V3::Zero()); },
+               progress, normals.get());
     }
     r.converged = true;
     return r;
@@ -713,7 +717,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   const std::vector<bool> can = movable(motions);
   std::unique_ptr<stock::ZMap> mirror_map =
       take ? std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock)) : nullptr;
-  Stream(ph, s, r, can, splittable, *normals, progress, sinks, std::move(mirror_map)).go(motions, feeds);
+  Stream(ph, s, r, can, splittable, *normals, progress, *sinks, std::move(mirror_map)).go(motions, feeds);
   if (nominal.joinable()) nominal.join();
   if (nominal_failed) std::rethrow_exception(nominal_failed);
   for (std::size_t i = 0; i < r.motions.size(); ++i)

@@ -153,7 +153,8 @@ std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>&
 struct Result {
   // The motions as written: the program's, with the blocks inserted where a
   // move was split (inserted[i]; such a motion ends on its parent move, the
-  // next motion that is not inserted, before the offset).
+  // next motion that is not inserted, before the offset), at their programmed
+  // feeds (the feeds run are feeds_mm_per_min).
   std::vector<interp::Motion> motions;
   std::vector<bool> inserted;
   std::vector<V3> offsets;            // per motion of `motions`, mm (zero where not compensated)
