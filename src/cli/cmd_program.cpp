@@ -6,6 +6,7 @@
 #include "common.hpp"
 #include "deflex/report/text_out.hpp"
 #include "deflex/compensate/compensate.hpp"
+#include "deflex/gcode/reader.hpp"
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
@@ -48,7 +49,34 @@ class NullSink : public interp::MotionSink {
 
 int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(Exit::input) : 0; }
 
-gcode::Program load(const std::string& file, Io& io) { return gcode::Program(gcode::read_source(file, &io.in)); }
+// The file read in pieces (memory does not grow with its length) unless it
+// is one piece anyway, may call subprograms or comes from standard input.
+gcode::ProgramPasses load(const std::string& file, Io& io) { return gcode::ProgramPasses(file, &io.in, piece_lines()); }
+
+// The checks of the file as text (shape, decimal points): a pass of their own,
+// so their findings come first, as they would on the whole file.
+void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags) {
+  interp::ShapeCheck shape;
+  interp::DecimalCheck dec(s.dialect);
+  src.each([&](const gcode::Program& p, bool) {
+    shape.add(p);
+    dec.add(p);
+  });
+  shape.finish(diags);
+  dec.finish(diags, s.strict);
+}
+
+// One pass of the interpreter over the pieces; `sink` may follow the piece
+// being read (set_source).
+template <class Sink>
+interp::Stats interpret_all(gcode::ProgramPasses& src, const interp::Options& opt, Diagnostics& diags, Sink& sink) {
+  interp::Interpreter it(opt, diags, sink);
+  src.each([&](const gcode::Program& p, bool last) {
+    if constexpr (requires { sink.set_source(p.source()); }) sink.set_source(p.source());
+    it.feed(p, last);
+  });
+  return it.finish();
+}
 
 }  // namespace
 
@@ -66,20 +94,20 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines]", kPathHelp, desc); return 0; }
   if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
-  gcode::Program prog = load(file, io);
+  gcode::ProgramPasses prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
-  interp::check_program_shape(prog, diags);
-  interp::check_decimal_points(prog, s.dialect, diags, s.strict);
+  check_text(prog, s, diags);
   if (diags.errors()) return finish(diags);  // --strict: nothing printed
   // Two passes: the first reports every diagnostic and prints nothing, so a
   // program with an error (past --max-blocks included) prints no path at all
   // rather than megabytes of it cut off at the error; the second, quiet, prints.
   // Interpretation is cheap next to printing, so the path costs well under 2x.
   NullSink none;
-  if (interp::interpret(prog, s.interp(), diags, none).stopped || diags.errors()) return finish(diags);
+  const interp::Options opt = s.interp();
+  if (interpret_all(prog, opt, diags, none).stopped || diags.errors()) return finish(diags);
   Diagnostics quiet(nullptr, 0);
   PathPrinter p(io.out, lines);
-  interp::interpret(prog, s.interp(), quiet, p);
+  interpret_all(prog, opt, quiet, p);
   return finish(diags);
 }
 
@@ -88,21 +116,32 @@ namespace {
 // The travel check as a sink of the interpreter, keeping the motions when asked.
 class TravelCheck : public interp::MotionSink {
  public:
-  TravelCheck(const profile::Travel& t, const SourceText& src, Diagnostics& d) : t_(t), src_(src), d_(d), spindle_(src, d) {}
+  TravelCheck(const profile::Travel& t, const std::string& name, Diagnostics& d)
+      : t_(t), d_(d), spindle_(none_, d), none_(name, "") {}
   std::vector<interp::Motion>* keep = nullptr;  // collects the motions (the gouge check's)
   void motion(const interp::Motion& m) override {
     if (keep) keep->push_back(m);
     ++count_;
-    interp::check_travel(m, t_, src_, d_);
+    interp::check_travel(m, t_, *src_, d_);
     spindle_.motion(m);
+    if (m.fixed == interp::Fixed::cutter_comp && !cutter_comp_.first_line())
+      cutter_comp_ = SourceText(none_.name(), std::string(src_->line_text(m.line)), m.line);
+  }
+  // The line of the first motion under G41/G42 (its piece may be gone).
+  const SourceText& cutter_comp_line() const { return cutter_comp_; }
+  void set_source(const SourceText& piece) {  // the piece being read
+    src_ = &piece;
+    spindle_.set_source(piece);
   }
   std::uint64_t count_ = 0;
 
  private:
   const profile::Travel& t_;
-  const SourceText& src_;
+  const SourceText* src_ = &none_;
   Diagnostics& d_;
   interp::SpindleCheck spindle_;
+  SourceText none_;
+  SourceText cutter_comp_{"", "", 0};
 };
 
 }  // namespace
@@ -139,17 +178,18 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
   if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
-  gcode::Program prog = load(file, io);
+  const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
+  // The gouge check keeps the motions and names lines of the whole file: it reads it whole.
+  gcode::ProgramPasses prog(file, &io.in, part_file.empty() ? piece_lines() : 0);
   Diagnostics diags(&io.err, s.max_errors);
   diags.set_keep(format == "json");  // only JSON lists them again; a text run may report millions
   profile::Travel none;
-  TravelCheck tc(s.machine ? s.machine->travel : none, prog.source(), diags);
-  const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
+  TravelCheck tc(s.machine ? s.machine->travel : none, prog.name(), diags);
   std::vector<interp::Motion> motions;
   tc.keep = part_file.empty() ? nullptr : &motions;
-  interp::check_program_shape(prog, diags);
-  interp::check_decimal_points(prog, s.dialect, diags, s.strict);
-  interp::Stats st = interp::interpret(prog, s.interp(), diags, tc);
+  check_text(prog, s, diags);
+  const interp::Options opt = s.interp();
+  const interp::Stats st = interpret_all(prog, opt, diags, tc);
   if (!part_file.empty() && !st.stopped) {
     const double gap = part.gap_mm ? *part.gap_mm : config_number(s.config, "part_gap_mm", 0.02);
     if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
@@ -160,14 +200,14 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
     const compensate::PartGaps g = compensate::part_gaps(
         motions, pm, lib, [&cs](const interp::Motion& m) { return compensate::tool_id(m, cs); }, {}, gap,
         cs.part_reach_mm);
-    report_part_gaps(g, prog.source(), gap, diags);
+    report_part_gaps(g, prog.whole_program()->source(), gap, diags);
   }
   if (st.cutter_comp_motions)
-    diags.report(Severity::note, prog.source(), st.first_cutter_comp_line, 1,
+    diags.report(Severity::note, tc.cutter_comp_line(), st.first_cutter_comp_line, 1,
                  std::to_string(st.cutter_comp_motions) +
                      " motions run under G41/G42 cutter compensation (first here); deflex never compensates them");
   if (format == "json") {
-    io.out << report::line({{"file", prog.source().name()}, {"lines", st.lines}, {"blocks", st.blocks},
+    io.out << report::line({{"file", prog.name()}, {"lines", st.lines}, {"blocks", st.blocks},
                             {"motions", st.motions}, {"compensable_motions", st.compensable},
                             {"cutter_comp_motions", st.cutter_comp_motions}, {"errors", diags.errors()},
                             {"warnings", diags.warnings()}, {"dialect", s.dialect.name},
@@ -175,7 +215,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
                             {"interpretation_stopped_at_line", st.stopped_line},
                             {"diagnostics", report::to_json(diags.all())}});
   } else {
-    io.out << prog.source().name() << ": " << st.lines << " lines, " << st.blocks << " blocks, " << st.motions
+    io.out << prog.name() << ": " << st.lines << " lines, " << st.blocks << " blocks, " << st.motions
            << " motions (" << st.compensable << " compensable), " << diags.errors() << " errors, "
            << diags.warnings() << " warnings [dialect " << s.dialect.name
            << (s.machine ? ", machine " + s.machine->name : std::string()) << "]\n";
@@ -205,17 +245,20 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   if (!output.empty() && output != "-") writer::check_output_path(output, file);
-  gcode::Program prog = load(file, io);
+  gcode::ProgramPasses prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   NullSink null;
-  interp::interpret(prog, s.interp(), diags, null);
+  const interp::Options opt = s.interp();
+  interpret_all(prog, opt, diags, null);
   if (diags.errors()) {
-    io.err << prog.source().name() << ": error: not written: the program has errors\n";
+    io.err << prog.name() << ": error: not written: the program has errors\n";
     return static_cast<int>(Exit::input);
   }
-  writer::Rewriter w(prog, s.dialect);
-  if (output.empty() || output == "-") w.write(io.out);
-  else writer::write_file_atomically(output, file, [&](std::ostream& o) { w.write(o); });
+  auto write = [&](std::ostream& o) {
+    prog.each([&](const gcode::Program& p, bool) { writer::Rewriter(p, s.dialect).write(o); });
+  };
+  if (output.empty() || output == "-") write(io.out);
+  else writer::write_file_atomically(output, file, write);
   return 0;
 }
 

@@ -1,10 +1,14 @@
 #include "common.hpp"
 
+#include <charconv>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <ostream>
 
 #include "deflex/force/material.hpp"
+#include "deflex/gcode/reader.hpp"
 #include "deflex/profile/yaml.hpp"
 #ifndef DEFLEX_PENDING_STIFFNESS
 #include "deflex/stiffness/machine.hpp"
@@ -180,6 +184,17 @@ force::Coefficients coefficients_of(const MaterialOptions& a, const std::string&
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
                 const po::options_description& desc) {
   out << "usage: " << usage << "\n\n" << text << "\n" << desc << "\n";
+}
+
+std::uint32_t piece_lines() {
+  const char* v = std::getenv("DEFLEX_CHUNK_LINES");
+  if (!v || !*v) return gcode::kPieceLines;
+  std::uint32_t n = 0;
+  const char* end = v + std::strlen(v);
+  const auto r = std::from_chars(v, end, n);
+  if (r.ec != std::errc() || r.ptr != end)
+    throw Error(Exit::usage, std::string("DEFLEX_CHUNK_LINES must be a whole number of lines (0: read whole), not '") + v + "'");
+  return n;
 }
 
 }  // namespace deflex::cli

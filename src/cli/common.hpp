@@ -30,6 +30,11 @@ struct ReadOptions {
 };
 void add_read_options(po::options_description& d, ReadOptions& r, bool with_machine = true);
 
+// Lines per piece when a program is read in pieces (gcode/reader.hpp):
+// DEFLEX_CHUNK_LINES if set (0: whole; the tests read in pieces of a few
+// lines to show the output does not change), else gcode::kPieceLines.
+std::uint32_t piece_lines();
+
 // What a command needs to interpret a program: config, machine, dialect.
 struct Setup {
   profile::Config config;

@@ -6,6 +6,11 @@
 
 namespace deflex {
 
+SourceText::SourceText(std::string name, std::string bytes, std::uint32_t first_line)
+    : SourceText(std::move(name), std::move(bytes)) {
+  first_line_ = first_line;
+}
+
 SourceText::SourceText(std::string name, std::string bytes)
     : name_(std::move(name)), bytes_(std::move(bytes)) {
   if (bytes_.size() >= 0xFFFFFFFFu)
@@ -24,12 +29,13 @@ SourceText::SourceText(std::string name, std::string bytes)
 }
 
 std::uint32_t SourceText::line_end_with_eol(std::uint32_t line) const {
-  return line < line_begin_.size() ? line_begin_[line] : static_cast<std::uint32_t>(bytes_.size());
+  const std::size_t k = line - first_line_ + 1;  // index of the next line's start
+  return k < line_begin_.size() ? line_begin_[k] : static_cast<std::uint32_t>(bytes_.size());
 }
 
 std::string_view SourceText::line_text(std::uint32_t line) const {
-  if (line == 0 || line > line_begin_.size()) return {};
-  std::uint32_t b = line_begin_[line - 1], e = line_end_with_eol(line);
+  if (line < first_line_ || line - first_line_ >= line_begin_.size()) return {};
+  std::uint32_t b = line_begin_[line - first_line_], e = line_end_with_eol(line);
   if (e > b && bytes_[e - 1] == '\n') --e;
   if (e > b && bytes_[e - 1] == '\r') --e;
   return std::string_view(bytes_).substr(b, e - b);
@@ -37,7 +43,7 @@ std::string_view SourceText::line_text(std::uint32_t line) const {
 
 std::uint32_t SourceText::line_of(std::uint32_t offset) const {
   auto it = std::upper_bound(line_begin_.begin(), line_begin_.end(), offset);
-  return static_cast<std::uint32_t>(it - line_begin_.begin());
+  return static_cast<std::uint32_t>(it - line_begin_.begin()) + first_line_ - 1;
 }
 
 namespace {

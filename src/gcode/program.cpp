@@ -43,18 +43,26 @@ const double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10,
 }  // namespace
 
 Program::Program(SourceText src) : src_(std::move(src)) {
+  Tape tape;
+  find_tape_end(tape);
+}
+
+Program::Program(SourceText piece, Tape& tape) : src_(std::move(piece)) { find_tape_end(tape); }
+
+void Program::find_tape_end(Tape& tape) {
   // `%` before any block is the tape start; a `%` after blocks is the tape end,
   // and whatever follows it is kept but never read (Fanuc behaviour).
-  bool seen_block = false;
-  for (std::uint32_t l = 1; l <= line_count(); ++l) {
+  closing_percent_ = tape.closing_percent;
+  for (std::uint32_t l = first_line(); !closing_percent_ && l <= last_line(); ++l) {
     std::string_view t = src_.line_text(l);
     char c = first_char(t);
     if (c == '%') {
-      if (seen_block) { closing_percent_ = l; break; }
+      if (tape.seen_block) closing_percent_ = l;
     } else if (c != 0 && c != '(' && c != ';') {
-      seen_block = true;
+      tape.seen_block = true;
     }
   }
+  tape.closing_percent = closing_percent_;
 }
 
 bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {

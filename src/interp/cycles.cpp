@@ -120,7 +120,7 @@ bool Run::flow(bool m98, bool m99, bool end) {
     if (!wp) return refuse(nullptr, "M98 without P (subprogram number)");
     std::int64_t p = static_cast<std::int64_t>(wp->value);
     int digits = 0;
-    for (std::uint32_t i = wp->num_begin; i < wp->end; ++i) digits += std::isdigit(static_cast<unsigned char>(prog_.bytes()[i])) != 0;
+    for (std::uint32_t i = wp->num_begin; i < wp->end; ++i) digits += std::isdigit(static_cast<unsigned char>(prog_->bytes()[i])) != 0;
     int repeats = 1;
     if (const Word* wl = blk_.find('L')) {
       if (wl->value > 9999) return refuse(wl, "subprogram repeat count over 9999");
@@ -134,11 +134,11 @@ bool Run::flow(bool m98, bool m99, bool end) {
     if (!subs_indexed_) {
       Diagnostics quiet(nullptr, 0);
       gcode::Block b;
-      for (std::uint32_t l = 1; l <= prog_.line_count(); ++l) {
-        std::string_view t = prog_.source().line_text(l);
+      for (std::uint32_t l = prog_->first_line(); l <= prog_->last_line(); ++l) {
+        std::string_view t = prog_->source().line_text(l);
         std::size_t k = t.find_first_not_of(" \t");
         if (k == std::string_view::npos || (t[k] != 'O' && t[k] != 'o' && t[k] != ':')) continue;
-        prog_.lex(l, b, quiet);
+        prog_->lex(l, b, quiet);
         if (b.kind == gcode::LineKind::program_number && !subs_.count(b.program_number)) subs_[b.program_number] = l;
       }
       subs_indexed_ = true;

@@ -326,8 +326,18 @@ bool Run::do_machine_move() {
 }  // namespace detail
 
 Stats interpret(const gcode::Program& prog, const Options& opt, Diagnostics& diags, MotionSink& sink) {
-  detail::Run r(prog, opt, diags, sink);
-  return r.go();
+  detail::Run r(opt, diags, sink);
+  r.feed(prog, true);
+  return r.stats();
+}
+
+Interpreter::Interpreter(const Options& opt, Diagnostics& diags, MotionSink& sink)
+    : run_(std::make_unique<detail::Run>(opt, diags, sink)) {}
+Interpreter::~Interpreter() = default;
+void Interpreter::feed(const gcode::Program& piece, bool last) { run_->feed(piece, last); }
+Stats Interpreter::finish() {
+  run_->end_of_file();
+  return run_->stats();
 }
 
 }  // namespace deflex::interp

@@ -87,8 +87,7 @@ inline PlaneAxes plane_axes(int plane) {
 
 class Run {
  public:
-  Run(const gcode::Program& p, const Options& o, Diagnostics& d, MotionSink& s)
-      : prog_(p), opt_(o), d_(o.dialect), diags_(d), sink_(s), seen_(p.line_count() + 2, 0) {
+  Run(const Options& o, Diagnostics& d, MotionSink& s) : opt_(o), d_(o.dialect), diags_(d), sink_(s) {
     if (o.machine) {
       for (auto& [k, v] : o.machine->reference_points_mm) ref_[k] = {v[0], v[1], v[2]};
     }
@@ -101,42 +100,57 @@ class Run {
     for (int i = 0; i < 3; ++i) pos_[i] = home[i] - wofs_[i];
   }
 
-  Stats go() {
-    std::uint32_t line = 1;
-    const std::uint32_t n = prog_.line_count();
+  // Runs the lines of `piece`: the whole program, or its next piece (the
+  // state carries over; a subprogram call cannot leave the piece). `last`: no
+  // piece follows.
+  void feed(const gcode::Program& piece, bool last) {
+    prog_ = &piece;
+    base_ = piece.first_line();
+    seen_.assign(piece.line_count() + 2, 0);
+    std::uint32_t line = next_;
+    const std::uint32_t n = piece.last_line();
     while (line <= n && !stop_ && !ended_ && !diags_.too_many()) {
       next_ = line + 1;
       step(line);
       line = next_;
     }
-    if (!stop_ && !ended_ && !stack_.empty())
-      diags_.report(Severity::error, prog_.source().name(), "end of file inside a subprogram (no M99)");
+    next_ = line;
+    if (last) end_of_file();
     // Lines never executed (after M30, subprograms not called, after a stop)
     // are still read, so every lexical error in the file is reported.
-    for (std::uint32_t l = 1; l <= n && !diags_.too_many(); ++l)
-      if (!seen_[l]) prog_.lex(l, blk_, diags_);
+    for (std::uint32_t l = base_; l <= n && !diags_.too_many(); ++l)
+      if (!seen(l)) piece.lex(l, blk_, diags_);
     stats_.stopped = stop_;
     stats_.ended = ended_;
     stats_.lines = n;
-    return stats_;
   }
+  // Once, after the last piece (feed(..., true) calls it before it reads the
+  // lines never executed, whose messages then come last, as in one piece).
+  void end_of_file() {
+    if (eof_) return;
+    eof_ = true;
+    if (!stop_ && !ended_ && !stack_.empty())
+      diags_.report(Severity::error, prog_ ? prog_->source().name() : std::string(),
+                    "end of file inside a subprogram (no M99)");
+  }
+  const Stats& stats() const { return stats_; }
 
  private:
   // ---- diagnostics -------------------------------------------------------
   std::uint32_t col_of(const Word* w) const { return w ? w->begin - blk_.begin + 1 : 1; }
   void warn(const Word* w, std::string msg) {
     if (in_sub_quiet()) return;
-    diags_.report(Severity::warning, prog_.source(), blk_.line, col_of(w), std::move(msg));
+    diags_.report(Severity::warning, prog_->source(), blk_.line, col_of(w), std::move(msg));
   }
   // An error that makes every later position unknown: stop interpreting.
   bool refuse(const Word* w, std::string msg) {
-    diags_.report(Severity::error, prog_.source(), blk_.line, col_of(w),
+    diags_.report(Severity::error, prog_->source(), blk_.line, col_of(w),
                   msg + "; block refused, interpretation stops here");
     stop_ = true;
     stats_.stopped_line = blk_.line;
     return false;
   }
-  bool in_sub_quiet() const { return seen_[blk_.line] > 1; }  // repeated execution of a line
+  bool in_sub_quiet() { return seen(blk_.line) > 1; }  // repeated execution of a line
   // A word that names an integer (tool, register, repeat count). Checked as a
   // double first: converting an out-of-range double to int is undefined behaviour.
   bool whole(const Word* w, double lo, double hi, int& out, const std::string& what) {
@@ -146,7 +160,7 @@ class Run {
     out = static_cast<int>(w->value);
     return true;
   }
-  std::string text_of(const Word& w) const { return std::string(prog_.bytes().substr(w.begin, w.end - w.begin)); }
+  std::string text_of(const Word& w) const { return std::string(prog_->bytes().substr(w.begin, w.end - w.begin)); }
   // Subprogram and canned-cycle repeats multiply work: a few lines can ask for
   // 9999^8 blocks. Past opt_.max_blocks blocks or motions, stop with an error.
   bool over_budget(std::uint64_t n, const char* what) {
@@ -212,13 +226,13 @@ class Run {
 
   // ---- one line ----------------------------------------------------------
   void step(std::uint32_t line) {
-    bool first_time = seen_[line] == 0;
-    if (seen_[line] < 2) ++seen_[line];
-    bool ok = prog_.lex(line, blk_, first_time ? diags_ : quiet_);
+    bool first_time = seen(line) == 0;
+    if (seen(line) < 2) ++seen(line);
+    bool ok = prog_->lex(line, blk_, first_time ? diags_ : quiet_);
     if (over_budget(steps_++, "blocks executed")) return;
-    if (blk_.kind == gcode::LineKind::ignored) { next_ = prog_.line_count() + 1; return; }
+    if (blk_.kind == gcode::LineKind::ignored) { next_ = prog_->last_line() + 1; return; }
     if (blk_.kind == gcode::LineKind::percent) {
-      if (prog_.closing_percent_line() == line) ended_ = true;
+      if (prog_->closing_percent_line() == line) ended_ = true;
       return;
     }
     if (blk_.kind == gcode::LineKind::program_number || blk_.kind == gcode::LineKind::blank) {
@@ -227,7 +241,7 @@ class Run {
     }
     if (blk_.block_delete && opt_.block_delete_switch) return;
     if (blk_.macro) {
-      diags_.report(Severity::error, prog_.source(), line, blk_.macro_col,
+      diags_.report(Severity::error, prog_->source(), line, blk_.macro_col,
                     "macro B (#variables, [ ], IF/GOTO, WHILE/DO/END) is not interpreted; block refused, "
                     "interpretation stops here");
       stop_ = true;
@@ -249,16 +263,19 @@ class Run {
   bool axis_target(Vec3& target, bool& any);
   bool flow(bool m98, bool m99, bool end);
 
-  const gcode::Program& prog_;
+  std::uint8_t& seen(std::uint32_t line) { return seen_[line - base_ + 1]; }
+
+  const gcode::Program* prog_ = nullptr;  // the piece being run
+  std::uint32_t base_ = 1;                // its first line
   const Options& opt_;
   const profile::Dialect& d_;
   Diagnostics& diags_;
   MotionSink& sink_;
-  std::vector<std::uint8_t> seen_;  // 0 never lexed, 1 once, 2 more (subprogram repeats)
+  std::vector<std::uint8_t> seen_;  // per line of the piece: 0 never lexed, 1 once, 2 more (subprogram repeats)
   Diagnostics quiet_{nullptr, 0};   // lexes a line again without repeating its messages
   Block blk_;
   std::uint32_t next_ = 1;
-  bool stop_ = false, ended_ = false;
+  bool stop_ = false, ended_ = false, eof_ = false;
   Stats stats_;
 
   // Modal state (Fanuc power-on defaults; programs normally set them anyway).

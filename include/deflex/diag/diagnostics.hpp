@@ -37,12 +37,18 @@ class SourceText {
  public:
   SourceText() = default;
   SourceText(std::string name, std::string bytes);
+  // A piece of a longer file (gcode::ProgramReader) whose first line is line
+  // `first_line` of the file: lines keep their numbers in the file, byte
+  // offsets count from the piece's first byte.
+  SourceText(std::string name, std::string bytes, std::uint32_t first_line);
   const std::string& name() const { return name_; }
   const std::string& bytes() const { return bytes_; }
   std::size_t line_count() const { return line_begin_.size(); }
+  std::uint32_t first_line() const { return first_line_; }
+  std::uint32_t last_line() const { return first_line_ + static_cast<std::uint32_t>(line_begin_.size()) - 1; }
   // Byte range of line `line` (1-based) without its line end.
   std::string_view line_text(std::uint32_t line) const;
-  std::uint32_t line_begin(std::uint32_t line) const { return line_begin_[line - 1]; }
+  std::uint32_t line_begin(std::uint32_t line) const { return line_begin_[line - first_line_]; }
   // Byte offset just past line `line` including its line end.
   std::uint32_t line_end_with_eol(std::uint32_t line) const;
   std::uint32_t line_of(std::uint32_t offset) const;  // 1-based
@@ -51,6 +57,7 @@ class SourceText {
   std::string name_;
   std::string bytes_;
   std::vector<std::uint32_t> line_begin_;
+  std::uint32_t first_line_ = 1;
 };
 
 struct Diagnostic {

@@ -34,4 +34,27 @@ inline constexpr double kTinyProgramMm = 1.0;
 DecimalFinding check_decimal_points(const gcode::Program& prog, const profile::Dialect& d, Diagnostics& diags,
                                     bool strict);
 
+// The same over a program read in pieces (gcode/reader.hpp): add() each piece
+// in order, then finish() reports what check_decimal_points would.
+class DecimalCheck {
+ public:
+  explicit DecimalCheck(const profile::Dialect& d) : d_(d) {}
+  void add(const gcode::Program& piece);
+  DecimalFinding finish(Diagnostics& diags, bool strict);
+
+ private:
+  struct Word {  // a pointless word, and its line for the message
+    char letter = 0;
+    double value = 0, lii_mm = 0;
+    std::uint32_t line = 0, col = 0;
+    std::string text;
+    SourceText source(const std::string& name) const { return SourceText(name, text, line); }
+  };
+  const profile::Dialect& d_;
+  std::string name_;
+  bool inch_ = false;
+  DecimalFinding f_;
+  Word first_, largest_, tiny_;  // the first pointless word, the largest one, the first sub-micrometre one
+};
+
 }  // namespace deflex::interp

@@ -6,6 +6,7 @@
 // G87/G88 ...) is refused with an error, and interpretation stops there: every
 // position after it would be a guess. Lexical errors elsewhere are still reported.
 #pragma once
+#include <memory>
 #include <cstdint>
 #include <vector>
 
@@ -39,5 +40,29 @@ struct Stats {
 
 // Runs the whole program; returns statistics. Errors and warnings go to diags.
 Stats interpret(const gcode::Program& prog, const Options& opt, Diagnostics& diags, MotionSink& sink);
+
+namespace detail {
+class Run;
+}
+
+// The same over a program read in pieces (gcode::ProgramReader), fed in
+// order: the motions and diagnostics are those of interpret() on the whole
+// file. A piece cannot call a subprogram in another piece: a file that calls
+// subprograms is fed whole. `opt` must outlive the interpreter.
+class Interpreter {
+ public:
+  Interpreter(const Options& opt, Diagnostics& diags, MotionSink& sink);
+  ~Interpreter();
+  Interpreter(const Interpreter&) = delete;
+  Interpreter& operator=(const Interpreter&) = delete;
+  // The piece must stay alive until the next feed() or finish(). `last`: no
+  // piece follows (the end-of-file checks then come before the messages of
+  // the lines never executed, as from interpret()).
+  void feed(const gcode::Program& piece, bool last = false);
+  Stats finish();  // after the last piece
+
+ private:
+  std::unique_ptr<detail::Run> run_;
+};
 
 }  // namespace deflex::interp

@@ -13,15 +13,32 @@ namespace deflex::interp {
 // is one subprogram). Reads the blocks, not the motions.
 void check_program_shape(const gcode::Program& prog, Diagnostics& diags);
 
+// The same over a program read in pieces (gcode/reader.hpp): add() each piece
+// in order, then finish() reports what check_program_shape would.
+class ShapeCheck {
+ public:
+  void add(const gcode::Program& piece);
+  void finish(Diagnostics& diags);
+
+ private:
+  std::string name_;
+  bool pieces_ = false, text_ = false, ended_ = false;
+  bool cr_only_ = false;          // no LF at all (one piece) and a CR before the last byte
+  std::string first_line_head_;   // the start of line 1 (the CR-only warning's excerpt)
+  std::uint32_t last_block_ = 0;  // the last block line so far, and its text
+  std::string last_block_text_;
+};
+
 // Per motion: a cutting motion with no spindle speed (no S word, or S0)
 // warns once, at its line.
 class SpindleCheck {
  public:
-  SpindleCheck(const SourceText& src, Diagnostics& d) : src_(src), d_(d) {}
+  SpindleCheck(const SourceText& src, Diagnostics& d) : src_(&src), d_(d) {}
   void motion(const Motion& m);
+  void set_source(const SourceText& piece) { src_ = &piece; }  // the piece being read
 
  private:
-  const SourceText& src_;
+  const SourceText* src_;
   Diagnostics& d_;
   bool told_ = false;
 };

@@ -1,0 +1,82 @@
+// Reading a program in pieces, so that memory does not grow with its length.
+//
+// A piece is a run of whole lines (at most max_lines, and about 8 MiB unless a
+// single line is longer) that keeps its line numbers in the file; the pieces
+// read in order make the program, and every command that can read in pieces
+// gives the same output and diagnostics as when it reads the whole file.
+// The interpreter carries its state from one piece to the next
+// (interp::Interpreter). Subprogram calls jump anywhere in the file: a file
+// that may call one (calls_subprograms) is read whole, as is standard input
+// where a command needs two passes.
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+
+#include "deflex/gcode/program.hpp"
+
+namespace deflex::gcode {
+
+// Lines per piece unless DEFLEX_CHUNK_LINES says otherwise (cli): about 2 MB
+// of a CAM program.
+inline constexpr std::uint32_t kPieceLines = 1u << 16;
+
+class ProgramReader {
+ public:
+  // "-" reads `stdin_stream` (std::cin when null). max_lines = 0: the whole
+  // file as one piece. Throws Error(io) as read_source does.
+  ProgramReader(std::string path, std::istream* stdin_stream, std::uint32_t max_lines);
+  ~ProgramReader();
+  ProgramReader(const ProgramReader&) = delete;
+  ProgramReader& operator=(const ProgramReader&) = delete;
+  // The next piece, or null after the last one. A file with no bytes gives one
+  // empty piece (line_count() 0), as read_source gives an empty program.
+  std::unique_ptr<Program> next();
+  // True once the piece next() gave last was the file's last.
+  bool done() const { return eof_ && buf_.empty(); }
+  const std::string& name() const { return name_; }
+
+ private:
+  bool fill();  // reads more bytes into buf_; false at the end of the input
+  std::string path_, name_;
+  std::istream* in_ = nullptr;
+  std::FILE* file_ = nullptr;
+  std::uint32_t max_lines_;
+  std::string buf_;            // bytes read and not yet handed out
+  std::size_t scanned_ = 0;    // bytes of buf_ already searched for line ends
+  std::uint32_t lines_in_buf_ = 0;  // line ends found in buf_[0, scanned_)
+  std::size_t cut_ = 0;        // just past the last line end found
+  std::uint32_t next_line_ = 1;
+  bool eof_ = false, gave_any_ = false;
+  Tape tape_;
+};
+
+// A program read once per pass of a command, in pieces or whole: whole when
+// it is one piece anyway (then read once), when it may call subprograms, and
+// from standard input; in pieces of max_lines lines otherwise (0: whole).
+class ProgramPasses {
+ public:
+  ProgramPasses(const std::string& path, std::istream* stdin_stream, std::uint32_t max_lines);
+  // Calls fn(piece, last) for each piece in order (a new read of the file
+  // each pass, unless it is held whole). A piece lives during its call only.
+  void each(const std::function<void(const Program& piece, bool last)>& fn);
+  bool whole() const { return whole_ != nullptr; }
+  const Program* whole_program() const { return whole_.get(); }  // null when read in pieces
+  const std::string& name() const { return name_; }
+
+ private:
+  std::string path_, name_;
+  std::istream* stdin_;
+  std::uint32_t max_lines_;
+  std::unique_ptr<Program> whole_;
+};
+
+// Whether the file may call a subprogram or macro (an M98, M99 or G65 word,
+// comments not told apart): a cheap byte scan that errs towards yes. Such a
+// file is read whole. "-" (standard input) answers yes: it cannot be read twice.
+bool calls_subprograms(const std::string& path);
+
+}  // namespace deflex::gcode
