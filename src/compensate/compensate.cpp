@@ -1,7 +1,10 @@
 #include "deflex/compensate/compensate.hpp"
 
+#include "internal.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <exception>
 #include <limits>
 #include <memory>
@@ -18,10 +21,8 @@
 #include "deflex/stiffness/beam.hpp"
 
 namespace deflex::compensate {
-namespace {
+namespace detail {
 
-// A copy of a Z-map through its public tile interface (a simulation cuts its
-// own copy of the initial stock).
 stock::ZMap clone(const stock::ZMap& z) {
   stock::ZMap c(z.grid(), stock::no_material, z.base_z_mm());
   const int T = stock::ZMap::tile_cells;
@@ -37,20 +38,6 @@ stock::ZMap clone(const stock::ZMap& z) {
     }
   return c;
 }
-
-// Everything about one tool that the simulation needs, built once.
-struct ToolModel {
-  stiffness::Tool tool;
-  force::CutterSlices slices;
-  stiffness::ComplianceTable compliance;
-  force::AngleGrid grid;
-  // Flat and bull-nose ends (flank cuts): C(z, z') between the slices of the
-  // tool chain alone (axisymmetric: the same in any frame turned about Z), and
-  // the machine structure's constant 3x3 in series, machine axes, added per
-  // point in the feed frame.
-  force::SliceCompliance flank_c;
-  stiffness::Compliance structure = stiffness::Compliance::Zero();
-};
 
 const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::string& id, const Physics& ph,
                            const Settings& s) {
@@ -78,15 +65,10 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
 }
 
 
-// The per-point physics of one CL sample: forces, deflection, surface error.
-// Shared by simulate() and the mirror stream, so both report the same numbers.
-// m: the motion as run; design: as programmed (the surface normal's).
-// a, b: the offsets of the run motion's start and end from the design's, so
-// that the design tip of the sample (the surface normal's) is known.
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev,
-               bool keep_profile = false) {
+               bool keep_profile) {
   Point p;
   p.line = cl.line;
   p.index = cl.index;
@@ -166,57 +148,6 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   return p;
 }
 
-// The stock and the tool's simulator along one run through the program.
-class Run {
- public:
-  // `own` (may be null): the map to cut, else a copy of the physics' stock.
-  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}, std::unique_ptr<stock::ZMap> own = nullptr)
-      : ph_(ph), s_(s), sink_(std::move(sink)), z_(std::move(own)) {
-    if (!ph.stock) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
-    if (!z_) z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
-    so_.path.cl_spacing_mm = s.cl_spacing_mm;
-    so_.threads = s.threads;
-  }
-  // Before motion m: false for a rapid before the first cut (not run); a cut
-  // with another tool finishes the old simulator and starts the tool's own.
-  bool prepare(const interp::Motion& m) {
-    if (m.kind == interp::MotionKind::rapid && !sim_) return false;
-    const std::string id = tool_id(m, s_);
-    if (m.kind != interp::MotionKind::rapid && id != id_) {
-      if (sim_) sim_->finish();
-      if (m.tool == 0 && s_.tool_override.empty())
-        throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give --tool");
-      tm_ = &model_for(models_, id, ph_, s_);
-      engage::Process proc;
-      proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;
-      proc.fz_mm = m.feed_mm_per_min / (proc.spindle_rpm * tm_->slices.cutter.flutes);
-      sim_ = std::make_unique<engage::Simulator>(*z_, tm_->slices, proc, so_, sink_);
-      id_ = id;
-      ++tool_changes_;
-    }
-    return true;
-  }
-  engage::Simulator& sim() { return *sim_; }
-  const stock::ZMap& zmap() const { return *z_; }
-  const ToolModel& tool() const { return *tm_; }
-  std::size_t tool_changes() const { return tool_changes_; }
-  void finish() {
-    if (sim_) sim_->finish();
-  }
-
- private:
-  const Physics& ph_;
-  const Settings& s_;
-  engage::PointSink sink_;
-  std::unique_ptr<stock::ZMap> z_;
-  engage::SimOptions so_;
-  std::map<std::string, ToolModel> models_;
-  const ToolModel* tm_ = nullptr;
-  std::string id_;
-  std::unique_ptr<engage::Simulator> sim_;
-  std::size_t tool_changes_ = 0;
-};
-
 // Point::stock_depth_mm: the highest stock over the leading half of the disc of
 // radius r around the tip (centre, rings at r/2 and 0.95 r, every 22.5 deg
 // from -90 to +90 deg about the feed direction) above the tip.
@@ -233,7 +164,6 @@ double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r) {
   return top > t[2] ? top - t[2] : 0.0;
 }
 
-// Motion m with its start moved by a and its end (and an arc's centre) by b.
 interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
   for (int c = 0; c < 3; ++c) {
     m.start_mm[c] += a[c];
@@ -243,7 +173,9 @@ interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
   return m;
 }
 
-}  // namespace
+}  // namespace detail
+
+using namespace detail;
 
 std::string tool_id(const interp::Motion& m, const Settings& s) {
   return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(m.tool);
@@ -266,64 +198,93 @@ std::vector<Point> simulate(const std::vector<interp::Motion>& motions, const st
   return out;
 }
 
-namespace {
-// simulate() on `map` (null: a copy of the physics' stock).
-void simulate_on(std::unique_ptr<stock::ZMap> map, const std::vector<interp::Motion>& motions,
-                 const std::vector<V3>& offsets, const Physics& ph, const Settings& s, const PointSink& out,
-                 const Progress& progress, const DesignNormals* normals) {
-  std::unique_ptr<DesignNormals> own;
-  if (!normals) {
-    own = design_normals(motions, ph, s);
-    normals = own.get();
-  }
-  std::vector<force::Vec3> rev;
-  // CLSample::motion counts the motions one Simulator has run; ran[] maps it
-  // back to the index in `motions` (rapids before the first cut are not run,
-  // and a tool change starts a new Simulator).
-  std::vector<std::size_t> ran;
-  const ToolModel* tm = nullptr;
-  const stock::ZMap* zmap = nullptr;
-  auto sink = [&](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
+struct Simulation::Impl {
+  Impl(const Physics& p, const Settings& st, const DesignNormals& n, PointSink o, std::unique_ptr<stock::ZMap> map,
+       Progress pr, std::size_t t)
+      : ph(p), s(st), normals(n), out(std::move(o)), progress(std::move(pr)), total(t),
+        run(p, st, [this](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
+          sample(cl, mt, eng);
+        }, std::move(map)) {}
+
+  void sample(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
     if (cl.rapid) return;
-    const std::size_t gi = ran.at(cl.motion);
-    const interp::Motion& design = motions[gi];
-    const V3 a = gi && !offsets.empty() ? offsets[gi - 1] : V3(V3::Zero());
-    const V3 b = offsets.empty() ? V3(V3::Zero()) : offsets[gi];
-    Point p = point_of(cl, mt, eng, *tm, design, design, a, b, *normals, ph.k, rev, s.flank_profiles);
+    // A simulator runs every motion from its first one on: its count of
+    // motions is the program's index less its first one's.
+    const std::size_t gi = sim_base + cl.motion;
+    while (!held.empty() && held.front().index < gi) held.pop_front();
+    if (held.empty() || held.front().index != gi) throw Error(Exit::internal, "simulation: a sample of an unknown motion");
+    const Held& h = held.front();
+    Point p = point_of(cl, mt, eng, *tm, h.design, h.design, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);
-    if (zmap) p.stock_depth_mm = stock_depth(*zmap, cl, 0.5 * tm->tool.diameter_mm);
+    p.stock_depth_mm = stock_depth(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
     out(p);
-  };
-  Run run(ph, s, sink, std::move(map));
-  zmap = &run.zmap();
-  auto offset = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
-  const std::size_t n = motions.size();
-  std::size_t changes = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    // The motions as the control will run them: each end moved by its offset,
-    // each start by the offset of the motion before (arcs are moved whole).
-    const interp::Motion m = moved(motions[i], i ? offset(i - 1) : V3(V3::Zero()), offset(i));
-    if (run.prepare(m)) {
-      if (run.tool_changes() != changes) {
-        changes = run.tool_changes();
-        ran.clear();
-        tm = &run.tool();
-      }
-      ran.push_back(i);
-      run.sim().run(m);
-    }
-    if (progress && (i % 4096 == 0)) progress("simulating", static_cast<double>(i) / static_cast<double>(n));
   }
-  run.finish();
+
+  void add(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets) {
+    for (std::size_t i = 0; i < motions.size(); ++i, ++next) {
+      // The motions as the control will run them: each end moved by its offset,
+      // each start by the offset of the motion before (arcs are moved whole).
+      const V3 b = offsets.empty() ? V3(V3::Zero()) : offsets[i];
+      const interp::Motion m = moved(motions[i], prev, b);
+      if (run.prepare(m)) {
+        if (run.tool_changes() != changes) {
+          changes = run.tool_changes();
+          sim_base = next;
+          tm = &run.tool();
+        }
+        // Rapids are cut, not sampled: only cutting motions wait for their samples.
+        if (m.kind != interp::MotionKind::rapid) held.push_back({next, motions[i], prev, b});
+        run.sim().run(m);
+      }
+      prev = b;
+      if (progress && (next % 4096 == 0))
+        progress("simulating", total ? static_cast<double>(next) / static_cast<double>(total) : 0.0);
+    }
+  }
+
+  struct Held {  // a motion run whose samples may still come (a batch late at most)
+    std::size_t index;
+    interp::Motion design;
+    V3 a, b;
+  };
+  const Physics& ph;
+  const Settings& s;
+  const DesignNormals& normals;
+  PointSink out;
+  Progress progress;
+  std::size_t total;
+  std::deque<Held> held;
+  std::size_t next = 0;      // program index of the next motion added
+  std::size_t sim_base = 0;  // program index of the current simulator's first motion
+  std::size_t changes = 0;
+  V3 prev = V3::Zero();      // offset of the last motion added
+  const ToolModel* tm = nullptr;
+  std::vector<force::Vec3> rev;
+  Run run;
+};
+
+Simulation::Simulation(const Physics& ph, const Settings& s, const DesignNormals& normals, PointSink sink,
+                       std::unique_ptr<stock::ZMap> map, Progress progress, std::size_t total)
+    : impl_(std::make_unique<Impl>(ph, s, normals, std::move(sink), std::move(map), std::move(progress), total)) {}
+Simulation::~Simulation() = default;
+void Simulation::add(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets) {
+  impl_->add(motions, offsets);
 }
-}  // namespace
+void Simulation::finish() { impl_->run.finish(); }
 
 void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets, const Physics& ph,
               const Settings& s, const PointSink& out, const Progress& progress, const DesignNormals* normals) {
   std::unique_ptr<stock::ZMap> map;
   if (ph.consumable_stock && ph.consumable_stock == ph.stock)
     map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
-  simulate_on(std::move(map), motions, offsets, ph, s, out, progress, normals);
+  std::unique_ptr<DesignNormals> own;
+  if (!normals) {
+    own = design_normals(motions, ph, s);
+    normals = own.get();
+  }
+  Simulation sim(ph, s, *normals, out, std::move(map), progress, motions.size());
+  sim.add(motions, offsets);
+  sim.finish();
 }
 
 std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
@@ -347,382 +308,6 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
     if (!ok[i] && (motions[i].kind == interp::MotionKind::arc_cw || motions[i].kind == interp::MotionKind::arc_ccw))
       ok[i - 1] = false;
   return ok;
-}
-
-namespace {
-
-// The mirror method in one pass through the program. The stock a CL sample
-// meets depends only on the path before it (causality), so the fixed point of
-// P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
-// through it once, in order: at each motion end, with every earlier motion
-// already at its compensated position and cut into the stock, the offset along
-// the surface normal is the root of h(s) = s + gain e(s) (e the surface error
-// with the end moved by s n), found by secant steps, each step one engagement
-// evaluation at the trial position (Simulator::probe, nothing is cut); then the
-// motion is cut at its offset and the stream moves on. Re-simulating the whole
-// program per mirror iteration would reach the same point, slower.
-class Stream {
- public:
-  Stream(const Physics& ph, const Settings& s, Result& r, const std::vector<bool>& can,
-         const std::vector<bool>* splittable, const DesignNormals& normals, const Progress& progress,
-         const PointSinks& sinks, std::unique_ptr<stock::ZMap> own)
-      : ph_(ph), s_(s), r_(r), can_(can), split_(splittable), normals_(normals), progress_(progress),
-        sinks_(sinks), run_(ph, s, {}, std::move(own)) {}
-
-  // Fills r.motions (and the rest of the result) anew; `motions` must not be r.motions.
-  void go(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds) {
-    r_.motions.clear();
-    r_.inserted.clear();
-    r_.offsets.clear();
-    r_.final.clear();
-    r_.feeds_mm_per_min.clear();
-    r_.converged = true;
-    const std::size_t n = motions.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      // Run at the planned feed; written down at the programmed one (r.motions
-      // are the motions as written, r.feeds_mm_per_min the plan).
-      interp::Motion m = motions[i];
-      programmed_feed_ = m.feed_mm_per_min;
-      m.feed_mm_per_min = feed_ = feeds[i];
-      splits_ = 0;
-      if (!run_.prepare(m)) {
-        emit(m, V3::Zero(), false, false, {}, false);
-      } else if (m.kind == interp::MotionKind::rapid || !can_[i]) {
-        std::vector<Point> pts;
-        if (m.kind != interp::MotionKind::rapid) pts = samples(m, prev_, V3::Zero(), 0);
-        emit(m, V3::Zero(), false, false, std::move(pts), true);
-      } else if (m.kind != interp::MotionKind::linear) {
-        // Arcs move whole: their end takes the offset of their start. Where
-        // the error along one then leaves the tolerance, it is linearised if
-        // its block allows (compensate::splittable), else kept and reported.
-        std::vector<Point> pts = samples(m, prev_, prev_, 0);
-        double worst = 0;
-        for (const Point& p : pts)
-          if (!p.air && !p.plunge) worst = std::max(worst, std::fabs(landing_error(p, prev_)));
-        if (worst <= s_.tolerance_mm) {
-          emit(m, prev_, false, true, std::move(pts), true);
-        } else if (split_ && (*split_)[i]) {
-          linearise(m);
-        } else {
-          r_.nonuniform_arcs.push_back(m.line);
-          emit(m, prev_, false, true, std::move(pts), true);
-        }
-      } else {
-        const bool may_split = split_ && (*split_)[i];
-        piece(m, 0.0, 1.0, may_split);
-      }
-      if (progress_ && (i % 4096 == 0)) progress_("compensating", static_cast<double>(i) / static_cast<double>(n));
-    }
-    run_.finish();
-    r_.iterations = max_updates_;
-    r_.evaluations = evaluations_;
-  }
-
- private:
-  // One CL sample of motion m moved by (a, b).
-  Point probe(const interp::Motion& m, const V3& a, const V3& b, int k, const std::vector<engage::Point3>* v = nullptr) {
-    const interp::Motion mm = moved(m, a, b);
-    std::vector<engage::Point3> own;
-    if (!v) {
-      own = engage::motion_vertices(mm, run_.sim().options().path);
-      v = &own;
-    }
-    engage::CLSample cl;
-    const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
-    ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, m, a, b, normals_, ph_.k, rev_);
-  }
-
-  // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
-  std::vector<Point> samples(const interp::Motion& m, const V3& a, const V3& b, int skip) {
-    const interp::Motion mm = moved(m, a, b);
-    const std::vector<engage::Point3> v = engage::motion_vertices(mm, run_.sim().options().path);
-    std::vector<Point> pts;
-    const int n = static_cast<int>(v.size()) - 1;
-    for (int k = 1; k <= n; ++k)
-      if (k != skip) pts.push_back(probe(m, a, b, k, &v));
-    return pts;
-  }
-
-  // Appends a motion as written, with its offset and samples, and cuts it.
-  void emit(const interp::Motion& m, const V3& off, bool inserted, bool can, std::vector<Point> pts, bool cut) {
-    const auto index = static_cast<std::uint32_t>(r_.motions.size());
-    if (cut) run_.sim().run(moved(m, prev_, off));
-    r_.motions.push_back(m);
-    r_.motions.back().feed_mm_per_min = programmed_feed_;
-    r_.inserted.push_back(inserted);
-    r_.offsets.push_back(off);
-    r_.feeds_mm_per_min.push_back(feed_);
-    if (can && capped_) r_.capped_lines.push_back(m.line);
-    capped_ = false;
-    for (Point& p : pts) {
-      p.motion = index;
-      if (sinks_.final) {
-        const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
-        sinks_.final(p, V3(prev_ + u * (off - prev_)));
-      }
-    }
-    prev_ = off;
-  }
-
-  // An arc as chords whose sagitta is within Settings::chord_tol_mm, each end
-  // compensated like a line's; the arc block keeps the last chord's piece of
-  // the arc, moved whole with the last chord end (its centre words re-aimed by
-  // the writer).
-  void linearise(const interp::Motion& m) {
-    const stock::Arc a = engage::arc_of(m);
-    const int chords = std::max(2, stock::arc_chord_count(a, s_.chord_tol_mm));
-    const std::vector<engage::Point3> v = stock::arc_polyline(a, chords);
-    for (int c = 1; c < chords; ++c) {
-      interp::Motion chord = m;
-      chord.kind = interp::MotionKind::linear;
-      chord.start_mm = v[static_cast<std::size_t>(c - 1)];
-      chord.end_mm = v[static_cast<std::size_t>(c)];
-      piece(chord, 0.0, 1.0, false, true);
-    }
-    interp::Motion rest = m;
-    rest.start_mm = v[static_cast<std::size_t>(chords - 1)];
-    std::vector<Point> pts = samples(rest, prev_, prev_, 0);
-    emit(rest, prev_, false, true, std::move(pts), true);
-    ++r_.linearised_arcs;
-    r_.split_points += static_cast<std::size_t>(chords - 1);
-  }
-
-  // The part [u0, u1] of linear motion m (parameters of the whole move), its
-  // start at the current offset prev_. Its end offset is solved; where the
-  // samples between land outside the tolerance under the straight ramp of the
-  // offsets and the move may be split, a vertex goes in at the worst sample and
-  // the part before it is done first (at most max_splits_per_move per move).
-  void piece(const interp::Motion& m, double u0, double u1, bool may_split, bool inserted = false) {
-    const bool last = u1 == 1.0 && !inserted;
-    for (;;) {
-      interp::Motion part = m;
-      for (int c = 0; c < 3; ++c) {
-        part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
-        if (u1 != 1.0) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
-      }
-      Point end;
-      const V3 off = solve(part, end);
-      std::vector<Point> pts = samples(part, prev_, off, end.count);
-      double worst = s_.tolerance_mm, at = -1;
-      if (may_split && splits_ < s_.max_splits_per_move)
-        for (const Point& p : pts) {
-          if (p.air || p.plunge) continue;
-          const double u = static_cast<double>(p.index) / p.count;
-          const double res = std::fabs(landing_error(p, prev_ + u * (off - prev_)));
-          if (res > worst) {
-            worst = res;
-            at = u0 + u * (u1 - u0);
-          }
-        }
-      if (at < 0) {
-        pts.push_back(end);
-        emit(part, off, !last, true, std::move(pts), true);
-        return;
-      }
-      ++splits_;
-      ++r_.split_points;
-      piece(m, u0, at, may_split, true);
-      u0 = at;
-    }
-  }
-
-  // The end offset of a cutting move from the current offset prev_: zero when
-  // the error there, as programmed, is inside the tolerance; else the mirror
-  // fixed point, capped at max_offset_mm, its change from prev_ bounded by
-  // max_step_mm. `end` receives the end sample at the returned offset.
-  V3 solve(const interp::Motion& m, Point& end) {
-    Point p0 = probe(m, prev_, V3::Zero(), 0);
-    V3 off = V3::Zero();
-    Point at = p0;  // the sample at `off`
-    if (!p0.air && !p0.plunge && std::fabs(p0.error_mm) > s_.tolerance_mm) {
-      const V3 n = p0.normal;
-      const double g = s_.gain, cap = s_.max_offset_mm;
-      // Root of h(s) = s + g e(s) by secant steps from s0 = 0 and a first step
-      // that uses the slope de/ds of the previous point (neighbours cut alike).
-      // The force model is piecewise smooth (a slice entering the cut adds its
-      // edge at once), so h can jump across its root: once a sign change is
-      // bracketed, steps stay inside the bracket (bisection when the secant
-      // leaves it) and a bracket narrower than 1% of the tolerance is the fixed
-      // point as well as the model defines one. The trial with the smallest
-      // |h| is the one kept.
-      const double tol = 0.01 * s_.tolerance_mm;
-      double s0 = 0, h0 = g * p0.error_mm;
-      double lo = 0, hi = 0;  // s where h < 0 and h > 0 (valid when the flags say so)
-      bool have_lo = h0 < 0, have_hi = h0 > 0;
-      double s1 = -g * p0.error_mm / (1 + g * slope_);
-      double best = std::numeric_limits<double>::infinity();  // |h| of the trial kept
-      bool done = false;
-      int updates = 0;
-      for (int it = 0; it < s_.max_iterations && !done; ++it) {
-        if (std::fabs(s1) >= cap) {
-          s1 = std::copysign(cap, s1);
-          capped_ = true;
-          done = true;  // at the cap: nothing further to find
-        }
-        const Point p1 = probe(m, prev_, s1 * n, 0);
-        ++updates;
-        // Flank: the mid-range of e(z) along p1.normal, which is n (the same design tip).
-        const double e1 = p1.flank ? p1.error_mm : p1.delta_mm.dot(n), h1 = s1 + g * e1;
-        if (s1 != s0) slope_ = std::clamp((e1 - (h0 - s0) / g) / (s1 - s0), -0.8, 0.8);
-        if (std::fabs(h1) < best) {
-          best = std::fabs(h1);
-          off = s1 * n;
-          at = p1;
-        }
-        if (h1 < 0 && (!have_lo || s1 > lo)) lo = s1, have_lo = true;
-        if (h1 > 0 && (!have_hi || s1 < hi)) hi = s1, have_hi = true;
-        const bool bracket = have_lo && have_hi;
-        if (std::fabs(h1) <= tol || (bracket && std::fabs(hi - lo) <= tol)) done = true;
-        if (done) break;
-        const double d = h1 - h0;
-        double s2 = std::fabs(d) > 1e-15 ? s1 - h1 * (s1 - s0) / d : s1 - h1;
-        if (!std::isfinite(s2) || std::fabs(s2 - s1) > 4 * std::fabs(h1)) s2 = s1 - h1;  // plain mirror step
-        if (bracket && !(s2 > std::min(lo, hi) && s2 < std::max(lo, hi))) s2 = 0.5 * (lo + hi);
-        s0 = s1;
-        h0 = h1;
-        s1 = s2;
-      }
-      if (!done) {
-        ++r_.unconverged_points;
-        r_.converged = false;
-        r_.last_change_mm = std::max(r_.last_change_mm, best);
-      }
-      max_updates_ = std::max(max_updates_, updates);
-    }
-    // No jerk: the offset moves at most max_step_mm from the point before.
-    const V3 d = off - prev_;
-    if (d.norm() > s_.max_step_mm) {
-      off = prev_ + d * (s_.max_step_mm / d.norm());
-      at = probe(m, prev_, off, 0);
-    }
-    end = at;
-    return off;
-  }
-
-  const Physics& ph_;
-  const Settings& s_;
-  Result& r_;
-  const std::vector<bool>& can_;
-  const std::vector<bool>* split_;
-  const DesignNormals& normals_;
-  const Progress& progress_;
-  const PointSinks& sinks_;
-  Run run_;
-  force::Engagement eng_;
-  std::vector<force::Vec3> rev_;
-  V3 prev_ = V3::Zero();       // offset of the last motion written
-  double feed_ = 0;            // planned feed of the motion being written, mm/min
-  double programmed_feed_ = 0; // its programmed feed, mm/min
-  double slope_ = 0;           // de/ds at the last solved point
-  bool capped_ = false;
-  int splits_ = 0;
-  int max_updates_ = 0;
-  std::size_t evaluations_ = 0;
-};
-
-}  // namespace
-
-Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
-                  const Progress& progress, const std::vector<bool>* splittable, const PointSinks* sinks) {
-  const std::size_t n = motions.size();
-  Result r;
-  r.motions = motions;
-  r.inserted.assign(n, false);
-  r.offsets.assign(n, V3::Zero());
-  r.feeds_mm_per_min.resize(n);
-  for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
-  std::vector<double> feeds = r.feeds_mm_per_min;
-  // The program as written is simulated for the report beside the stream, on
-  // its own thread, unless the feed limit needs its forces first (or one
-  // thread was asked for).
-  const std::unique_ptr<DesignNormals> normals = design_normals(motions, ph, s);
-  // Without sinks of the caller's the points are kept in the result.
-  PointSinks kept;
-  if (!sinks) {
-    r.nominal.reserve(n * 2);
-    kept.nominal = [&r](const Point& p) { r.nominal.push_back(p); };
-    kept.final = [&r](const Point& p, const V3&) { r.final.push_back(p); };
-    sinks = &kept;
-  }
-  // The as-written points go to the nominal sink; the feed limit needs their
-  // peak force per motion, and with gain 0 and no feed limit they are the
-  // final points as well (the same program).
-  std::vector<double> peak(s.feed_limit_N > 0 ? n : 0, 0.0);
-  const bool same = s.gain == 0.0;
-  const PointSink nominal_sink = [&](const Point& p) {
-    if (!peak.empty()) peak[p.motion] = std::max(peak[p.motion], p.peak_N);
-    if (sinks->nominal) sinks->nominal(p);
-    if (same && s.feed_limit_N <= 0 && sinks->final) sinks->final(p, V3::Zero());
-  };
-  // With a consumable stock the as-written simulation cuts a copy made here,
-  // before the mirror pass takes the caller's map over.
-  const bool take = ph.consumable_stock && ph.consumable_stock == ph.stock && !same;
-  std::unique_ptr<stock::ZMap> nominal_map = take ? std::make_unique<stock::ZMap>(clone(*ph.stock)) : nullptr;
-  std::exception_ptr nominal_failed;
-  std::thread nominal;
-  if (s.feed_limit_N > 0 || same || s.threads == 1) {
-    simulate_on(std::move(nominal_map), motions, {}, ph, s, nominal_sink, progress, normals.get());
-  } else {
-    nominal = std::thread([&] {
-      try {
-        // One thread of its own: TBB's workers are left to the pass, whose
-        // wall time is the run's.
-        Settings one = s;
-        one.threads = 1;
-        simulate_on(std::move(nominal_map), motions, {}, ph, one, nominal_sink, {}, normals.get());
-      } catch (...) {
-        nominal_failed = std::current_exception();
-      }
-    });
-  }
-  struct Join {
-    std::thread& t;
-    ~Join() {
-      if (t.joinable()) t.join();
-    }
-  } join{nominal};
-  if (s.feed_limit_N > 0) {
-    // What VERICUT Force does alone: lower the feed of a cutting block whose
-    // peak force would exceed the limit. The cutting force grows with the chip
-    // (f_z) while the edge force does not, so scaling F by limit/peak brings the
-    // peak to the limit or below; the compensation then runs at these feeds.
-    for (std::size_t i = 0; i < n; ++i) {
-      const interp::Motion& m = motions[i];
-      if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
-      const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
-      feeds[i] = std::max(f, 0.1);
-      r.feed_lowered_lines.push_back(m.line);
-    }
-  }
-  r.feeds_mm_per_min = feeds;
-  if (same) {
-    // Nothing moves: the final points are those of the program as run (at the
-    // lowered feeds where the feed limit lowered them).
-    // Without a feed limit nominal_sink passed them on; with one they are
-    // simulated again (the nominal points were handed over before the feeds
-    // were known).
-    if (sinks->final && s.feed_limit_N > 0) {
-      std::vector<interp::Motion> planned;  // the program at the planned feeds
-      if (!r.feed_lowered_lines.empty()) {
-        planned = motions;
-        for (std::size_t i = 0; i < n; ++i) planned[i].feed_mm_per_min = feeds[i];
-      }
-      simulate(planned.empty() ? motions : planned, {}, ph, s, [&](const Point& p) { sinks->final(p, V3::Zero()); },
-               progress, normals.get());
-    }
-    r.converged = true;
-    return r;
-  }
-  const std::vector<bool> can = movable(motions);
-  std::unique_ptr<stock::ZMap> mirror_map =
-      take ? std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock)) : nullptr;
-  Stream(ph, s, r, can, splittable, *normals, progress, *sinks, std::move(mirror_map)).go(motions, feeds);
-  if (nominal.joinable()) nominal.join();
-  if (nominal_failed) std::rethrow_exception(nominal_failed);
-  for (std::size_t i = 0; i < r.motions.size(); ++i)
-    if (r.offsets[i].norm() > 0) ++r.compensated_points;
-  return r;
 }
 
 }  // namespace deflex::compensate

@@ -143,6 +143,29 @@ void simulate(const std::vector<interp::Motion>& motions, const std::vector<V3>&
               const Settings& s, const PointSink& sink, const Progress& progress = {},
               const DesignNormals* normals = nullptr);
 
+// The same over a program given in pieces, in program order (memory does not
+// grow with the program): add() the motions of each piece, then finish(). The
+// points go to `sink` as they are produced (a batch of samples late at most,
+// all of them by finish()); Point::motion counts from the first motion added.
+// `map` (may be null): the Z-map to cut, else a copy of the physics' stock.
+// `total` (may be 0): the program's motions, for `progress`.
+class Simulation {
+ public:
+  Simulation(const Physics& ph, const Settings& s, const DesignNormals& normals, PointSink sink,
+             std::unique_ptr<stock::ZMap> map = nullptr, Progress progress = {}, std::size_t total = 0);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+  // The next motions (the design), each end displaced by offsets[i] (empty:
+  // none) and each start by the offset of the motion before.
+  void add(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets = {});
+  void finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // The tool id a motion cuts with: Settings::tool_override, else "T<n>".
 std::string tool_id(const interp::Motion& m, const Settings& s);
 
@@ -195,6 +218,33 @@ struct PointSinks {
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
                   const Progress& progress = {}, const std::vector<bool>* splittable = nullptr,
                   const PointSinks* sinks = nullptr);
+
+// The same over a program given in pieces, in program order (memory does not
+// grow with the program): add() each piece's motions, with movable() of them
+// (it looks one motion ahead: the caller cuts pieces where that does not
+// matter) and splittable() (may be null); add() returns the piece as written
+// (motions, inserted, offsets, feeds and the lists and counts of the piece),
+// finish() the totals (every list and count, iterations and evaluations; no
+// motions). The points go to the sinks as produced; those of the as-written
+// simulation may come a batch late (all of them by finish()), Point::motion
+// counts from the first motion of the program (as written, for `final`).
+// With a feed limit the program comes in one piece (the feeds need every
+// peak force before the mirror pass).
+class Compensation {
+ public:
+  Compensation(const Physics& ph, const Settings& s, const DesignNormals& normals, PointSinks sinks,
+               Progress progress = {}, std::size_t total = 0);
+  ~Compensation();
+  Compensation(const Compensation&) = delete;
+  Compensation& operator=(const Compensation&) = delete;
+  Result add(const std::vector<interp::Motion>& motions, const std::vector<bool>& movable,
+             const std::vector<bool>* splittable);
+  Result finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Which motions may be moved: compensable, and followed by a block the writer
 // can re-target (a plain G90 G0-G3 block) or by nothing.
