@@ -115,7 +115,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   const double tol = j.settings.tolerance_mm;
   const bool keep = !a.report.empty();
   report::ErrorAccumulator before_acc(tol, keep), after_acc(tol, keep);
-  compensate::PlausibilityScan scan(j.motions, j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
   std::vector<compensate::Point> nominal, final;
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
@@ -149,7 +149,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
     io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
-  const compensate::Plausibility pl = scan.finish(&r.capped_lines);
+  scan.capped(r.capped_lines);
+  const compensate::Plausibility pl = scan.finish(true);
   print_plausibility(j, pl, io);
   if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
     std::string lines;
@@ -267,7 +268,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const bool keep = !a.report.empty();
   std::vector<compensate::Point> pts;
   report::ErrorAccumulator acc(tol, keep);
-  compensate::PlausibilityScan scan(j.motions, j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
   compensate::simulate(design, intent, j.physics, j.settings, [&](const compensate::Point& p) {
     scan.add(p);
     if (!p.air && !p.plunge) acc.add(compensate::landing_error(p, report::offset_at(p, intent)));
@@ -275,7 +276,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   }, progress);
   j.physics.stock = j.physics.consumable_stock = nullptr;
   if (progress) io.err << "\r\033[K";
-  const compensate::Plausibility pl = scan.finish();
+  const compensate::Plausibility pl = scan.finish(false);
   print_plausibility(j, pl, io);
   const report::ErrorStats st = acc.stats();
   char buf[300];

@@ -71,6 +71,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
                bool keep_profile) {
   Point p;
   p.line = cl.line;
+  p.tool = design.tool;
   p.index = cl.index;
   p.count = cl.count;
   p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
@@ -177,9 +178,10 @@ interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
 
 using namespace detail;
 
-std::string tool_id(const interp::Motion& m, const Settings& s) {
-  return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(m.tool);
+std::string tool_id(int t_number, const Settings& s) {
+  return !s.tool_override.empty() ? s.tool_override : "T" + std::to_string(t_number);
 }
+std::string tool_id(const interp::Motion& m, const Settings& s) { return tool_id(m.tool, s); }
 
 std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>& motions, const Physics& ph,
                                               const Settings& s) {

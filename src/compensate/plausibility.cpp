@@ -71,7 +71,6 @@ struct RunPoint {
 }  // namespace
 
 struct PlausibilityScan::State {
-  const std::vector<interp::Motion>& motions;
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough;
@@ -81,10 +80,17 @@ struct PlausibilityScan::State {
   std::vector<RunPoint> run;
   double run_mm = 0;
   std::string run_tool;
-  // For the cap with the capped lines (known only at the end): the worst |e|
-  // and its tool per line, of the points that are neither in air nor plunges.
+  // For the cap with the capped lines (known as the mirror pass goes): the
+  // worst |e| and its tool per line of the points that are neither in air nor
+  // plunges, for lines from `base` on (line_worst_mm[l - base]); the lines
+  // before it are settled. Lines come in program order, except under
+  // subprogram calls (a program read whole, settled at the end).
   std::vector<double> line_worst_mm;
   std::vector<std::uint16_t> line_tool;  // index into tool_names
+  std::uint32_t base = 0, last_line = 0;
+  std::vector<std::uint32_t> pending;    // capped lines not folded yet
+  Acc capped;                            // offset_cap from the capped lines
+  std::uint32_t capped_line_count = 0;
   std::vector<std::string> tool_names;
   std::uint16_t tool_index(const std::string& id) {
     for (std::size_t k = 0; k < tool_names.size(); ++k)
@@ -93,8 +99,7 @@ struct PlausibilityScan::State {
     return static_cast<std::uint16_t>(tool_names.size() - 1);
   }
 
-  State(const std::vector<interp::Motion>& m, const stiffness::ToolLibrary& t, const Settings& st)
-      : motions(m), tools(t), s(st) {
+  State(const stiffness::ToolLibrary& t, const Settings& st) : tools(t), s(st) {
     flute.f.kind = "flute_length";
     force.f.kind = "peak_force";
     cap.f.kind = "offset_cap";
@@ -108,11 +113,41 @@ struct PlausibilityScan::State {
     run_mm = 0;
   }
   void add(const Point& p);
+  void fold(bool all);
 };
 
+// The capped lines whose points are all in (every line before the last
+// point's, or all at the end) go into `capped`: counted, the first 12 distinct
+// kept, the worst |e| of the points on them (the earliest line on a tie).
+// The per-line worsts before the lowest line still pending are then dropped.
+void PlausibilityScan::State::fold(bool all) {
+  std::size_t k = 0;
+  for (; k < pending.size() && (all || pending[k] < last_line); ++k) {
+    const std::uint32_t l = pending[k];
+    ++capped.f.count;
+    if (capped.seen.insert(l).second && capped.f.lines.size() < 12) capped.f.lines.push_back(l);
+    if (l < base || l - base >= line_worst_mm.size() || line_worst_mm[l - base] < 0) continue;
+    const double w = line_worst_mm[l - base];
+    if (!capped.any || w > capped.f.worst || (w == capped.f.worst && l < capped.f.line)) {
+      capped.f.worst = w;
+      capped.f.line = l;
+      capped.f.tool = tool_names[line_tool[l - base]];
+      capped.any = true;
+    }
+  }
+  pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(k));
+  // Only in program order may the settled lines be dropped.
+  const std::uint32_t keep_from = std::min(pending.empty() ? last_line : pending.front(), last_line);
+  if (!all && keep_from > base && std::is_sorted(pending.begin(), pending.end())) {
+    const std::size_t drop = std::min<std::size_t>(keep_from - base, line_worst_mm.size());
+    line_worst_mm.erase(line_worst_mm.begin(), line_worst_mm.begin() + static_cast<std::ptrdiff_t>(drop));
+    line_tool.erase(line_tool.begin(), line_tool.begin() + static_cast<std::ptrdiff_t>(drop));
+    base += static_cast<std::uint32_t>(drop);
+  }
+}
+
 void PlausibilityScan::State::add(const Point& p) {
-  if (p.motion >= motions.size()) return;
-  const std::string id = tool_id(motions[p.motion], s);
+  const std::string id = tool_id(p.tool, s);
   const auto it = tools.tools.find(id);
   if (it == tools.tools.end()) return;
   const stiffness::Tool& t = it->second;
@@ -142,13 +177,17 @@ void PlausibilityScan::State::add(const Point& p) {
       cap.add(p.line, std::fabs(p.error_mm), id);
       cap.f.limit = s.max_offset_mm;
     }
-    if (p.line >= line_worst_mm.size()) {
-      line_worst_mm.resize(p.line + 1, -1.0);
-      line_tool.resize(p.line + 1);
-    }
-    if (std::fabs(p.error_mm) > line_worst_mm[p.line]) {
-      line_worst_mm[p.line] = std::fabs(p.error_mm);
-      line_tool[p.line] = tool_index(id);
+    last_line = std::max(last_line, p.line);
+    if (p.line >= base) {
+      const std::size_t k = p.line - base;
+      if (k >= line_worst_mm.size()) {
+        line_worst_mm.resize(k + 1, -1.0);
+        line_tool.resize(k + 1);
+      }
+      if (std::fabs(p.error_mm) > line_worst_mm[k]) {
+        line_worst_mm[k] = std::fabs(p.error_mm);
+        line_tool[k] = tool_index(id);
+      }
     }
   }
   // 4. A plunge into material with an end that does not cut at its centre.
@@ -180,41 +219,25 @@ void PlausibilityScan::State::add(const Point& p) {
   }
 }
 
-PlausibilityScan::PlausibilityScan(const std::vector<interp::Motion>& motions, const stiffness::ToolLibrary& tools,
-                                   const Settings& s)
-    : st_(std::make_unique<State>(motions, tools, s)) {}
+PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s)
+    : st_(std::make_unique<State>(tools, s)) {}
 PlausibilityScan::~PlausibilityScan() = default;
 void PlausibilityScan::add(const Point& p) { st_->add(p); }
+void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
+  st_->pending.insert(st_->pending.end(), lines.begin(), lines.end());
+  st_->fold(false);
+}
 
-Plausibility PlausibilityScan::finish(const std::vector<std::uint32_t>* capped_lines) {
+Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
+  z.fold(true);
   const stiffness::ToolLibrary& tools = z.tools;
   const Settings& s = z.s;
   Acc &flute = z.flute, &force = z.force, &centre = z.centre, &rough = z.rough;
-  Acc cap;
+  Acc cap = compensated ? z.capped : z.cap;
   cap.f.kind = "offset_cap";
-  if (!capped_lines) {
-    cap = z.cap;
-  } else {
-    // The cap bit at the motion ends: count those, the lines in program order;
-    // the worst |e| of the points on their lines (the earliest line on a tie).
-    std::set<std::uint32_t> capped(capped_lines->begin(), capped_lines->end());
-    for (std::uint32_t l : capped)
-      if (l < z.line_worst_mm.size() && z.line_worst_mm[l] >= 0 && (!cap.any || z.line_worst_mm[l] > cap.f.worst)) {
-        cap.f.worst = z.line_worst_mm[l];
-        cap.f.line = l;
-        cap.f.tool = z.tool_names[z.line_tool[l]];
-        cap.any = true;
-      }
-    cap.f.limit = s.max_offset_mm;
-    cap.f.count = capped_lines->size();
-    for (std::uint32_t l : *capped_lines) {
-      if (cap.f.lines.size() == 12) break;
-      if (std::find(cap.f.lines.begin(), cap.f.lines.end(), l) == cap.f.lines.end()) cap.f.lines.push_back(l);
-    }
-    cap.seen = std::move(capped);
-  }
+  if (compensated) cap.f.limit = s.max_offset_mm;
   const double force_peak = z.force_peak, force_lim = z.force_lim;
   Plausibility out;
   auto lines_text = [](const Finding& f) {
@@ -267,12 +290,12 @@ Plausibility PlausibilityScan::finish(const std::vector<std::uint32_t>* capped_l
 }
 
 
-Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
-                          const stiffness::ToolLibrary& tools, const Settings& s,
+Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
                           const std::vector<std::uint32_t>* capped_lines) {
-  PlausibilityScan scan(motions, tools, s);
+  PlausibilityScan scan(tools, s);
   for (const Point& p : points) scan.add(p);
-  return scan.finish(capped_lines);
+  if (capped_lines) scan.capped(*capped_lines);
+  return scan.finish(capped_lines != nullptr);
 }
 
 }  // namespace deflex::compensate

@@ -46,7 +46,7 @@ struct Run {
     ph.stock = &z;
     s.threads = 0;
     points = compensate::simulate(in.motions, {}, ph, s);
-    pl = compensate::plausibility(in.motions, points, ph.tools, s);
+    pl = compensate::plausibility(points, ph.tools, s);
   }
 };
 
@@ -104,7 +104,7 @@ TEST_CASE("plausibility: the deflection over the offset cap") {
   REQUIRE_FALSE(r.pl.find("offset_cap"));  // default cap 0.1 mm
   r.s.max_offset_mm = 1e-4;
   test::Interpreted in = test::interpret_text(slot(2, -3));
-  const compensate::Plausibility pl = compensate::plausibility(in.motions, r.points, r.ph.tools, r.s);
+  const compensate::Plausibility pl = compensate::plausibility(r.points, r.ph.tools, r.s);
   const compensate::Finding* f = pl.find("offset_cap");
   REQUIRE(f);
   CHECK(f->worst > 1e-4);
@@ -162,3 +162,50 @@ TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {
 }
 
 }  // TEST_SUITE
+
+TEST_SUITE("compensate") {
+  TEST_CASE("offset cap: the capped lines handed over as the mirror pass finds them give what all at the end give") {
+    // Points on lines 1..60 whose |e| rises and falls; capped lines in program
+    // order, some twice, and a tie of the worst on two of them.
+    compensate::Settings s;
+    stiffness::ToolLibrary lib = stiffness::parse_tool_library(kTools, "lib.yaml");
+    std::vector<compensate::Point> pts;
+    for (std::uint32_t l = 1; l <= 60; ++l)
+      for (int k = 0; k < 3; ++k) {
+        compensate::Point p;
+        p.line = l;
+        p.tool = 3;
+        p.air = false;
+        p.error_mm = (l == 17 || l == 44 ? 0.3 : 0.01 * std::fabs(30.0 - l)) + 0.001 * k;
+        pts.push_back(p);
+      }
+    const std::vector<std::uint32_t> capped = {5, 5, 17, 20, 21, 33, 44, 44, 50, 51, 52, 53, 54, 55, 56, 57, 58, 59};
+    const compensate::Plausibility all = compensate::plausibility(pts, lib, s, &capped);
+    const compensate::Finding* want = all.find("offset_cap");
+    REQUIRE(want);
+    CHECK(want->line == 17);  // the earlier of the two worst lines
+    CHECK(want->count == capped.size());
+    CHECK(want->line_count == 16);
+    CHECK(want->lines.size() == 12);
+    // In pieces: the points of a piece, then its capped lines (a late point of
+    // the piece before may follow, as the as-written simulation's batch does).
+    compensate::PlausibilityScan scan(lib, s);
+    std::size_t next = 0;
+    for (std::uint32_t end : {12u, 30u, 45u, 61u}) {
+      while (next < pts.size() && pts[next].line < end) scan.add(pts[next++]);
+      std::vector<std::uint32_t> piece;
+      for (std::uint32_t l : capped)
+        if (l < end && l >= (end == 12 ? 0u : end == 30 ? 12u : end == 45 ? 30u : 45u)) piece.push_back(l);
+      scan.capped(piece);
+    }
+    const compensate::Plausibility got = scan.finish(true);
+    const compensate::Finding* f = got.find("offset_cap");
+    REQUIRE(f);
+    CHECK(f->line == want->line);
+    CHECK(f->worst == want->worst);
+    CHECK(f->count == want->count);
+    CHECK(f->line_count == want->line_count);
+    CHECK(f->lines == want->lines);
+    CHECK(f->message == want->message);
+  }
+}

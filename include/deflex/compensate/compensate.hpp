@@ -92,6 +92,7 @@ struct Physics {
 struct Point {
   std::uint32_t line = 0;
   std::uint32_t motion = 0;     // index into the motion list
+  std::int32_t tool = 0;        // T number of its motion
   int index = 0, count = 0;     // sample index within the motion (count: its end)
   V3 tip_mm = V3::Zero();       // commanded tool tip (with the offsets applied)
   double ap_mm = 0, ae_mm = 0;
@@ -168,6 +169,7 @@ class Simulation {
 
 // The tool id a motion cuts with: Settings::tool_override, else "T<n>".
 std::string tool_id(const interp::Motion& m, const Settings& s);
+std::string tool_id(int t_number, const Settings& s);
 
 // The normals of the design `motions` with the physics' part model or path.
 std::unique_ptr<DesignNormals> design_normals(const std::vector<interp::Motion>& motions, const Physics& ph,

@@ -57,19 +57,23 @@ ForceLimit force_limit(const stiffness::Tool& t);
 // capped_lines (compensate: Result::capped_lines, may be null): where the cap
 // did bite; offset_cap then counts those and takes the worst |e| of the points
 // on their lines, else it counts the points with gain |e| > max_offset_mm.
-Plausibility plausibility(const std::vector<interp::Motion>& motions, const std::vector<Point>& points,
-                          const stiffness::ToolLibrary& tools, const Settings& s,
+Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
                           const std::vector<std::uint32_t>* capped_lines = nullptr);
 
 // The same, point by point as a simulation produces them (program order), so
 // that the points need not be kept: memory is the findings, the distinct lines
-// they name, and a worst |e| per line for the offset cap.
+// they name, and a worst |e| per line for the offset cap, for the lines whose
+// capped state is not known yet.
 class PlausibilityScan {
  public:
-  PlausibilityScan(const std::vector<interp::Motion>& motions, const stiffness::ToolLibrary& tools, const Settings& s);
+  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s);
   ~PlausibilityScan();
   void add(const Point& p);
-  Plausibility finish(const std::vector<std::uint32_t>* capped_lines = nullptr);
+  // compensate: the lines where the cap bit (Result::capped_lines, in program
+  // order), as the mirror pass finds them. Not concurrently with add().
+  void capped(const std::vector<std::uint32_t>& lines);
+  // compensated: offset_cap from the capped lines given, else from the points.
+  Plausibility finish(bool compensated);
 
  private:
   struct State;
