@@ -85,17 +85,20 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                           WriteStats* stats, const std::vector<bool>* inserted,
-                          const std::vector<double>* feeds) {
-  writer::Rewriter w(prog, d);
+                          const std::vector<double>* feeds, WriteState* state) {
+  WriteState whole;
+  WriteState& ws = state ? *state : whole;
+  writer::Rewriter w(prog, d, &ws.numbers_taken);
   WriteStats st;
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   static const char axes[] = {'X', 'Y', 'Z'};
-  double carried[3] = {NAN, NAN, NAN};  // what the output program's control holds, mm
+  double* carried = ws.carried_mm;  // what the output program's control holds, mm
   // --feed-limit: the modal F of the output program, mm/min. Blocks deflex does
   // not touch may set F themselves; `scanned` is the last line looked at for that.
-  double carried_feed = NAN;
-  std::uint32_t scanned = 0;
+  double& carried_feed = ws.carried_feed;
+  std::uint32_t& scanned = ws.scanned;
+  if (!scanned && prog.first_line() > 1) scanned = prog.first_line() - 1;
   auto feed_words_up_to = [&](std::uint32_t line, bool inch) {  // F words of untouched lines before `line`
     for (std::uint32_t l = scanned + 1; l < line; ++l) {
       prog.lex(l, b, quiet);
@@ -204,9 +207,17 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
     }
     feed_edit(i);
   }
+  const std::uint32_t first = ws.first_line ? ws.first_line : prog.first_line();
+  const std::uint32_t last = ws.last_line ? ws.last_line : prog.last_line();
+  // The F words of the lines after the last motion: the next piece starts
+  // from the feed they leave.
+  if (feeds && last >= first) feed_words_up_to(last + 1, !motions.empty() && motions.back().inch);
   if (stats) *stats = st;
-  if (w.edits() == 0) return prog.bytes();
-  return w.str();
+  if (!state && w.edits() == 0) return prog.bytes();
+  if (prog.line_count() == 0) return prog.bytes();
+  std::ostringstream out;
+  w.write(out, first, last);
+  return out.str();
 }
 
 namespace {
@@ -325,11 +336,37 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   safety_check(original, om, out, opt, movable, max_offset_mm, inserted, feeds);
 }
 
+struct ReadBack::Impl {
+  // The written program's motions go to the sink of the piece being read.
+  struct Forward : interp::MotionSink {
+    interp::MotionSink* to = nullptr;
+    void motion(const interp::Motion& m) override { to->motion(m); }
+  };
+  explicit Impl(const interp::Options& o) : opt(o), it(opt, diags, forward) {}
+  interp::Options opt;
+  std::ostringstream errs;
+  Diagnostics diags{&errs, 0};
+  Forward forward;
+  interp::Interpreter it;
+};
+
+ReadBack::ReadBack(const interp::Options& opt) : impl_(std::make_unique<Impl>(opt)) {}
+ReadBack::~ReadBack() = default;
+
+bool ReadBack::read(const gcode::Program& piece, interp::MotionSink& sink, std::string& errors) {
+  impl_->forward.to = &sink;
+  impl_->it.feed(piece);
+  impl_->forward.to = nullptr;
+  errors = impl_->errs.str();
+  return impl_->diags.errors() == 0;
+}
+
 void safety_check(const gcode::Program& original, const std::vector<interp::Motion>& om, const gcode::Program& out,
                   const interp::Options& opt, const std::vector<bool>& movable, double max_offset_mm,
-                  const std::vector<bool>* inserted, const std::vector<double>* feeds) {
+                  const std::vector<bool>* inserted, const std::vector<double>* feeds, ReadBack* read_back,
+                  std::uint32_t line_base) {
   const Fail fail = [&](std::uint32_t line, const std::string& what) {
-    throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line) +
+    throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line + line_base) +
                                     ":1: error: safety check failed: " + what +
                                     "; nothing was written (this is a bug in deflex, please report it)");
   };
@@ -367,8 +404,13 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
   } both;
   both.x = &facts;
   both.y = &check;
-  interp::interpret(out, opt, diags, both);
-  if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
+  if (read_back) {
+    std::string e;
+    if (!read_back->read(out, both, e)) fail(1, "the written program does not read back cleanly:\n" + e);
+  } else {
+    interp::interpret(out, opt, diags, both);
+    if (diags.errors()) fail(1, "the written program does not read back cleanly:\n" + errs.str());
+  }
   // What diff and simulate --reference will find from the structure alone must
   // be what deflex did, or they would judge the program against the wrong blocks.
   const LinePairing found = pair_lines(fa, fb, pairing_options(max_offset_mm));

@@ -107,7 +107,9 @@ class Run {
     prog_ = &piece;
     base_ = piece.first_line();
     seen_.assign(piece.line_count() + 2, 0);
-    std::uint32_t line = next_;
+    // A piece goes on from the one before (a piece numbered from 1 again, as
+    // the safety check reads the written program, too).
+    std::uint32_t line = piece.first_line();
     const std::uint32_t n = piece.last_line();
     while (line <= n && !stop_ && !ended_ && !diags_.too_many()) {
       next_ = line + 1;

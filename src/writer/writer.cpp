@@ -67,11 +67,11 @@ std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<s
     };
     long before = 0;
     std::optional<long> after;
-    for (std::uint32_t l = after_line; l >= 1 && l + 200 > after_line; --l)
+    for (std::uint32_t l = after_line; l >= prog_.first_line() && l + 200 > after_line; --l)
       if (auto n = n_at(l)) { before = *n; break; }
-    for (std::uint32_t l = after_line + 1; l <= prog_.line_count() && l < after_line + 200; ++l)
+    for (std::uint32_t l = after_line + 1; l <= prog_.last_line() && l < after_line + 200; ++l)
       if ((after = n_at(l))) break;
-    long& taken = numbers_taken_[before];
+    long& taken = (*numbers_taken_)[before];
     const long n = before + 1 + taken;
     if (!after || n < *after) {
       s = "N" + std::to_string(n);
@@ -122,25 +122,35 @@ void Rewriter::insert_block_before(std::uint32_t line, const std::string& text) 
     return std::string(std::string_view(src.bytes()).substr(text_end, end - text_end));
   };
   std::string eol = eol_of(line);
-  if (eol.empty() && line > 1) eol = eol_of(line - 1);
+  if (eol.empty() && line > prog_.first_line()) eol = eol_of(line - 1);
   if (eol.empty()) eol = "\n";
   std::uint32_t at = src.line_begin(line);
   edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()), text + eol, true});
 }
 
 void Rewriter::write(std::ostream& out) {
+  if (prog_.line_count() == 0) {
+    out.write(prog_.bytes().data(), static_cast<std::streamsize>(prog_.bytes().size()));
+    return;
+  }
+  write(out, prog_.first_line(), prog_.last_line());
+}
+
+void Rewriter::write(std::ostream& out, std::uint32_t first_line, std::uint32_t last_line) {
   std::stable_sort(edits_.begin(), edits_.end(), [](const Edit& a, const Edit& b) {
     return a.begin != b.begin ? a.begin < b.begin : a.seq < b.seq;
   });
+  const SourceText& src = prog_.source();
   const std::string& s = prog_.bytes();
-  std::uint32_t pos = 0;
+  std::uint32_t pos = src.line_begin(first_line);
+  const std::uint32_t end = src.line_end_with_eol(last_line);
   for (const Edit& e : edits_) {
-    if (e.begin < pos) throw Error(Exit::internal, "overlapping edits in the writer");
+    if (e.begin < pos || e.end > end) throw Error(Exit::internal, "writer: edits overlap or lie outside the lines written");
     out.write(s.data() + pos, e.begin - pos);
     out << e.text;
     pos = e.end;
   }
-  out.write(s.data() + pos, static_cast<std::streamsize>(s.size() - pos));
+  out.write(s.data() + pos, static_cast<std::streamsize>(end - pos));
   if (d_.max_line_length > 0 && !edits_.empty()) check_line_lengths();
 }
 

@@ -24,7 +24,10 @@ std::string format_comment(const std::string& text, const profile::Dialect& d);
 
 class Rewriter {
  public:
-  Rewriter(const gcode::Program& prog, const profile::Dialect& d) : prog_(prog), d_(d) {}
+  // `numbers_taken` (may be null): the N numbers inserted blocks took, kept by
+  // the caller across the pieces of a program written in pieces.
+  Rewriter(const gcode::Program& prog, const profile::Dialect& d, std::map<long, long>* numbers_taken = nullptr)
+      : prog_(prog), d_(d), numbers_taken_(numbers_taken ? numbers_taken : &own_numbers_) {}
   // Replaces the number of word `w` by `value` (program units).
   void set_number(const gcode::Word& w, double value, bool inch);
   // Inserts ` L<value>` right after byte offset `at` (e.g. after the last axis word).
@@ -50,6 +53,9 @@ class Rewriter {
   // dialect's line-length limit.
   void write(std::ostream& out);
   std::string str();
+  // Only lines first..last (a piece of a program read with lines of context
+  // around it; every edit lies in it).
+  void write(std::ostream& out, std::uint32_t first_line, std::uint32_t last_line);
 
  private:
   struct Edit {
@@ -64,7 +70,8 @@ class Rewriter {
   std::vector<Edit> edits_;
   // Per N number of the block before a gap: how many numbers after it inserted
   // blocks took (gaps with unnumbered blocks between them share one).
-  std::map<long, long> numbers_taken_;
+  std::map<long, long>* numbers_taken_;
+  std::map<long, long> own_numbers_;
 };
 
 // Checks, before any work, that `path` can be written as an output:
