@@ -58,25 +58,57 @@ V3 travel_normal(const engage::CLSample& cl, const engage::Metrics& mt, const st
 DesignNormals::DesignNormals(const std::vector<interp::Motion>& design, const part::PartModel* part,
                              const stiffness::ToolLibrary& tools, const engage::PathOptions& path,
                              double part_reach_mm, const std::function<std::string(const interp::Motion&)>& tool_of)
-    : part_(part), reach_mm_(part_reach_mm) {
+    : DesignNormals(part, tools, path, part_reach_mm, tool_of) {
+  add(design);
+  build();
+}
+
+DesignNormals::DesignNormals(const part::PartModel* part, const stiffness::ToolLibrary& tools,
+                             const engage::PathOptions& path, double part_reach_mm,
+                             std::function<std::string(const interp::Motion&)> tool_of)
+    : part_(part), reach_mm_(part_reach_mm), tools_(&tools), path_options_(path), tool_of_(std::move(tool_of)) {}
+
+namespace {
+// Sorted, each point once: the same cloud whatever order and pieces the points came in.
+void compact(std::vector<V3>& v) {
+  std::sort(v.begin(), v.end(), [](const V3& a, const V3& b) {
+    return a.x() != b.x() ? a.x() < b.x() : a.y() != b.y() ? a.y() < b.y() : a.z() < b.z();
+  });
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+}  // namespace
+
+void DesignNormals::add(const std::vector<interp::Motion>& design) {
   if (part_) return;
   // The tip points of each ball-end tool's cutting moves. Plunges and moves
   // steeper than 80 degrees are left out: they stack points over one XY and
   // the tip surface is a height field.
-  std::map<std::string, std::vector<V3>> clouds;
   for (const interp::Motion& m : design) {
     if (m.kind == interp::MotionKind::rapid) continue;
-    const std::string id = tool_of(m);
-    auto t = tools.tools.find(id);
-    if (t == tools.tools.end() || t->second.type != stiffness::ToolType::ball) continue;
+    const std::string id = tool_of_(m);
+    auto t = tools_->tools.find(id);
+    if (t == tools_->tools.end() || t->second.type != stiffness::ToolType::ball) continue;
     const double dxy = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
     const double dz = std::fabs(m.end_mm[2] - m.start_mm[2]);
     if (m.kind == interp::MotionKind::linear && dz > 5.67 * dxy) continue;
-    std::vector<V3>& c = clouds[id];
-    const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
+    std::vector<V3>& c = clouds_[id].pts;
+    const std::vector<engage::Point3> v = engage::motion_vertices(m, path_options_);
     for (std::size_t k = 1; k < v.size(); ++k) c.emplace_back(v[k][0], v[k][1], v[k][2]);
   }
-  for (auto& [id, pts] : clouds) path_[id] = std::make_unique<part::PathNormals>(std::move(pts));
+  // Repeats go when a cloud has doubled since it was last compacted.
+  for (auto& [id, c] : clouds_)
+    if (c.pts.size() > std::max<std::size_t>(2 * c.settled, 1u << 20)) {
+      compact(c.pts);
+      c.settled = c.pts.size();
+    }
+}
+
+void DesignNormals::build() {
+  for (auto& [id, c] : clouds_) {
+    compact(c.pts);
+    path_[id] = std::make_unique<part::PathNormals>(std::move(c.pts));
+  }
+  clouds_.clear();
 }
 
 SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,

@@ -60,6 +60,12 @@ class DesignNormals {
   DesignNormals(const std::vector<interp::Motion>& design, const part::PartModel* part,
                 const stiffness::ToolLibrary& tools, const engage::PathOptions& path, double part_reach_mm,
                 const std::function<std::string(const interp::Motion&)>& tool_of);
+  // The same for a program given in pieces: add() the motions of each, then
+  // build() before the first at().
+  DesignNormals(const part::PartModel* part, const stiffness::ToolLibrary& tools, const engage::PathOptions& path,
+                double part_reach_mm, std::function<std::string(const interp::Motion&)> tool_of);
+  void add(const std::vector<interp::Motion>& design);
+  void build();
   DesignNormals(const DesignNormals&) = delete;
 
   // At a CL sample whose programmed (design) tip is design_tip_mm. Thread-safe.
@@ -71,6 +77,17 @@ class DesignNormals {
  private:
   const part::PartModel* part_;
   double reach_mm_;
+  const stiffness::ToolLibrary* tools_ = nullptr;
+  engage::PathOptions path_options_;
+  std::function<std::string(const interp::Motion&)> tool_of_;
+  // The tip points of each ball-end tool, sorted and each once (a point a
+  // program passes again, as a spring pass does, adds nothing to the surface):
+  // memory grows with the surface, not with the program.
+  struct Cloud {
+    std::vector<Eigen::Vector3d> pts;
+    std::size_t settled = 0;  // size after the last compaction
+  };
+  std::map<std::string, Cloud> clouds_;
   std::map<std::string, std::unique_ptr<part::PathNormals>> path_;  // per ball-end tool id
 };
 
