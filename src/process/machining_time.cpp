@@ -100,14 +100,6 @@ double corner_accel(const Vec3& u_in, const Vec3& u_out, const std::array<double
   return a;
 }
 
-double feed_of(const std::vector<Motion>& ms, const std::vector<double>& feeds, std::size_t i) {
-  const double f = feeds.empty() ? ms[i].feed_mm_per_min : feeds[i];
-  if (!(f > 0) || !std::isfinite(f))
-    throw Error(Exit::internal, "machining_time: the motion of line " + std::to_string(ms[i].line) +
-                                    " has no positive feed (" + std::to_string(f) + " mm/min)");
-  return f / 60;
-}
-
 // One motion in the look-ahead. v_in_mm_per_s: first the junction limit at its
 // start, after the backward pass the largest entry speed that can still stop
 // by the program end.
@@ -118,53 +110,7 @@ struct Segment {
   double v_in_mm_per_s = 0;
 };
 
-// Shapes and junction limits. A junction is at rest at the program start,
-// next to a rapid (exact stop on G0 <-> G1/G2/G3) and at a tool change;
-// between cutting motions it is the blend's corner speed, capped by both
-// cruise speeds.
-std::vector<Segment> build(const std::vector<Motion>& ms, const std::vector<double>& feeds,
-                           const profile::AxisLimits& k) {
-  std::vector<Segment> seg(ms.size());
-  const Motion* prev = nullptr;  // last motion that has a length
-  Shape prev_shape;
-  for (std::size_t i = 0; i < ms.size(); ++i) {
-    const Motion& m = ms[i];
-    const double feed = is_rapid(m) ? kInf : feed_of(ms, feeds, i);
-    const Shape s = is_arc(m) ? arc_shape(m, feed, k) : line_shape(m, feed, k);
-    Segment& g = seg[i];
-    if (s.length_mm < kMinLength_mm) {
-      g.v_in_mm_per_s = kInf;  // transparent: entry = exit
-      continue;
-    }
-    g.length_mm = s.length_mm;
-    g.vmax_mm_per_s = s.vmax_mm_per_s;
-    g.accel_mm_per_s2 = s.accel_mm_per_s2;
-    if (prev && !is_rapid(*prev) && !is_rapid(m) && prev->tool == m.tool) {
-      const double a_corner = corner_accel(prev_shape.u_end, s.u_start, k.acceleration_mm_per_s2);
-      const double v_corner = corner_speed_mm_per_s(prev_shape.u_end, s.u_start, a_corner, k.corner_tolerance_mm);
-      g.v_in_mm_per_s = std::min({v_corner, prev_shape.vmax_mm_per_s, s.vmax_mm_per_s});
-    }
-    prev = &m;
-    prev_shape = s;
-  }
-  return seg;
-}
-
-// Backward pass: each entry speed must let the motion slow down to the next
-// entry speed (0 at the program end) within its length.
-void backward(std::vector<Segment>& seg) {
-  double exit = 0;
-  for (std::size_t i = seg.size(); i-- > 0;) {
-    Segment& g = seg[i];
-    if (g.length_mm > 0)
-      g.v_in_mm_per_s = std::min(g.v_in_mm_per_s, std::sqrt(exit * exit + 2 * g.accel_mm_per_s2 * g.length_mm));
-    else
-      g.v_in_mm_per_s = exit;
-    exit = g.v_in_mm_per_s;
-  }
-}
-
-void add(TimeTotals& t, bool rapid, double s, double mm) {
+void add_time(TimeTotals& t, bool rapid, double s, double mm) {
   t.total_s += s;
   (rapid ? t.rapid_s : t.cutting_s) += s;
   (rapid ? t.rapid_mm : t.cutting_mm) += mm;
@@ -203,37 +149,117 @@ double corner_speed_mm_per_s(const Vec3& u_in, const Vec3& u_out, double a, doub
   return std::sqrt(a * radius_mm);
 }
 
+// The clock keeps the motions whose entry speed may still fall (the
+// look-ahead) and settles them in batches: within the window the backward
+// pass runs as if the path went on at full speed after it; a motion's entry
+// speed is final once the braking room from it to the window's end, 2 a L
+// summed, is at least its square (no later stop can lower it then).
+struct MachiningClock::Entry {
+  Segment g;
+  bool rapid = false;
+  int tool = 0;
+  std::size_t index = 0;
+};
+
+MachiningClock::MachiningClock(const profile::AxisLimits& k, std::vector<double>* motion_s)
+    : k_(k), motion_s_(motion_s) {}
+MachiningClock::~MachiningClock() = default;
+
+// Shapes and junction limits. A junction is at rest at the program start,
+// next to a rapid (exact stop on G0 <-> G1/G2/G3) and at a tool change;
+// between cutting motions it is the blend's corner speed, capped by both
+// cruise speeds.
+void MachiningClock::add(const Motion& m, double feed_mm_per_min) {
+  const double f = std::isnan(feed_mm_per_min) ? m.feed_mm_per_min : feed_mm_per_min;
+  if (!is_rapid(m) && (!(f > 0) || !std::isfinite(f)))
+    throw Error(Exit::internal, "machining_time: the motion of line " + std::to_string(m.line) +
+                                    " has no positive feed (" + std::to_string(f) + " mm/min)");
+  const double feed = is_rapid(m) ? kInf : f / 60;
+  const Shape s = is_arc(m) ? arc_shape(m, feed, k_) : line_shape(m, feed, k_);
+  Entry e;
+  e.rapid = is_rapid(m);
+  e.tool = m.tool;
+  e.index = count_++;
+  if (motion_s_) motion_s_->push_back(0.0);
+  if (s.length_mm < kMinLength_mm) {
+    e.g.v_in_mm_per_s = kInf;  // transparent: entry = exit
+  } else {
+    e.g.length_mm = s.length_mm;
+    e.g.vmax_mm_per_s = s.vmax_mm_per_s;
+    e.g.accel_mm_per_s2 = s.accel_mm_per_s2;
+    if (have_prev_ && !prev_rapid_ && !is_rapid(m) && prev_tool_ == m.tool) {
+      const double a_corner = corner_accel(prev_shape_.u_end, s.u_start, k_.acceleration_mm_per_s2);
+      const double v_corner = corner_speed_mm_per_s(prev_shape_.u_end, s.u_start, a_corner, k_.corner_tolerance_mm);
+      e.g.v_in_mm_per_s = std::min({v_corner, prev_shape_.vmax_mm_per_s, s.vmax_mm_per_s});
+    }
+    have_prev_ = true;
+    prev_rapid_ = is_rapid(m);
+    prev_tool_ = m.tool;
+    prev_shape_ = {s.u_end, s.vmax_mm_per_s};
+  }
+  window_.push_back(e);
+  if (window_.size() >= settled_size_ + kBatch) settle(false);
+}
+
+// Backward pass over the window: each entry speed must let the motion slow
+// down to the next entry speed (0 at the program end) within its length; then
+// the forward pass over what is final: each motion leaves at what it can reach
+// from its entry, capped by the next entry speed; its time follows from both.
+void MachiningClock::settle(bool end) {
+  const std::size_t n = window_.size();
+  std::vector<double> v_in(n);
+  double exit = end ? 0 : kInf, room = 0;  // room: 2 a L from the motion to the window's end
+  std::size_t final_count = end ? n : 0;
+  for (std::size_t i = n; i-- > 0;) {
+    const Segment& g = window_[i].g;
+    if (g.length_mm > 0) {
+      v_in[i] = std::min(g.v_in_mm_per_s, std::sqrt(exit * exit + 2 * g.accel_mm_per_s2 * g.length_mm));
+      room += 2 * g.accel_mm_per_s2 * g.length_mm;
+    } else {
+      v_in[i] = exit;
+    }
+    exit = v_in[i];
+    if (!end && !final_count && v_in[i] * v_in[i] <= room) final_count = i + 1;
+  }
+  // A motion's time needs the next one's entry: the last final one waits.
+  const std::size_t done = end ? n : (final_count ? final_count - 1 : 0);
+  for (std::size_t i = 0; i < done; ++i) {
+    const Entry& e = window_[i];
+    const Segment& g = e.g;
+    if (!(g.length_mm > 0)) continue;
+    const double v0 = std::min(v_, v_in[i]);
+    const double next = i + 1 < n ? v_in[i + 1] : 0.0;
+    const double v1 = std::min(next, std::sqrt(v0 * v0 + 2 * g.accel_mm_per_s2 * g.length_mm));
+    const double t = segment_time_s(g.length_mm, v0, v1, g.vmax_mm_per_s, g.accel_mm_per_s2);
+    v_ = v1;
+    if (motion_s_) (*motion_s_)[e.index] = t;
+    add_time(r_.program, e.rapid, t, g.length_mm);
+    if (!per_tool_ || e.tool != tool_) {
+      tool_ = e.tool;
+      per_tool_ = &r_.per_tool[tool_];
+    }
+    add_time(*per_tool_, e.rapid, t, g.length_mm);
+  }
+  window_.erase(window_.begin(), window_.begin() + static_cast<std::ptrdiff_t>(done));
+  settled_size_ = window_.size();
+}
+
+MachiningTime MachiningClock::finish() {
+  settle(true);
+  return r_;
+}
+
 MachiningTime machining_time(const std::vector<Motion>& ms, const profile::AxisLimits& k,
                              const std::vector<double>& feeds) {
   if (!feeds.empty() && feeds.size() != ms.size())
     throw Error(Exit::internal, "machining_time: " + std::to_string(feeds.size()) + " feeds for " +
                                     std::to_string(ms.size()) + " motions");
-  std::vector<Segment> seg = build(ms, feeds, k);
-  backward(seg);
-  MachiningTime r;
-  r.motion_s.assign(ms.size(), 0.0);
-  // Forward pass: each motion leaves at what it can reach from its entry,
-  // capped by the next entry speed; its time follows from both.
-  double v = 0;
-  int tool = 0;
-  TimeTotals* per_tool = nullptr;
-  for (std::size_t i = 0; i < ms.size(); ++i) {
-    const Segment& g = seg[i];
-    if (!(g.length_mm > 0)) continue;
-    const double v0 = std::min(v, g.v_in_mm_per_s);
-    const double next = i + 1 < ms.size() ? seg[i + 1].v_in_mm_per_s : 0.0;
-    const double v1 = std::min(next, std::sqrt(v0 * v0 + 2 * g.accel_mm_per_s2 * g.length_mm));
-    const double t = segment_time_s(g.length_mm, v0, v1, g.vmax_mm_per_s, g.accel_mm_per_s2);
-    v = v1;
-    r.motion_s[i] = t;
-    const bool rapid = is_rapid(ms[i]);
-    add(r.program, rapid, t, g.length_mm);
-    if (!per_tool || ms[i].tool != tool) {
-      tool = ms[i].tool;
-      per_tool = &r.per_tool[tool];
-    }
-    add(*per_tool, rapid, t, g.length_mm);
-  }
+  std::vector<double> motion_s;
+  motion_s.reserve(ms.size());
+  MachiningClock clock(k, &motion_s);
+  for (std::size_t i = 0; i < ms.size(); ++i) clock.add(ms[i], feeds.empty() ? NAN : feeds[i]);
+  MachiningTime r = clock.finish();
+  r.motion_s = std::move(motion_s);
   return r;
 }
 

@@ -275,3 +275,30 @@ TEST_CASE("one million motions in one pass, well under a second") {
 }
 
 }  // TEST_SUITE
+
+TEST_CASE("a ramp over many look-ahead batches: the clock settles only what no later stop can slow") {
+  // 40 mm along X in 40,000 collinear pieces of 1 um at 600 mm/s: the braking
+  // ramp (v^2 / 2a = 180 mm would not fit; the peak is sqrt(a L) = 200 mm/s)
+  // spans all of them, far more than a batch of the clock; the time is the
+  // triangle's, 2 sqrt(L/a), as for one move. Then three such runs with stops
+  // between (rapids), fed one motion at a time in pieces of odd sizes.
+  const int n = 40000;
+  std::vector<interp::Motion> ms;
+  for (int i = 0; i < n; ++i) ms.push_back(g1({i * 1e-3, 0, 0}, {(i + 1) * 1e-3, 0, 0}, 36000));
+  const double want = 2 * std::sqrt(40.0 / 1000);
+  CHECK(machining_time(ms, hand()).program.total_s == Approx(want).epsilon(1e-9));
+  std::vector<interp::Motion> three;
+  for (int r = 0; r < 3; ++r) {
+    three.insert(three.end(), ms.begin(), ms.end());
+    three.push_back(g0({40, 0, 0}, {0, 0, 0}));
+  }
+  const process::MachiningTime whole = machining_time(three, hand());
+  const double rapid = 40.0 / 100 + 100.0 / 1000;  // L/v + v/a at the rapid limit
+  CHECK(whole.program.total_s == Approx(3 * (want + rapid)).epsilon(1e-9));
+  process::MachiningClock clock(hand());
+  for (const interp::Motion& m : three) clock.add(m);
+  const process::MachiningTime fed = clock.finish();
+  CHECK(fed.program.total_s == whole.program.total_s);
+  CHECK(fed.program.cutting_mm == whole.program.cutting_mm);
+  CHECK(fed.per_tool.at(1).cutting_s == whole.per_tool.at(1).cutting_s);
+}

@@ -37,6 +37,7 @@
 #pragma once
 #include <array>
 #include <map>
+#include <limits>
 #include <vector>
 
 #include "deflex/interp/motion.hpp"
@@ -65,6 +66,38 @@ struct MachiningTime {
 // motion has no positive finite feed (the interpreter never emits one).
 MachiningTime machining_time(const std::vector<interp::Motion>& motions, const profile::AxisLimits& limits,
                              const std::vector<double>& feed_mm_per_min = {});
+
+// The same motion by motion (a program in pieces): memory is the look-ahead,
+// the motions whose entry speed a later stop may still lower. The totals are
+// those of machining_time() whatever pieces the motions come in.
+class MachiningClock {
+ public:
+  // motion_s (may be null): receives each motion's time at its index.
+  explicit MachiningClock(const profile::AxisLimits& limits, std::vector<double>* motion_s = nullptr);
+  ~MachiningClock();
+  // feed_mm_per_min: NaN for the motion's own (else --feed-limit's).
+  void add(const interp::Motion& m, double feed_mm_per_min = std::numeric_limits<double>::quiet_NaN());
+  MachiningTime finish();  // program and per-tool totals (motion_s stays empty)
+
+ private:
+  struct Entry;
+  struct ShapeState {
+    interp::Vec3 u_end{};
+    double vmax_mm_per_s = 0;
+  };
+  void settle(bool end);
+  static constexpr std::size_t kBatch = 4096;  // motions added between settlements
+  profile::AxisLimits k_;
+  std::vector<double>* motion_s_;
+  std::vector<Entry> window_;
+  std::size_t settled_size_ = 0, count_ = 0;
+  double v_ = 0;  // exit speed of the last motion timed
+  ShapeState prev_shape_;
+  bool have_prev_ = false, prev_rapid_ = false;
+  int prev_tool_ = 0, tool_ = 0;
+  TimeTotals* per_tool_ = nullptr;
+  MachiningTime r_;
+};
 
 // --- The pieces, for tests and plots ---
 
