@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/pairing.hpp"
+#include "deflex/compensate/pipeline.hpp"
 #include "deflex/report/html.hpp"
 #include "deflex/report/points.hpp"
 #include "deflex/report/stats.hpp"
@@ -85,6 +86,89 @@ void write_folder(const std::string& dir, const Job& j, const report::PointTable
   writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
 }
 
+// What compensate says of a run on stderr: lowered feeds, plausibility,
+// capped offsets, linearised and non-uniform arcs, convergence, the counts,
+// the predicted error before and after, the machining time.
+void print_run(const Job& j, const compensate::Result& r, const compensate::WriteStats& ws,
+               const compensate::Plausibility& pl, const report::ErrorStats& before, const report::ErrorStats& after,
+               const process::MachiningTime& t0, const process::MachiningTime& t1, Io& io) {
+  const double tol = j.settings.tolerance_mm;
+  if (!r.feed_lowered_lines.empty()) {
+    std::string lines;
+    for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)
+      lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
+    if (r.feed_lowered_lines.size() > 12) lines += ", ...";
+    io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
+           << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
+  }
+  print_plausibility(j, pl, io);
+  if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
+    std::string lines;
+    for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
+    if (r.capped_lines.size() > 12) lines += ", ...";
+    io.err << j.prog.source().name() << ": warning: the offset was capped at max_offset_mm = " << j.settings.max_offset_mm
+           << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
+  }
+  if (r.linearised_arcs)
+    io.err << j.prog.source().name() << ": note: " << r.linearised_arcs
+           << " arcs whose compensation varies along them were linearised (G1 chords within "
+           << j.settings.chord_tol_mm << " mm of the arc; the arc block keeps the last piece)\n";
+  for (std::uint32_t l : r.nonuniform_arcs)
+    io.err << j.prog.source().name() << ":" << l
+           << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
+  if (!r.converged)
+    io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
+           << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
+           << " mm); the best iterate is written\n";
+  io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
+         << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
+         << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
+         << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
+  summary_line(io, "predicted error, as written:", before, tol);
+  summary_line(io, "predicted error, compensated:", after, tol);
+  time_line(io, t0, t1);
+}
+
+// compensate on a program read in pieces (prepare() decided): the same
+// messages and output as on the whole program, memory bounded by a piece.
+int compensate_in_pieces(Job& j, const Args& a, Io& io) {
+  const double tol = j.settings.tolerance_mm;
+  report::ErrorAccumulator before_acc(tol, false), after_acc(tol, false);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PipelineInput in;
+  in.path = a.file;
+  in.lines_per_read = j.pieces->max_lines();
+  in.motions_per_piece = j.pieces->max_lines();
+  in.interp = j.setup.interp();
+  in.fix = [&a](interp::Motion& m) { fill_cut_defaults(a, m); };
+  in.physics = &j.physics;
+  in.settings = &j.settings;
+  in.normals = j.normals.get();
+  in.sinks.nominal = [&](const compensate::Point& p) {
+    scan.add(p);
+    if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
+  };
+  in.sinks.final = [&](const compensate::Point& p, const V3& off) {
+    if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
+  };
+  in.progress = progress_for(io);
+  in.total_motions = j.motion_count;
+  in.limits = j.setup.machine->axis_limits;
+  in.on_piece = [&scan](const compensate::Result& r) { scan.capped(r.capped_lines); };
+  // Nothing reads the initial stock after this: the mirror pass may cut it.
+  j.physics.consumable_stock = j.stock.get();
+  compensate::PipelineResult res;
+  // The output appears whole or not at all: through a temporary file.
+  auto fill = [&](std::ostream& o) { res = compensate::compensate_in_pieces(in, o); };
+  if (a.output.empty() || a.output == "-") writer::write_through_temporary(io.out, fill);
+  else writer::write_file_atomically(a.output, a.file, fill);
+  j.physics.stock = j.physics.consumable_stock = nullptr;
+  if (in.progress) io.err << "\r\033[K";
+  const compensate::Plausibility pl = scan.finish(true);
+  print_run(j, res.totals, res.written, pl, before_acc.stats(), after_acc.stats(), j.time_as_written, res.time, io);
+  return 0;
+}
+
 }  // namespace
 
 int cmd_compensate(const std::vector<std::string>& args, Io& io) {
@@ -107,7 +191,9 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   // Every check of the command line before any computation.
   if (!a.output.empty() && a.output != "-") writer::check_output_path(a.output, a.file);
   if (!a.report.empty()) writer::check_output_folder(a.report);
-  Job j = prepare(a, io, true);
+  // Without --report a long program is read, compensated and written in pieces.
+  Job j = prepare(a, io, true, nullptr, a.report.empty());
+  if (j.pieces) return compensate_in_pieces(j, a, io);
   auto progress = progress_for(io);
   const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
   // The figures and the plausibility scan take the points as the simulations
@@ -141,46 +227,13 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
                  compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted, feeds)));
   const std::string& text = written.bytes();
   compensate::safety_check(j.prog, r.motions, written, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
-  if (!r.feed_lowered_lines.empty()) {
-    std::string lines;
-    for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)
-      lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
-    if (r.feed_lowered_lines.size() > 12) lines += ", ...";
-    io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
-           << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
-  }
   scan.capped(r.capped_lines);
   const compensate::Plausibility pl = scan.finish(true);
-  print_plausibility(j, pl, io);
-  if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
-    std::string lines;
-    for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
-    if (r.capped_lines.size() > 12) lines += ", ...";
-    io.err << j.prog.source().name() << ": warning: the offset was capped at max_offset_mm = " << j.settings.max_offset_mm
-           << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
-  }
-  if (r.linearised_arcs)
-    io.err << j.prog.source().name() << ": note: " << r.linearised_arcs
-           << " arcs whose compensation varies along them were linearised (G1 chords within "
-           << j.settings.chord_tol_mm << " mm of the arc; the arc block keeps the last piece)\n";
-  for (std::uint32_t l : r.nonuniform_arcs)
-    io.err << j.prog.source().name() << ":" << l
-           << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
-  if (!r.converged)
-    io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
-           << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
-           << " mm); the best iterate is written\n";
   const report::ErrorStats before = before_acc.stats(), after = after_acc.stats();
-  io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
-         << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
-         << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
-         << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
-  summary_line(io, "predicted error, as written:", before, tol);
-  summary_line(io, "predicted error, compensated:", after, tol);
   const profile::AxisLimits& lim = j.setup.machine->axis_limits;
   const process::MachiningTime t0 = process::machining_time(j.motions, lim);
   const process::MachiningTime t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
-  time_line(io, t0, t1);
+  print_run(j, r, ws, pl, before, after, t0, t1, io);
   if (!a.report.empty()) {
     report::PointTable t = report::table_of_compensation(std::move(final), nominal, r, j.motions, j.physics, j.settings);
     report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(after)},

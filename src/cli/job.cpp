@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <set>
+#include <tuple>
 
 #include "deflex/compensate/gouge.hpp"
 #include "deflex/engage/engagement.hpp"
@@ -91,38 +92,59 @@ compensate::Settings settings_of(const Args& a, const profile::Config& cfg, cons
 
 // What the simulation needs of every cutting motion, before it runs: a tool
 // in the library, a spindle speed and a feed (--spindle, --feed supply what
-// the program lacks). Errors at the line of the first motion lacking each.
-void check_cutting(std::vector<interp::Motion>& motions, const Args& a, const compensate::Settings& st,
-                   const stiffness::ToolLibrary& lib, const SourceText& src, Diagnostics& diags) {
-  // A tool named on the command line that the library lacks is a usage error
-  // (exit 2, with the library's tools); a T word of the program the library
-  // lacks is the library's (exit 3).
-  if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);
-  bool no_s = false, no_f = false;
-  for (interp::Motion& m : motions) {
-    if (m.kind == interp::MotionKind::rapid) continue;
-    if (m.spindle_rpm <= 0 && a.spindle_rpm) m.spindle_rpm = *a.spindle_rpm;
-    if (m.feed_mm_per_min <= 0 && a.feed_mm_per_min) m.feed_mm_per_min = *a.feed_mm_per_min;
-    const std::string id = compensate::tool_id(m, st);
-    if (m.tool == 0 && st.tool_override.empty()) {
-      diags.report(Severity::error, src, m.line, 1, "cutting with no tool selected (T.. M6): give --tool");
-      throw Error(Exit::usage, src.name() + ": error: no tool; nothing done");
+// the program lacks). Errors at the line of the first motion lacking each,
+// kept until report() (the line's text with them: a program read in pieces
+// no longer holds it then).
+class CuttingCheck {
+ public:
+  CuttingCheck(const Args& a, const compensate::Settings& st, const stiffness::ToolLibrary& lib)
+      : a_(a), st_(st), lib_(lib) {
+    // A tool named on the command line that the library lacks is a usage error
+    // (exit 2, with the library's tools).
+    if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);
+  }
+  void check(interp::Motion& m, const SourceText& src) {
+    if (m.kind == interp::MotionKind::rapid) return;
+    fill_cut_defaults(a_, m);
+    if (fatal_) return;
+    // A T word of the program the library lacks is the library's (exit 3).
+    if (m.tool == 0 && st_.tool_override.empty()) {
+      error(src, m.line, "cutting with no tool selected (T.. M6): give --tool");
+      fatal_ = Error(Exit::usage, src.name() + ": error: no tool; nothing done");
+      return;
     }
-    if (!lib.tools.count(id)) {
-      diags.report(Severity::error, src, m.line, 1,
-                   "tool " + id + " is not in the tool library " + lib.file + " (give --tool-file, or --tool)");
-      throw Error(Exit::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
+    const std::string id = compensate::tool_id(m, st_);
+    if (!lib_.tools.count(id)) {
+      error(src, m.line, "tool " + id + " is not in the tool library " + lib_.file + " (give --tool-file, or --tool)");
+      fatal_ = Error(Exit::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
+      return;
     }
-    if (!no_s && m.spindle_rpm <= 0) {
-      no_s = true;
-      diags.report(Severity::error, src, m.line, 1, "cutting with no spindle speed (S0 or no S word): give --spindle RPM");
+    if (!no_s_ && m.spindle_rpm <= 0) {
+      no_s_ = true;
+      error(src, m.line, "cutting with no spindle speed (S0 or no S word): give --spindle RPM");
     }
-    if (!no_f && m.feed_mm_per_min <= 0) {
-      no_f = true;
-      diags.report(Severity::error, src, m.line, 1, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
+    if (!no_f_ && m.feed_mm_per_min <= 0) {
+      no_f_ = true;
+      error(src, m.line, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
     }
   }
-}
+  // The errors in the order found; throws where one ends the run.
+  void report(Diagnostics& diags) const {
+    for (const auto& [src, line, msg] : found_) diags.report(Severity::error, src, line, 1, msg);
+    if (fatal_) throw *fatal_;
+  }
+
+ private:
+  void error(const SourceText& src, std::uint32_t line, std::string msg) {
+    found_.push_back({SourceText(src.name(), std::string(src.line_text(line)), line), line, std::move(msg)});
+  }
+  const Args& a_;
+  const compensate::Settings& st_;
+  const stiffness::ToolLibrary& lib_;
+  bool no_s_ = false, no_f_ = false;
+  std::optional<Error> fatal_;
+  std::vector<std::tuple<SourceText, std::uint32_t, std::string>> found_;
+};
 
 }  // namespace
 
@@ -233,9 +255,92 @@ std::string stock_spec(const std::string& given, const profile::Config& cfg) {
   return s;
 }
 
-Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
+void fill_cut_defaults(const Args& a, interp::Motion& m) {
+  if (m.kind == interp::MotionKind::rapid) return;
+  if (m.spindle_rpm <= 0 && a.spindle_rpm) m.spindle_rpm = *a.spindle_rpm;
+  if (m.feed_mm_per_min <= 0 && a.feed_mm_per_min) m.feed_mm_per_min = *a.feed_mm_per_min;
+}
+
+namespace {
+
+// The checks of prepare() on a program read in pieces, pass by pass so their
+// messages come in the order they come on the whole program: the text
+// (shape, decimal points), the interpretation, then per motion the travel and
+// what cutting needs. The last pass also builds what the compensation needs
+// of the whole program: the design normals, the time as written, the count.
+void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
+  gcode::ProgramPasses& src = *j.pieces;
+  interp::ShapeCheck shape;
+  interp::DecimalCheck dec(j.setup.dialect);
+  src.each([&](const gcode::Program& p, bool) {
+    shape.add(p);
+    dec.add(p);
+  });
+  shape.finish(diags);
+  dec.finish(diags, j.setup.strict);
+  const interp::Options opt = j.setup.interp();
+  struct Count : interp::MotionSink {
+    std::size_t n = 0;
+    void motion(const interp::Motion&) override { ++n; }
+  } count;
+  {
+    interp::Interpreter it(opt, diags, count);
+    src.each([&](const gcode::Program& p, bool last) { it.feed(p, last); });
+    it.finish();
+  }
+  j.motion_count = count.n;
+  engage::PathOptions po;
+  po.cl_spacing_mm = j.settings.cl_spacing_mm;
+  const compensate::Settings& st = j.settings;
+  j.normals = std::make_unique<compensate::DesignNormals>(
+      nullptr, j.physics.tools, po, st.part_reach_mm, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); });
+  process::MachiningClock clock(j.setup.machine->axis_limits);
+  CuttingCheck cut(a, st, j.physics.tools);
+  Collect c;
+  std::vector<interp::Motion> piece;
+  c.out = &piece;
+  Diagnostics quiet(nullptr, 0);
+  interp::Interpreter it(opt, quiet, c);
+  src.each([&](const gcode::Program& p, bool last) {
+    it.feed(p, last);
+    for (interp::Motion& m : piece) {
+      interp::check_travel(m, j.setup.machine->travel, p.source(), diags);
+      cut.check(m, p.source());
+      clock.add(m);
+    }
+    j.normals->add(piece);
+    piece.clear();
+  });
+  it.finish();
+  if (!diags.errors()) cut.report(diags);
+  if (diags.errors()) return;
+  j.normals->build();
+  j.time_as_written = clock.finish();
+}
+
+}  // namespace
+
+SourceText line_of_file(const Job& j, std::uint32_t line) {
+  if (!j.pieces) return SourceText(j.prog.source().name(), std::string(j.prog.source().line_text(line)), line);
+  std::string text;
+  j.pieces->each([&](const gcode::Program& p, bool) {
+    if (line >= p.first_line() && line <= p.last_line()) text = std::string(p.source().line_text(line));
+  });
+  return SourceText(j.pieces->name(), text, line);
+}
+
+Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
   Setup s = resolve_with_machine(a.read);
-  Job j{std::move(s), {}, {}, {}, {}, gcode::Program(gcode::read_source(a.file, &io.in)), {}, {}, {}, {}, {}};
+  const std::string part = !a.part.part.empty() ? a.part.part : config_path(s.config, "part");
+  std::unique_ptr<gcode::ProgramPasses> pieces;
+  if (in_pieces && a.file != "-" && a.feed_limit_N <= 0 && part.empty())
+    pieces = std::make_unique<gcode::ProgramPasses>(a.file, &io.in, piece_lines());
+  std::unique_ptr<gcode::Program> whole;
+  if (!pieces) whole = std::make_unique<gcode::Program>(gcode::read_source(a.file, &io.in));
+  else if (pieces->whole()) whole = pieces->take_whole();
+  Job j{std::move(s), {}, {}, {}, {}, whole ? std::move(*whole) : gcode::Program(SourceText(pieces->name(), "")),
+        {}, {}, {}, {}, {}};
+  if (!whole) j.pieces = std::move(pieces);
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
@@ -249,18 +354,26 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
   j.physics.k = coefficients_of(mat, config_string(cfg, "material"), &j.material);
   Diagnostics diags(&io.err, j.setup.max_errors);
-  interp::check_program_shape(j.prog, diags);
-  interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
-  Collect c;
-  c.out = &j.motions;
-  // About one motion per line: reserved once, the list is not copied while it
-  // grows (at 10M motions a doubling would hold 2 GB for a moment).
-  j.motions.reserve(j.prog.line_count());
-  interp::interpret(j.prog, j.setup.interp(), diags, c);
-  // The machine's travel before any simulation: a move far outside it is a
-  // crash on the machine and unbounded work here.
-  for (const interp::Motion& m : j.motions) interp::check_travel(m, j.setup.machine->travel, j.prog.source(), diags);
-  if (!diags.errors()) check_cutting(j.motions, a, st, j.physics.tools, j.prog.source(), diags);
+  if (j.pieces) {
+    check_in_pieces(j, a, diags);
+  } else {
+    interp::check_program_shape(j.prog, diags);
+    interp::check_decimal_points(j.prog, j.setup.dialect, diags, j.setup.strict);
+    Collect c;
+    c.out = &j.motions;
+    // About one motion per line: reserved once, the list is not copied while it
+    // grows (at 10M motions a doubling would hold 2 GB for a moment).
+    j.motions.reserve(j.prog.line_count());
+    interp::interpret(j.prog, j.setup.interp(), diags, c);
+    // The machine's travel before any simulation: a move far outside it is a
+    // crash on the machine and unbounded work here.
+    for (const interp::Motion& m : j.motions) interp::check_travel(m, j.setup.machine->travel, j.prog.source(), diags);
+    if (!diags.errors()) {
+      CuttingCheck cut(a, st, j.physics.tools);
+      for (interp::Motion& m : j.motions) cut.check(m, j.prog.source());
+      cut.report(diags);
+    }
+  }
   if (diags.errors())
     throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
@@ -269,7 +382,6 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared) {
   if (!shared)
     for (const std::string& f : a.stock_from) earlier.push_back(read_earlier(f, j.setup, j.physics.tools, io));
   j.stock_from = a.stock_from;
-  const std::string part = !a.part.part.empty() ? a.part.part : config_path(cfg, "part");
   if (!part.empty()) {
     j.part_spec = part;
     if (!shared) j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
@@ -344,7 +456,8 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io) {
   Diagnostics diags(&io.err, 0);
   for (const compensate::Finding& f : pl.findings)
-    diags.report(Severity::warning, j.prog.source(), f.line, 1, f.message + " [" + f.kind + "]");
+    diags.report(Severity::warning, j.pieces ? line_of_file(j, f.line) : j.prog.source(), f.line, 1,
+                 f.message + " [" + f.kind + "]");
 }
 
 report::Json warnings_json(const compensate::Plausibility& pl) {

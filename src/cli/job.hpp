@@ -11,6 +11,7 @@
 #include "common.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/plausibility.hpp"
+#include "deflex/gcode/reader.hpp"
 #include "deflex/part/part.hpp"
 #include "deflex/process/machining_time.hpp"
 #include "deflex/report/json.hpp"
@@ -44,6 +45,13 @@ struct Job {
   compensate::Settings settings;
   std::unique_ptr<stock::ZMap> stock;
   std::unique_ptr<part::PartModel> part;
+  // A program read in pieces (memory does not grow with it): `prog` holds no
+  // text and `motions` stay empty; the checks' pass built what needs the whole
+  // program. Null: read whole.
+  std::unique_ptr<gcode::ProgramPasses> pieces;
+  std::unique_ptr<compensate::DesignNormals> normals;
+  process::MachiningTime time_as_written;
+  std::size_t motion_count = 0;
 };
 
 struct Collect : interp::MotionSink {
@@ -51,6 +59,8 @@ struct Collect : interp::MotionSink {
   void motion(const interp::Motion& m) override { out->push_back(m); }
 };
 
+// What --spindle and --feed give a cutting motion whose program lacks them.
+void fill_cut_defaults(const Args& a, interp::Motion& m);
 // The options of compensate (compensating) or simulate/compare.
 void describe(po::options_description& d, Args& a, bool compensating);
 // An earlier operation (--stock-from): read and interpreted under `setup`,
@@ -77,7 +87,12 @@ void apply_job(Args& a, std::vector<std::string>& files);
 // Every check that can fail runs before the stock and part are built.
 // `shared` (may be null): a job whose stock and part model this one uses
 // instead of building its own (compare: every program on the same stock).
-Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr);
+// `in_pieces`: the caller can take the program in pieces (compensate without
+// --report); it is then read so where it is long, comes from a file, calls no
+// subprogram, and neither --feed-limit nor a part model needs it whole.
+Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, bool in_pieces = false);
+// A line of the program's file (a finding's excerpt when it was read in pieces).
+SourceText line_of_file(const Job& j, std::uint32_t line);
 // The progress line on a terminal (nothing elsewhere).
 compensate::Progress progress_for(Io& io);
 // The run's provenance for report.html: what a reader needs to trust or redo it.

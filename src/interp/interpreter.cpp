@@ -335,6 +335,7 @@ Interpreter::Interpreter(const Options& opt, Diagnostics& diags, MotionSink& sin
     : run_(std::make_unique<detail::Run>(opt, diags, sink)) {}
 Interpreter::~Interpreter() = default;
 void Interpreter::feed(const gcode::Program& piece, bool last) { run_->feed(piece, last); }
+bool Interpreter::over() const { return run_->over(); }
 Stats Interpreter::finish() {
   run_->end_of_file();
   return run_->stats();

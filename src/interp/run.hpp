@@ -136,6 +136,7 @@ class Run {
                     "end of file inside a subprogram (no M99)");
   }
   const Stats& stats() const { return stats_; }
+  bool over() const { return stop_ || ended_; }
 
  private:
   // ---- diagnostics -------------------------------------------------------

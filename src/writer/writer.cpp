@@ -270,4 +270,28 @@ void write_file_atomically(const std::string& path, const std::string& input_pat
   }
 }
 
+void write_through_temporary(std::ostream& out, const std::function<void(std::ostream&)>& fill) {
+  std::string tmpl = (fs::temp_directory_path() / "deflex-out-XXXXXX").string();
+  std::vector<char> name(tmpl.begin(), tmpl.end());
+  name.push_back('\0');
+  const int fd = mkstemp(name.data());
+  if (fd < 0) throw Error(Exit::io, "error: cannot create a temporary file in " + tmpl + ": " + std::strerror(errno));
+  ::close(fd);
+  const std::string tmp(name.data());
+  try {
+    {
+      std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
+      fill(o);
+      o.flush();
+      if (!o) throw Error(Exit::io, tmp + ": error: write failed (disk full?)");
+    }
+    std::ifstream i(tmp, std::ios::binary);
+    if (i.peek() != std::ifstream::traits_type::eof()) out << i.rdbuf();  // nothing to copy is no failure
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  std::remove(tmp.c_str());
+}
+
 }  // namespace deflex::writer

@@ -27,6 +27,8 @@ class Program {
   // A piece of a longer file (gcode/reader.hpp): `tape` says what came before
   // and is updated to what comes after.
   Program(SourceText piece, Tape& tape);
+  // A piece whose tape end (0: none in or before it) is known already.
+  Program(SourceText piece, std::uint32_t closing_percent_line) : src_(std::move(piece)), closing_percent_(closing_percent_line) {}
   const SourceText& source() const { return src_; }
   const std::string& bytes() const { return src_.bytes(); }
   std::uint32_t line_count() const { return static_cast<std::uint32_t>(src_.line_count()); }

@@ -65,6 +65,9 @@ class ProgramPasses {
   void each(const std::function<void(const Program& piece, bool last)>& fn);
   bool whole() const { return whole_ != nullptr; }
   const Program* whole_program() const { return whole_.get(); }  // null when read in pieces
+  std::unique_ptr<Program> take_whole() { return std::move(whole_); }
+  const std::string& path() const { return path_; }
+  std::uint32_t max_lines() const { return max_lines_; }
   const std::string& name() const { return name_; }
 
  private:

@@ -60,6 +60,8 @@ class Interpreter {
   // the lines never executed, as from interpret()).
   void feed(const gcode::Program& piece, bool last = false);
   Stats finish();  // after the last piece
+  // True once nothing more will run: M2/M30, the tape end, or an error stopped it.
+  bool over() const;
 
  private:
   std::unique_ptr<detail::Run> run_;

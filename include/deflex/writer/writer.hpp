@@ -94,4 +94,9 @@ void check_output_folder(const std::string& dir);
 void write_file_atomically(const std::string& path, const std::string& input_path,
                            const std::function<void(std::ostream&)>& fill);
 
+// Writes through a temporary file (in TMPDIR) and copies it to `out` only
+// when `fill` returned: a program written piece by piece reaches standard
+// output whole or not at all. Throws Error(io) on a failed write.
+void write_through_temporary(std::ostream& out, const std::function<void(std::ostream&)>& fill);
+
 }  // namespace deflex::writer

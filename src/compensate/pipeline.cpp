@@ -1,0 +1,48 @@
+#include "deflex/compensate/pipeline.hpp"
+
+#include <ostream>
+
+#include "deflex/compensate/pieces.hpp"
+
+namespace deflex::compensate {
+
+PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
+  const Settings& s = *in.settings;
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  Compensation comp(*in.physics, s, *in.normals, in.sinks, in.progress, in.total_motions);
+  WriteState ws;
+  ReadBack read_back(in.interp);
+  process::MachiningClock clock(in.limits);
+  PipelineResult res;
+  while (std::unique_ptr<ProgramPiece> p = cut.next()) {
+    ++res.pieces;
+    const std::vector<bool> split_ok = splittable(p->text, p->motions);
+    const Result r = comp.add(p->motions, movable(p->motions), &split_ok);
+    if (in.on_piece) in.on_piece(r);
+    ws.first_line = p->first_line;
+    ws.last_line = p->last_line;
+    WriteStats w;
+    const std::string text = apply_offsets(p->text, in.interp.dialect, r.motions, r.offsets, &w, &r.inserted,
+                                           nullptr, &ws);
+    res.written.numbers_changed += w.numbers_changed;
+    res.written.words_inserted += w.words_inserted;
+    res.written.blocks_inserted += w.blocks_inserted;
+    res.written.feeds_changed += w.feeds_changed;
+    // The check sees the piece numbered from 1, the written one too, read with
+    // the state the written pieces before left.
+    const std::uint32_t base = p->first_line - 1;
+    std::vector<interp::Motion> om = r.motions;
+    for (interp::Motion& m : om) m.line -= base;
+    gcode::Tape tape = p->tape;
+    const gcode::Program written(SourceText(p->text.source().name() + " (compensated)", text, 1), tape);
+    safety_check(p->own, om, written, in.interp, movable(r.motions), s.max_offset_mm, &r.inserted, nullptr,
+                 &read_back, base);
+    out << text;
+    for (const interp::Motion& m : r.motions) clock.add(m);
+  }
+  res.totals = comp.finish();
+  res.time = clock.finish();
+  return res;
+}
+
+}  // namespace deflex::compensate
