@@ -16,7 +16,8 @@ constexpr std::size_t kPieceBytes = 8u << 20;  // a piece ends at the first line
 }  // namespace
 
 ProgramReader::ProgramReader(std::string path, std::istream* stdin_stream, std::uint32_t max_lines)
-    : path_(std::move(path)), max_lines_(max_lines ? max_lines : UINT32_MAX) {
+    : path_(std::move(path)), max_lines_(max_lines ? max_lines : UINT32_MAX),
+      max_bytes_(max_lines ? kPieceBytes : SIZE_MAX) {
   if (path_ == "-") {
     name_ = "<stdin>";
     in_ = stdin_stream ? stdin_stream : &std::cin;
@@ -55,7 +56,7 @@ bool ProgramReader::fill() {
 std::unique_ptr<Program> ProgramReader::next() {
   for (;;) {
     // Line ends in the bytes not searched yet, up to the piece's last line.
-    while (lines_in_buf_ < max_lines_ && cut_ < kPieceBytes) {
+    while (lines_in_buf_ < max_lines_ && cut_ < max_bytes_) {
       const void* nl = std::memchr(buf_.data() + scanned_, '\n', buf_.size() - scanned_);
       if (!nl) {
         scanned_ = buf_.size();
@@ -65,7 +66,7 @@ std::unique_ptr<Program> ProgramReader::next() {
       cut_ = scanned_;
       ++lines_in_buf_;
     }
-    if (lines_in_buf_ >= max_lines_ || cut_ >= kPieceBytes) break;
+    if (lines_in_buf_ >= max_lines_ || cut_ >= max_bytes_) break;
     if (!fill()) {
       cut_ = buf_.size();  // the last piece: the rest, a last line without its line end included
       break;

@@ -78,3 +78,59 @@ TEST_SUITE("cli") {
     CHECK(r.err.find("DEFLEX_CHUNK_LINES must be a whole number") != std::string::npos);
   }
 }
+
+TEST_SUITE("cli") {
+  TEST_CASE("compensate in pieces: the same program, messages and exit code as on the whole program") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-cpieces-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    struct Case {
+      std::vector<std::string> args;
+      std::vector<const char*> lines;  // DEFLEX_CHUNK_LINES to compare with 0
+    };
+    // A program with an error and one whose tool the library lacks, both
+    // past the first piece.
+    test::write_file((dir / "bad.nc").string(),
+                     "G21 G90\nT1 M6\nS8000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F300.\nG1 X10.\nG1 X20.\nG92 X0.\nG1 X30.\nM30\n");
+    test::write_file((dir / "tool.nc").string(), "G21 G90\nT1 M6\nS8000 M3\nG0 X0. Y0. Z5.\nG1 Z-1. F300.\nG1 X10.\n"
+                                                 "T77 M6\nG0 X20.\nG1 Z-1.\nG1 X30.\nM30\n");
+    const std::vector<Case> cases = {
+        {{"samples/programs/side_wall.nc", "--stock", "box:0,-40,-30,100,0,0"}, {"1", "7"}},
+        {{"samples/programs/freeform.nc", "--stock", "samples/stock/freeform_stock.stl"}, {"1", "40"}},
+        {{"samples/programs/pocket_finish.nc", "--stock", "box:-5,-5,-20,105,85,0", "--gain", "0"}, {"9"}},
+        {{"samples/programs/six_surfaces.nc", "--stock", "samples/stock/six_surfaces_stock.stl", "--tool", "T1"},
+         {"5000"}},
+        {{(dir / "bad.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}},
+        {{(dir / "tool.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}}};
+    int compared = 0;
+    for (const Case& c : cases) {
+      std::vector<std::string> whole_args = {"compensate"};
+      whole_args.insert(whole_args.end(), c.args.begin(), c.args.end());
+      const std::string wout = (dir / "whole.nc").string(), pout = (dir / "pieces.nc").string();
+      fs::remove(wout);
+      std::vector<std::string> w = whole_args;
+      w.insert(w.end(), {"-o", wout});
+      const test::CliResult whole = run_in("0", w);
+      for (const char* n : c.lines) {
+        CAPTURE(c.args[0]);
+        CAPTURE(n);
+        fs::remove(pout);
+        std::vector<std::string> p = whole_args;
+        p.insert(p.end(), {"-o", pout});
+        const test::CliResult got = run_in(n, p);
+        CHECK(got.rc == whole.rc);
+        CHECK(got.err == whole.err);
+        CHECK(fs::exists(pout) == fs::exists(wout));
+        if (fs::exists(wout)) CHECK(test::read_file(pout) == test::read_file(wout));
+        ++compared;
+      }
+      // To standard output: the same bytes, after the check.
+      if (whole.rc == 0) {
+        const test::CliResult out = run_in(c.lines[0], whole_args);
+        CHECK(out.rc == 0);
+        CHECK(out.out == test::read_file(wout));
+      }
+    }
+    CHECK(compared == 8);
+    fs::remove_all(dir);
+  }
+}

@@ -11,6 +11,9 @@
 // are waiting. Walls left by earlier passes are therefore resolved to the Z-map
 // cell, the current pass exactly.
 #pragma once
+#include <memory>
+
+#include <tbb/task_arena.h>
 #include <array>
 #include <cstddef>
 #include <functional>
@@ -85,6 +88,7 @@ class Simulator {
   void commit_old(bool all);
 
   stock::ZMap& z_;
+  std::unique_ptr<tbb::task_arena> arena_;  // SimOptions::threads > 0
   Engager eng_;
   Process proc_;
   SimOptions o_;

@@ -1,7 +1,7 @@
 // Reading a program in pieces, so that memory does not grow with its length.
 //
 // A piece is a run of whole lines (at most max_lines, and about 8 MiB unless a
-// single line is longer) that keeps its line numbers in the file; the pieces
+// single line is longer; max_lines 0: the whole file) that keeps its line numbers in the file; the pieces
 // read in order make the program, and every command that can read in pieces
 // gives the same output and diagnostics as when it reads the whole file.
 // The interpreter carries its state from one piece to the next
@@ -45,6 +45,7 @@ class ProgramReader {
   std::istream* in_ = nullptr;
   std::FILE* file_ = nullptr;
   std::uint32_t max_lines_;
+  std::size_t max_bytes_;      // a piece ends at the first line end past this
   std::string buf_;            // bytes read and not yet handed out
   std::size_t scanned_ = 0;    // bytes of buf_ already searched for line ends
   std::uint32_t lines_in_buf_ = 0;  // line ends found in buf_[0, scanned_)
