@@ -143,7 +143,6 @@ int compensate_in_pieces(Job& j, const Args& a, Io& io) {
   in.fix = [&a](interp::Motion& m) { fill_cut_defaults(a, m); };
   in.physics = &j.physics;
   in.settings = &j.settings;
-  in.normals = j.normals.get();
   in.sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
     if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));

@@ -266,8 +266,8 @@ namespace {
 // The checks of prepare() on a program read in pieces, pass by pass so their
 // messages come in the order they come on the whole program: the text
 // (shape, decimal points), the interpretation, then per motion the travel and
-// what cutting needs. The last pass also builds what the compensation needs
-// of the whole program: the design normals, the time as written, the count.
+// what cutting needs. The last passes also find what the compensation needs
+// of the whole program: the count of motions and the time as written.
 void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
   gcode::ProgramPasses& src = *j.pieces;
   interp::ShapeCheck shape;
@@ -289,11 +289,7 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
     it.finish();
   }
   j.motion_count = count.n;
-  engage::PathOptions po;
-  po.cl_spacing_mm = j.settings.cl_spacing_mm;
   const compensate::Settings& st = j.settings;
-  j.normals = std::make_unique<compensate::DesignNormals>(
-      nullptr, j.physics.tools, po, st.part_reach_mm, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); });
   process::MachiningClock clock(j.setup.machine->axis_limits);
   CuttingCheck cut(a, st, j.physics.tools);
   Collect c;
@@ -308,13 +304,11 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
       cut.check(m, p.source());
       clock.add(m);
     }
-    j.normals->add(piece);
     piece.clear();
   });
   it.finish();
   if (!diags.errors()) cut.report(diags);
   if (diags.errors()) return;
-  j.normals->build();
   j.time_as_written = clock.finish();
 }
 

@@ -49,7 +49,6 @@ struct Job {
   // text and `motions` stay empty; the checks' pass built what needs the whole
   // program. Null: read whole.
   std::unique_ptr<gcode::ProgramPasses> pieces;
-  std::unique_ptr<compensate::DesignNormals> normals;
   process::MachiningTime time_as_written;
   std::size_t motion_count = 0;
 };

@@ -66,7 +66,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
 
 
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
-               const interp::Motion& m, const interp::Motion& design, const V3& a, const V3& b,
+               const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev,
                bool keep_profile) {
   Point p;
@@ -85,7 +85,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
   const double u = cl.count ? static_cast<double>(cl.index) / cl.count : 1.0;
-  const SurfaceNormal sn = normals.at(cl, mt, tm.tool, design, p.tip_mm - (a + u * (b - a)));
+  const SurfaceNormal sn = normals.at(cl, mt, tm.tool, design, p.tip_mm - (a + u * (b - a)), index);
   p.normal = sn.n;
   p.normal_source = sn.source;
   p.part_gap_mm = sn.part_gap_mm;
@@ -216,7 +216,7 @@ struct Simulation::Impl {
     while (!held.empty() && held.front().index < gi) held.pop_front();
     if (held.empty() || held.front().index != gi) throw Error(Exit::internal, "simulation: a sample of an unknown motion");
     const Held& h = held.front();
-    Point p = point_of(cl, mt, eng, *tm, h.design, h.design, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
+    Point p = point_of(cl, mt, eng, *tm, h.design, h.design, gi, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);
     p.stock_depth_mm = stock_depth(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
     out(p);

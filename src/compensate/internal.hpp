@@ -40,11 +40,12 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
 
 // The per-point physics of one CL sample: forces, deflection, surface error.
 // Shared by simulate() and the mirror stream, so both report the same numbers.
-// m: the motion as run; design: as programmed (the surface normal's).
+// m: the motion as run; design: as programmed (the surface normal's), the
+// program's motion `index` (the normals' window).
 // a, b: the offsets of the run motion's start and end from the design's, so
 // that the design tip of the sample (the surface normal's) is known.
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
-               const interp::Motion& m, const interp::Motion& design, const V3& a, const V3& b,
+               const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev,
                bool keep_profile = false);
 

@@ -99,7 +99,7 @@ class Stream {
     engage::CLSample cl;
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, m, a, b, normals_, ph_.k, rev_);
+    return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, rev_);
   }
 
   // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).

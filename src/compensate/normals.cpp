@@ -1,6 +1,9 @@
 #include "deflex/compensate/normals.hpp"
 
 #include <algorithm>
+#include <mutex>
+
+#include "deflex/diag/diagnostics.hpp"
 #include <cmath>
 
 namespace deflex::compensate {
@@ -57,19 +60,21 @@ V3 travel_normal(const engage::CLSample& cl, const engage::Metrics& mt, const st
 
 DesignNormals::DesignNormals(const std::vector<interp::Motion>& design, const part::PartModel* part,
                              const stiffness::ToolLibrary& tools, const engage::PathOptions& path,
-                             double part_reach_mm, const std::function<std::string(const interp::Motion&)>& tool_of)
-    : DesignNormals(part, tools, path, part_reach_mm, tool_of) {
-  add(design);
-  build();
-}
+                             double part_reach_mm, std::function<std::string(const interp::Motion&)> tool_of)
+    : part_(part), reach_mm_(part_reach_mm), tools_(&tools), path_options_(path), tool_of_(std::move(tool_of)),
+      design_(&design) {}
 
-DesignNormals::DesignNormals(const part::PartModel* part, const stiffness::ToolLibrary& tools,
+DesignNormals::DesignNormals(MotionSource source, const part::PartModel* part, const stiffness::ToolLibrary& tools,
                              const engage::PathOptions& path, double part_reach_mm,
                              std::function<std::string(const interp::Motion&)> tool_of)
-    : part_(part), reach_mm_(part_reach_mm), tools_(&tools), path_options_(path), tool_of_(std::move(tool_of)) {}
+    : part_(part), reach_mm_(part_reach_mm), tools_(&tools), path_options_(path), tool_of_(std::move(tool_of)),
+      source_(std::move(source)) {}
+
+DesignNormals::~DesignNormals() = default;
 
 namespace {
-// Sorted, each point once: the same cloud whatever order and pieces the points came in.
+// Sorted, each point once: the same cloud whatever order the points came in
+// (a point a program passes twice adds nothing to the surface).
 void compact(std::vector<V3>& v) {
   std::sort(v.begin(), v.end(), [](const V3& a, const V3& b) {
     return a.x() != b.x() ? a.x() < b.x() : a.y() != b.y() ? a.y() < b.y() : a.z() < b.z();
@@ -78,41 +83,76 @@ void compact(std::vector<V3>& v) {
 }
 }  // namespace
 
-void DesignNormals::add(const std::vector<interp::Motion>& design) {
-  if (part_) return;
-  // The tip points of each ball-end tool's cutting moves. Plunges and moves
-  // steeper than 80 degrees are left out: they stack points over one XY and
-  // the tip surface is a height field.
-  for (const interp::Motion& m : design) {
-    if (m.kind == interp::MotionKind::rapid) continue;
-    const std::string id = tool_of_(m);
-    auto t = tools_->tools.find(id);
-    if (t == tools_->tools.end() || t->second.type != stiffness::ToolType::ball) continue;
-    const double dxy = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
-    const double dz = std::fabs(m.end_mm[2] - m.start_mm[2]);
-    if (m.kind == interp::MotionKind::linear && dz > 5.67 * dxy) continue;
-    std::vector<V3>& c = clouds_[id].pts;
-    const std::vector<engage::Point3> v = engage::motion_vertices(m, path_options_);
-    for (std::size_t k = 1; k < v.size(); ++k) c.emplace_back(v[k][0], v[k][1], v[k][2]);
-  }
-  // Repeats go when a cloud has doubled since it was last compacted.
-  for (auto& [id, c] : clouds_)
-    if (c.pts.size() > std::max<std::size_t>(2 * c.settled, 1u << 20)) {
-      compact(c.pts);
-      c.settled = c.pts.size();
-    }
+// The tip points of a ball-end tool's cutting move. Plunges and moves steeper
+// than 80 degrees are left out: they stack points over one XY and the tip
+// surface is a height field.
+void DesignNormals::add_points(const interp::Motion& m, Clouds& into) const {
+  if (m.kind == interp::MotionKind::rapid) return;
+  const std::string id = tool_of_(m);
+  auto t = tools_->tools.find(id);
+  if (t == tools_->tools.end() || t->second.type != stiffness::ToolType::ball) return;
+  const double dxy = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
+  const double dz = std::fabs(m.end_mm[2] - m.start_mm[2]);
+  if (m.kind == interp::MotionKind::linear && dz > 5.67 * dxy) return;
+  std::vector<V3>& c = into[id];
+  const std::vector<engage::Point3> v = engage::motion_vertices(m, path_options_);
+  for (std::size_t k = 1; k < v.size(); ++k) c.emplace_back(v[k][0], v[k][1], v[k][2]);
 }
 
-void DesignNormals::build() {
-  for (auto& [id, c] : clouds_) {
-    compact(c.pts);
-    path_[id] = std::make_unique<part::PathNormals>(std::move(c.pts));
+const DesignNormals::Clouds& DesignNormals::block(std::size_t b) const {
+  auto it = blocks_.find(b);
+  if (it != blocks_.end()) return it->second;
+  if (design_) {
+    Clouds& c = blocks_[b];
+    const std::size_t end = std::min(design_->size(), (b + 1) * kBlockMotions);
+    for (std::size_t i = b * kBlockMotions; i < end; ++i) add_points((*design_)[i], c);
+    return c;
   }
-  clouds_.clear();
+  // From the source, in order: every block up to b.
+  std::vector<interp::Motion> more;
+  while (!source_done_ && read_ < (b + 1) * kBlockMotions) {
+    more.clear();
+    if (!source_(more)) source_done_ = true;
+    for (const interp::Motion& m : more) add_points(m, blocks_[read_++ / kBlockMotions]);
+  }
+  if (b < forgotten_)
+    throw Error(Exit::internal, "design normals: block " + std::to_string(b) + " asked for after it was dropped");
+  return blocks_[b];
+}
+
+std::shared_ptr<const DesignNormals::Trees> DesignNormals::window(std::size_t b) const {
+  auto it = windows_.find(b);
+  if (it != windows_.end()) return it->second;
+  Clouds all;
+  for (std::size_t k = b ? b - 1 : 0; k <= b + 1; ++k)
+    for (const auto& [id, pts] : block(k)) all[id].insert(all[id].end(), pts.begin(), pts.end());
+  auto trees = std::make_shared<Trees>();
+  for (auto& [id, pts] : all) {
+    compact(pts);
+    (*trees)[id] = std::make_unique<part::PathNormals>(std::move(pts));
+  }
+  windows_[b] = trees;
+  // A whole program: the simulation beside the mirror pass may run far ahead
+  // of it; what is dropped is made again when asked for. In pieces the
+  // caller says what is done with (forget_before).
+  if (design_) {
+    while (windows_.size() > 4) windows_.erase(windows_.begin()->first == b ? std::next(windows_.begin()) : windows_.begin());
+    while (blocks_.size() > 8) blocks_.erase(blocks_.begin());
+  }
+  return trees;
+}
+
+void DesignNormals::forget_before(std::size_t motion) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::size_t b = motion / kBlockMotions;
+  // Window b - 1 holds blocks b - 2 .. b: the earliest any later point asks for.
+  while (!windows_.empty() && windows_.begin()->first + 1 < b) windows_.erase(windows_.begin());
+  if (b >= 2) forgotten_ = std::max(forgotten_, b - 2);
+  while (!blocks_.empty() && blocks_.begin()->first < forgotten_) blocks_.erase(blocks_.begin());
 }
 
 SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
-                                const interp::Motion& design, const V3& design_tip_mm) const {
+                                const interp::Motion& design, const V3& design_tip_mm, std::size_t motion) const {
   SurfaceNormal s;
   s.n = travel_normal(cl, mt, t, design);
   if (part_) {
@@ -128,8 +168,13 @@ SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metric
     return s;
   }
   if (t.type == stiffness::ToolType::ball) {
-    auto it = path_.find(t.id);
-    if (it != path_.end())
+    std::shared_ptr<const Trees> w;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      w = window(motion / kBlockMotions);
+    }
+    auto it = w->find(t.id);
+    if (it != w->end())
       if (auto n = it->second->normal_at(design_tip_mm)) {
         s.n = *n;
         s.source = NormalSource::path;

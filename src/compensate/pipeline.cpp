@@ -3,19 +3,36 @@
 #include <ostream>
 
 #include "deflex/compensate/pieces.hpp"
+#include "deflex/engage/path.hpp"
 
 namespace deflex::compensate {
 
 PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
   const Settings& s = *in.settings;
   PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
-  Compensation comp(*in.physics, s, *in.normals, in.sinks, in.progress, in.total_motions);
+  // The design normals read the program on their own, a window ahead.
+  PieceCutter ahead(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  engage::PathOptions po;
+  po.cl_spacing_mm = s.cl_spacing_mm;
+  DesignNormals normals(
+      [&ahead](std::vector<interp::Motion>& more) {
+        std::unique_ptr<ProgramPiece> p = ahead.next();
+        if (p) more.insert(more.end(), p->motions.begin(), p->motions.end());
+        return p != nullptr;
+      },
+      in.physics->part, in.physics->tools, po, s.part_reach_mm,
+      [&s](const interp::Motion& m) { return tool_id(m, s); });
+  Compensation comp(*in.physics, s, normals, in.sinks, in.progress, in.total_motions);
   WriteState ws;
   ReadBack read_back(in.interp);
   process::MachiningClock clock(in.limits);
   PipelineResult res;
+  std::size_t before = 0;  // first motion of the piece before
   while (std::unique_ptr<ProgramPiece> p = cut.next()) {
     ++res.pieces;
+    // Only the last samples of the piece before may still come.
+    normals.forget_before(before);
+    before = p->first_motion;
     const std::vector<bool> split_ok = splittable(p->text, p->motions);
     const Result r = comp.add(p->motions, movable(p->motions), &split_ok);
     if (in.on_piece) in.on_piece(r);

@@ -18,6 +18,12 @@
 //           bull-nose flank, else the normal to the travel in its vertical
 //           plane, upward. It cannot see a slope across the feed direction.
 #pragma once
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
 #include <Eigen/Core>
 #include <functional>
 #include <map>
@@ -52,43 +58,61 @@ bool flank_cut(const engage::Metrics& mt, const stiffness::Tool& t);
 Eigen::Vector3d travel_normal(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
                               const interp::Motion& design);
 
+// The path source fits each point's normal through the tip points of its
+// ball-end tool's cutting moves within a window of the program: the block of
+// kBlockMotions motions the point's motion lies in and the blocks before and
+// after it (the same and the adjacent passes of any CAM path lie well within;
+// a spring pass 10,000 passes later does not belong to the surface being cut).
+// So memory is three blocks of points, whatever the program's length, and a
+// program read in pieces gets the normals it gets whole.
 class DesignNormals {
  public:
-  // design: the program as written (all motions; the path source uses the CL
-  // samples of the cutting moves of each ball-end tool). part may be null.
+  static constexpr std::size_t kBlockMotions = 65536;
+  // Appends the program's next motions to `more`; false at its end.
+  using MotionSource = std::function<bool(std::vector<interp::Motion>& more)>;
+  // design: the program as written (all motions). part may be null.
   // tool_of(m): the tool id of a motion (Settings::tool_override or "T<n>").
   DesignNormals(const std::vector<interp::Motion>& design, const part::PartModel* part,
                 const stiffness::ToolLibrary& tools, const engage::PathOptions& path, double part_reach_mm,
-                const std::function<std::string(const interp::Motion&)>& tool_of);
-  // The same for a program given in pieces: add() the motions of each, then
-  // build() before the first at().
-  DesignNormals(const part::PartModel* part, const stiffness::ToolLibrary& tools, const engage::PathOptions& path,
-                double part_reach_mm, std::function<std::string(const interp::Motion&)> tool_of);
-  void add(const std::vector<interp::Motion>& design);
-  void build();
+                std::function<std::string(const interp::Motion&)> tool_of);
+  // The same for a program read motion by motion as the normals need it: the
+  // source runs ahead of the motion asked about by a block at most.
+  DesignNormals(MotionSource source, const part::PartModel* part, const stiffness::ToolLibrary& tools,
+                const engage::PathOptions& path, double part_reach_mm,
+                std::function<std::string(const interp::Motion&)> tool_of);
+  ~DesignNormals();
   DesignNormals(const DesignNormals&) = delete;
 
-  // At a CL sample whose programmed (design) tip is design_tip_mm. Thread-safe.
+  // At a CL sample of the program's motion `motion` (its index; the design
+  // motion), whose programmed tip is design_tip_mm. Thread-safe.
   SurfaceNormal at(const engage::CLSample& cl, const engage::Metrics& mt, const stiffness::Tool& t,
-                   const interp::Motion& design, const Eigen::Vector3d& design_tip_mm) const;
+                   const interp::Motion& design, const Eigen::Vector3d& design_tip_mm, std::size_t motion) const;
 
   bool has_part() const { return part_ != nullptr; }
+  // In pieces: no point of a motion before `motion` is asked about any more
+  // (the memory of the windows behind it goes).
+  void forget_before(std::size_t motion);
 
  private:
+  using Clouds = std::map<std::string, std::vector<Eigen::Vector3d>>;  // per ball-end tool id
+  using Trees = std::map<std::string, std::unique_ptr<part::PathNormals>>;
+  void add_points(const interp::Motion& m, Clouds& into) const;
+  const Clouds& block(std::size_t b) const;                    // under mutex_
+  std::shared_ptr<const Trees> window(std::size_t b) const;    // under mutex_
+
   const part::PartModel* part_;
   double reach_mm_;
-  const stiffness::ToolLibrary* tools_ = nullptr;
+  const stiffness::ToolLibrary* tools_;
   engage::PathOptions path_options_;
   std::function<std::string(const interp::Motion&)> tool_of_;
-  // The tip points of each ball-end tool, sorted and each once (a point a
-  // program passes again, as a spring pass does, adds nothing to the surface):
-  // memory grows with the surface, not with the program.
-  struct Cloud {
-    std::vector<Eigen::Vector3d> pts;
-    std::size_t settled = 0;  // size after the last compaction
-  };
-  std::map<std::string, Cloud> clouds_;
-  std::map<std::string, std::unique_ptr<part::PathNormals>> path_;  // per ball-end tool id
+  const std::vector<interp::Motion>* design_ = nullptr;  // whole program, or:
+  mutable MotionSource source_;
+  mutable std::size_t read_ = 0;  // motions the source gave
+  mutable bool source_done_ = false;
+  std::size_t forgotten_ = 0;     // blocks before it are dropped for good
+  mutable std::mutex mutex_;
+  mutable std::map<std::size_t, Clouds> blocks_;
+  mutable std::map<std::size_t, std::shared_ptr<const Trees>> windows_;
 };
 
 }  // namespace deflex::compensate

@@ -25,7 +25,6 @@ struct PipelineInput {
   std::function<void(interp::Motion&)> fix; // what the checks did to each motion (--spindle, --feed)
   const Physics* physics = nullptr;
   const Settings* settings = nullptr;
-  const DesignNormals* normals = nullptr;   // of the whole program (the checks' pass built them)
   PointSinks sinks;
   Progress progress;
   std::size_t total_motions = 0;            // for progress
