@@ -129,12 +129,8 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
   time_line(io, t0, t1);
 }
 
-// compensate on a program read in pieces (prepare() decided): the same
-// messages and output as on the whole program, memory bounded by a piece.
-int compensate_in_pieces(Job& j, const Args& a, Io& io) {
-  const double tol = j.settings.tolerance_mm;
-  report::ErrorAccumulator before_acc(tol, false), after_acc(tol, false);
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+// What the pipeline in pieces needs of a job read in pieces.
+compensate::PipelineInput pipeline_input(Job& j, const Args& a, Io& io) {
   compensate::PipelineInput in;
   in.path = a.file;
   in.lines_per_read = j.pieces->max_lines();
@@ -143,6 +139,19 @@ int compensate_in_pieces(Job& j, const Args& a, Io& io) {
   in.fix = [&a](interp::Motion& m) { fill_cut_defaults(a, m); };
   in.physics = &j.physics;
   in.settings = &j.settings;
+  in.progress = progress_for(io);
+  in.total_motions = j.motion_count;
+  in.limits = j.setup.machine->axis_limits;
+  return in;
+}
+
+// compensate on a program read in pieces (prepare() decided): the same
+// messages and output as on the whole program, memory bounded by a piece.
+int compensate_in_pieces(Job& j, const Args& a, Io& io) {
+  const double tol = j.settings.tolerance_mm;
+  report::ErrorAccumulator before_acc(tol, false), after_acc(tol, false);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PipelineInput in = pipeline_input(j, a, io);
   in.sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
     if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
@@ -150,9 +159,6 @@ int compensate_in_pieces(Job& j, const Args& a, Io& io) {
   in.sinks.final = [&](const compensate::Point& p, const V3& off) {
     if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
   };
-  in.progress = progress_for(io);
-  in.total_motions = j.motion_count;
-  in.limits = j.setup.machine->axis_limits;
   in.on_piece = [&scan](const compensate::Result& r) { scan.capped(r.capped_lines); };
   // Nothing reads the initial stock after this: the mirror pass may cut it.
   j.physics.consumable_stock = j.stock.get();
@@ -279,7 +285,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
   a.file = files[0];
   if (!a.report.empty()) writer::check_output_folder(a.report);
-  Job j = prepare(a, io, false);
+  // Without --report or --reference a long program is read in pieces.
+  Job j = prepare(a, io, false, nullptr, a.report.empty() && a.reference.empty());
   // With a reference, the offset of each motion is how far this program's
   // end point lies from the reference's: the design intent is the reference.
   std::vector<V3> intent;
@@ -321,11 +328,18 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   std::vector<compensate::Point> pts;
   report::ErrorAccumulator acc(tol, keep);
   compensate::PlausibilityScan scan(j.physics.tools, j.settings);
-  compensate::simulate(design, intent, j.physics, j.settings, [&](const compensate::Point& p) {
+  const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
     if (!p.air && !p.plunge) acc.add(compensate::landing_error(p, report::offset_at(p, intent)));
     if (keep) pts.push_back(p);
-  }, progress);
+  };
+  if (j.pieces) {
+    compensate::PipelineInput in = pipeline_input(j, a, io);
+    in.sinks.nominal = sink;
+    compensate::simulate_in_pieces(in);
+  } else {
+    compensate::simulate(design, intent, j.physics, j.settings, sink, progress);
+  }
   j.physics.stock = j.physics.consumable_stock = nullptr;
   if (progress) io.err << "\r\033[K";
   const compensate::Plausibility pl = scan.finish(false);
@@ -338,7 +352,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                 j.prog.source().name().c_str(), st.points, a.reference.empty() ? "" : " against the reference",
                 st.max_abs, st.rms, 100.0 * st.share_out, tol, st.max_under, -st.max_over);
   io.out << buf;
-  const process::MachiningTime tm = process::machining_time(j.motions, j.setup.machine->axis_limits);
+  const process::MachiningTime tm =
+      j.pieces ? j.time_as_written : process::machining_time(j.motions, j.setup.machine->axis_limits);
   time_line(io, tm, tm);
   if (!a.report.empty()) {
     report::PointTable t = report::table_of_simulation(std::move(pts), intent, design, j.physics, j.settings);

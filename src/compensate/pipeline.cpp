@@ -7,21 +7,56 @@
 
 namespace deflex::compensate {
 
+namespace {
+
+// The design normals of a program in pieces: they read it on their own, a
+// window ahead of the pieces.
+struct AheadNormals {
+  explicit AheadNormals(const PipelineInput& in)
+      : ahead(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix),
+        normals(
+            [this](std::vector<interp::Motion>& more) {
+              std::unique_ptr<ProgramPiece> p = ahead.next();
+              if (p) more.insert(more.end(), p->motions.begin(), p->motions.end());
+              return p != nullptr;
+            },
+            in.physics->part, in.physics->tools, path_of(*in.settings), in.settings->part_reach_mm,
+            [s = in.settings](const interp::Motion& m) { return tool_id(m, *s); }) {}
+  static engage::PathOptions path_of(const Settings& s) {
+    engage::PathOptions po;
+    po.cl_spacing_mm = s.cl_spacing_mm;
+    return po;
+  }
+  PieceCutter ahead;
+  DesignNormals normals;
+};
+
+}  // namespace
+
+std::size_t simulate_in_pieces(const PipelineInput& in) {
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  AheadNormals an(in);
+  std::unique_ptr<stock::ZMap> map;
+  const Physics& ph = *in.physics;
+  if (ph.consumable_stock && ph.consumable_stock == ph.stock)
+    map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
+  Simulation sim(ph, *in.settings, an.normals, in.sinks.nominal, std::move(map), in.progress, in.total_motions);
+  std::size_t before = 0, n = 0;
+  while (std::unique_ptr<ProgramPiece> p = cut.next()) {
+    an.normals.forget_before(before);
+    before = p->first_motion;
+    sim.add(p->motions);
+    n += p->motions.size();
+  }
+  sim.finish();
+  return n;
+}
+
 PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
   const Settings& s = *in.settings;
   PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
-  // The design normals read the program on their own, a window ahead.
-  PieceCutter ahead(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
-  engage::PathOptions po;
-  po.cl_spacing_mm = s.cl_spacing_mm;
-  DesignNormals normals(
-      [&ahead](std::vector<interp::Motion>& more) {
-        std::unique_ptr<ProgramPiece> p = ahead.next();
-        if (p) more.insert(more.end(), p->motions.begin(), p->motions.end());
-        return p != nullptr;
-      },
-      in.physics->part, in.physics->tools, po, s.part_reach_mm,
-      [&s](const interp::Motion& m) { return tool_id(m, s); });
+  AheadNormals an(in);
+  DesignNormals& normals = an.normals;
   Compensation comp(*in.physics, s, normals, in.sinks, in.progress, in.total_motions);
   WriteState ws;
   ReadBack read_back(in.interp);

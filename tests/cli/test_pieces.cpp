@@ -134,3 +134,22 @@ TEST_SUITE("cli") {
     fs::remove_all(dir);
   }
 }
+
+TEST_SUITE("cli") {
+  TEST_CASE("simulate in pieces: the summary and messages of the whole program") {
+    for (const char* n : {"1", "30"}) {
+      for (std::vector<std::string> c : std::vector<std::vector<std::string>>{
+               {"simulate", "samples/programs/freeform.nc", "--stock", "samples/stock/freeform_stock.stl"},
+               {"simulate", "samples/programs/side_wall.nc", "--stock", "box:0,-40,-30,100,0,0"}}) {
+        CAPTURE(n);
+        CAPTURE(c[1]);
+        const test::CliResult whole = run_in("0", c), p = run_in(n, c);
+        CHECK(whole.rc == 0);
+        CHECK(p.rc == whole.rc);
+        CHECK(p.out == whole.out);
+        CHECK(p.err == whole.err);
+        CHECK(whole.out.find("CL points") != std::string::npos);
+      }
+    }
+  }
+}

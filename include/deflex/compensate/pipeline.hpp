@@ -44,4 +44,8 @@ struct PipelineResult {
 // deflex meant.
 PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out);
 
+// simulate() over a program read in pieces: the points to in.sinks.nominal,
+// as simulate() gives them on the whole program. Returns the motions run.
+std::size_t simulate_in_pieces(const PipelineInput& in);
+
 }  // namespace deflex::compensate
