@@ -1,10 +1,16 @@
 // G-code reader + interpreter + writer: never crash, never hang past the
-// --max-blocks budget, and the untouched rewrite is the input byte for byte.
+// --max-blocks budget, the untouched rewrite is the input byte for byte, and
+// read in pieces (gcode/reader.hpp) the program gives the motions and
+// messages it gives whole.
 #include <cstdlib>
+#include <memory>
+#include <sstream>
+#include <utility>
 #include <string>
 #include <vector>
 
 #include "deflex/gcode/program.hpp"
+#include "deflex/gcode/reader.hpp"
 #include "deflex/interp/interpreter.hpp"
 #include "deflex/profile/profile.hpp"
 #include "deflex/writer/writer.hpp"
@@ -17,6 +23,43 @@ class Null : public interp::MotionSink {
  public:
   void motion(const interp::Motion&) override {}
 };
+
+class Ends : public interp::MotionSink {
+ public:
+  std::vector<interp::Vec3> ends;
+  void motion(const interp::Motion& m) override { ends.push_back(m.end_mm); }
+};
+
+// The interpretation of `text` cut after every `k` lines (k = 0: whole).
+std::pair<std::string, std::vector<interp::Vec3>> run(const std::string& text, const interp::Options& o, std::size_t k) {
+  std::ostringstream err;
+  Diagnostics diags(&err, 20);
+  Ends sink;
+  if (!k) {
+    interp::interpret(gcode::Program(SourceText("fuzz.nc", text)), o, diags, sink);
+    return {err.str(), sink.ends};
+  }
+  interp::Interpreter it(o, diags, sink);
+  gcode::Tape tape;
+  std::vector<std::unique_ptr<gcode::Program>> pieces;  // alive until the next feed
+  std::size_t pos = 0;
+  std::uint32_t line = 1;
+  while (pos < text.size() || pieces.empty()) {
+    std::size_t end = pos, lines = 0;
+    while (end < text.size() && lines < k) {
+      const std::size_t nl = text.find('\n', end);
+      end = nl == std::string::npos ? text.size() : nl + 1;
+      ++lines;
+    }
+    auto p = std::make_unique<gcode::Program>(SourceText("fuzz.nc", text.substr(pos, end - pos), line), tape);
+    line += p->line_count();
+    pos = end;
+    it.feed(*p, pos >= text.size());
+    pieces.push_back(std::move(p));
+  }
+  it.finish();
+  return {err.str(), sink.ends};
+}
 
 const std::vector<profile::Dialect>& dialects() {
   static const std::vector<profile::Dialect> v = [] {
@@ -43,6 +86,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     writer::Rewriter w(prog, d);
     if (w.str() != text) {
       std::fprintf(stderr, "fuzz: rewrite is not byte-identical\n");
+      std::abort();
+    }
+    // In pieces of 1 to 4 lines (subprogram calls jump across pieces: such a
+    // program is read whole).
+    if (!gcode::may_call_subprograms(text) && run(text, o, 1 + size % 4) != run(text, o, 0)) {
+      std::fprintf(stderr, "fuzz: read in pieces, the program reads differently\n");
       std::abort();
     }
   });

@@ -106,31 +106,45 @@ void ProgramPasses::each(const std::function<void(const Program& piece, bool las
   }
 }
 
-bool calls_subprograms(const std::string& path) {
-  if (path == "-") return true;
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return true;  // the reader says why
-  // An M word whose number reads 98 (leading zeros and blanks allowed): the
-  // state carries across reads.
+namespace {
+// An M word whose number reads 98 (leading zeros and blanks allowed, blanks
+// inside it too: the lexer reads `M9 8` as M98); the state carries from one
+// buffer to the next.
+struct M98Scan {
   enum { none, letter, digit9, digit98 } st = none;
-  std::vector<char> buf(1 << 16);
   bool found = false;
-  std::size_t n;
-  while (!found && (n = std::fread(buf.data(), 1, buf.size(), f)) > 0) {
+  void add(const char* p, std::size_t n) {
     for (std::size_t i = 0; i < n && !found; ++i) {
-      const char c = buf[i];
+      const char c = p[i];
       switch (st) {
         case none: st = (c == 'M' || c == 'm') ? letter : none; break;
         case letter: st = c == '9' ? digit9 : (c == '0' || c == ' ' || c == '\t') ? letter : none; break;
-        case digit9: st = c == '8' ? digit98 : none; break;
+        case digit9: st = c == '8' ? digit98 : (c == ' ' || c == '\t') ? digit9 : none; break;
         case digit98: found = !(c >= '0' && c <= '9'); st = none; break;
       }
       if (st == none && (c == 'M' || c == 'm')) st = letter;
     }
   }
-  if (st == digit98) found = true;  // M98 at the very end
+  bool done() const { return found || st == digit98; }  // M98 at the very end
+};
+}  // namespace
+
+bool may_call_subprograms(std::string_view text) {
+  M98Scan scan;
+  scan.add(text.data(), text.size());
+  return scan.done();
+}
+
+bool calls_subprograms(const std::string& path) {
+  if (path == "-") return true;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return true;  // the reader says why
+  M98Scan scan;
+  std::vector<char> buf(1 << 16);
+  std::size_t n;
+  while (!scan.found && (n = std::fread(buf.data(), 1, buf.size(), f)) > 0) scan.add(buf.data(), n);
   std::fclose(f);
-  return found;
+  return scan.done();
 }
 
 }  // namespace deflex::gcode

@@ -90,7 +90,7 @@ TEST_SUITE("gcode") {
   }
 
   TEST_CASE("calls_subprograms: M98 in any spelling, nothing else") {
-    for (const char* t : {"M98 P1\n", "m98P1", "N10 M098 P1\n", "G0 X1 M 98", "(M98)\n"}) {
+    for (const char* t : {"M98 P1\n", "m98P1", "N10 M098 P1\n", "G0 X1 M 98", "(M98)\n", "M9 8P3\n"}) {
       CAPTURE(t);
       TempFile f(t);
       CHECK(gcode::calls_subprograms(f.p.string()));

@@ -15,6 +15,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <string_view>
 
 #include "deflex/gcode/program.hpp"
 
@@ -82,5 +83,7 @@ class ProgramPasses {
 // comments not told apart): a cheap byte scan that errs towards yes. Such a
 // file is read whole. "-" (standard input) answers yes: it cannot be read twice.
 bool calls_subprograms(const std::string& path);
+// The same scan of a text in memory.
+bool may_call_subprograms(std::string_view text);
 
 }  // namespace deflex::gcode
