@@ -123,6 +123,11 @@ std::string tool_library_path(const std::string& option, const profile::Config& 
 }
 
 void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags) {
+  report_part_gaps(g, [&src](std::uint32_t) -> SourceText { return src; }, gap_mm, diags);
+}
+
+void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceText(std::uint32_t)>& line_of,
+                      double gap_mm, Diagnostics& diags) {
   auto lines = [](const std::vector<std::uint32_t>& l) {
     std::string s;
     for (std::size_t i = 0; i < l.size() && i < 12; ++i) s += (i ? ", " : "") + std::to_string(l[i]);
@@ -132,13 +137,13 @@ void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, doub
   if (g.overcut.points) {
     std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %zu CL points "
                   "beyond the %.4f mm gap", g.overcut.worst_mm, g.overcut.points, gap_mm);
-    diags.report(Severity::warning, src, g.overcut.worst_line, 1,
+    diags.report(Severity::warning, line_of(g.overcut.worst_line), g.overcut.worst_line, 1,
                  std::string(buf) + " (" + std::to_string(g.overcut.lines.size()) + " lines: " + lines(g.overcut.lines) + ")");
   }
   if (g.standoff.points) {
     std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %zu "
                   "CL points beyond the %.4f mm gap", g.standoff.worst_mm, g.standoff.points, gap_mm);
-    diags.report(Severity::warning, src, g.standoff.worst_line, 1,
+    diags.report(Severity::warning, line_of(g.standoff.worst_line), g.standoff.worst_line, 1,
                  std::string(buf) + " (" + std::to_string(g.standoff.lines.size()) + " lines: " + lines(g.standoff.lines) + ")");
   }
 }

@@ -2,6 +2,7 @@
 // option descriptions. Only src/cli/ includes Boost.Program_options.
 #pragma once
 #include <boost/program_options.hpp>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -104,5 +105,9 @@ void print_help(std::ostream& out, const std::string& usage, const std::string& 
 // The gouge check's findings as warnings at the line of the largest gap of
 // each side, naming the lines (compiler style, through diags).
 void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags);
+// The same where the program's lines are gone (read in pieces): `line_of`
+// gives the text of a line.
+void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceText(std::uint32_t)>& line_of,
+                      double gap_mm, Diagnostics& diags);
 
 }  // namespace deflex::cli

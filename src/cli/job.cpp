@@ -327,7 +327,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   Setup s = resolve_with_machine(a.read);
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(s.config, "part");
   std::unique_ptr<gcode::ProgramPasses> pieces;
-  if (in_pieces && a.file != "-" && a.feed_limit_N <= 0 && part.empty())
+  if (in_pieces && a.file != "-" && a.feed_limit_N <= 0)
     pieces = std::make_unique<gcode::ProgramPasses>(a.file, &io.in, piece_lines());
   std::unique_ptr<gcode::Program> whole;
   if (!pieces) whole = std::make_unique<gcode::Program>(gcode::read_source(a.file, &io.in));
@@ -398,10 +398,30 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
     engage::PathOptions po;
     po.cl_spacing_mm = st.cl_spacing_mm;
-    const compensate::PartGaps g = compensate::part_gaps(
-        j.motions, *j.physics.part, j.physics.tools, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); }, po,
-        gap, st.part_reach_mm);
-    report_part_gaps(g, j.prog.source(), gap, diags);
+    auto gaps_of = [&](const std::vector<interp::Motion>& ms) {
+      return compensate::part_gaps(ms, *j.physics.part, j.physics.tools,
+                                   [&st](const interp::Motion& m) { return compensate::tool_id(m, st); }, po, gap,
+                                   st.part_reach_mm);
+    };
+    if (!j.pieces) {
+      report_part_gaps(gaps_of(j.motions), j.prog.source(), gap, diags);
+    } else {
+      // A pass of its own over the pieces (the part model is read after the checks).
+      compensate::PartGaps g;
+      std::vector<interp::Motion> piece;
+      Collect c;
+      c.out = &piece;
+      Diagnostics quiet(nullptr, 0);
+      const interp::Options opt = j.setup.interp();
+      interp::Interpreter it(opt, quiet, c);
+      j.pieces->each([&](const gcode::Program& p, bool last) {
+        it.feed(p, last);
+        for (interp::Motion& m : piece) fill_cut_defaults(a, m);
+        compensate::merge(g, gaps_of(piece));
+        piece.clear();
+      });
+      report_part_gaps(g, [&j](std::uint32_t l) { return line_of_file(j, l); }, gap, diags);
+    }
   }
   return j;
 }

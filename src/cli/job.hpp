@@ -88,7 +88,7 @@ void apply_job(Args& a, std::vector<std::string>& files);
 // instead of building its own (compare: every program on the same stock).
 // `in_pieces`: the caller can take the program in pieces (compensate without
 // --report); it is then read so where it is long, comes from a file, calls no
-// subprogram, and neither --feed-limit nor a part model needs it whole.
+// subprogram, and --feed-limit does not need it whole.
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, bool in_pieces = false);
 // A line of the program's file (a finding's excerpt when it was read in pieces).
 SourceText line_of_file(const Job& j, std::uint32_t line);

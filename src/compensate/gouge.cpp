@@ -58,4 +58,19 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
   return g;
 }
 
+void merge(PartGaps& into, const PartGaps& piece) {
+  into.points += piece.points;
+  auto side = [](GapSide& a, const GapSide& b) {
+    a.points += b.points;
+    for (std::uint32_t l : b.lines)
+      if (a.lines.empty() || a.lines.back() != l) a.lines.push_back(l);
+    if (b.worst_mm > a.worst_mm) {  // the earlier on a tie, as note() keeps it
+      a.worst_mm = b.worst_mm;
+      a.worst_line = b.worst_line;
+    }
+  };
+  side(into.overcut, piece.overcut);
+  side(into.standoff, piece.standoff);
+}
+
 }  // namespace deflex::compensate

@@ -99,6 +99,9 @@ TEST_SUITE("cli") {
         {{"samples/programs/pocket_finish.nc", "--stock", "box:-5,-5,-20,105,85,0", "--gain", "0"}, {"9"}},
         {{"samples/programs/six_surfaces.nc", "--stock", "samples/stock/six_surfaces_stock.stl", "--tool", "T1"},
          {"5000"}},
+        {{"samples/programs/six_surfaces.nc", "--stock", "samples/stock/six_surfaces_stock.stl", "--part",
+          "samples/parts/six_surfaces.stl"},
+         {"7000"}},
         {{(dir / "bad.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}},
         {{(dir / "tool.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}}};
     int compared = 0;
@@ -130,7 +133,7 @@ TEST_SUITE("cli") {
         CHECK(out.out == test::read_file(wout));
       }
     }
-    CHECK(compared == 8);
+    CHECK(compared == 9);
     fs::remove_all(dir);
   }
 }

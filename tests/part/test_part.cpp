@@ -189,6 +189,18 @@ TEST_CASE("gouge check: a pass dug into the part and a pass standing off are nam
   // Moved 0.05 straight down on a 20 deg slope: 0.05 cos 20 into it.
   CHECK(g.overcut.worst_mm == doctest::Approx(0.05 * std::cos(20 / deg)).epsilon(1e-3));
   CHECK(g.standoff.worst_mm == doctest::Approx(0.04 * std::cos(20 / deg)).epsilon(1e-3));
+  // A program checked in pieces (compensate reads a long one so): the same gaps.
+  compensate::PartGaps merged;
+  for (std::size_t k = 0; k < m.size(); ++k)
+    compensate::merge(merged, compensate::part_gaps({m[k]}, pm, lib, [&](const interp::Motion&) { return id; }, {},
+                                                    0.02, 1.0));
+  CHECK(merged.points == g.points);
+  for (auto [a, b] : {std::pair{&merged.overcut, &g.overcut}, std::pair{&merged.standoff, &g.standoff}}) {
+    CHECK(a->points == b->points);
+    CHECK(a->lines == b->lines);
+    CHECK(a->worst_mm == b->worst_mm);
+    CHECK(a->worst_line == b->worst_line);
+  }
 }
 
 TEST_CASE("a raster across a 20 deg slope: e = delta . n of the part, and compensated with --part it judges inside the tolerance") {

@@ -36,4 +36,8 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
                    const stiffness::ToolLibrary& tools, const std::function<std::string(const interp::Motion&)>& tool_of,
                    const engage::PathOptions& path, double gap_mm, double reach_mm);
 
+// The gaps of a program checked in pieces: `piece`'s (the next motions in
+// program order) added to `into`, as part_gaps gives them on the whole.
+void merge(PartGaps& into, const PartGaps& piece);
+
 }  // namespace deflex::compensate
