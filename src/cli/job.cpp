@@ -327,7 +327,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   Setup s = resolve_with_machine(a.read);
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(s.config, "part");
   std::unique_ptr<gcode::ProgramPasses> pieces;
-  if (in_pieces && a.file != "-" && a.feed_limit_N <= 0)
+  if (in_pieces && a.file != "-")
     pieces = std::make_unique<gcode::ProgramPasses>(a.file, &io.in, piece_lines());
   std::unique_ptr<gcode::Program> whole;
   if (!pieces) whole = std::make_unique<gcode::Program>(gcode::read_source(a.file, &io.in));
@@ -338,6 +338,12 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
+  if (j.pieces && st.feed_limit_N > 0 && st.gain == 0.0) {
+    // Gain 0 with a feed limit simulates the program twice over (as written,
+    // then at the lowered feeds): read whole, as before.
+    j.prog = gcode::Program(gcode::read_source(a.file, &io.in));
+    j.pieces.reset();
+  }
   const std::string stock = stock_spec(a.stock, cfg);
   j.stock_spec = stock;
   j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));

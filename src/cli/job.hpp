@@ -87,8 +87,8 @@ void apply_job(Args& a, std::vector<std::string>& files);
 // `shared` (may be null): a job whose stock and part model this one uses
 // instead of building its own (compare: every program on the same stock).
 // `in_pieces`: the caller can take the program in pieces (compensate without
-// --report); it is then read so where it is long, comes from a file, calls no
-// subprogram, and --feed-limit does not need it whole.
+// --report); it is then read so where it is long, comes from a file and calls
+// no subprogram (and not --gain 0 with --feed-limit).
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, bool in_pieces = false);
 // A line of the program's file (a finding's excerpt when it was read in pieces).
 SourceText line_of_file(const Job& j, std::uint32_t line);

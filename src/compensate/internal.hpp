@@ -2,6 +2,8 @@
 // the tool models, the per-point physics, one run through the stock. Private
 // to src/compensate/.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <string>
@@ -54,6 +56,14 @@ double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r);
 
 // Motion m with its start moved by a and its end (and an arc's centre) by b.
 interp::Motion moved(interp::Motion m, const V3& a, const V3& b);
+
+// --feed-limit, what VERICUT Force does alone: the feed of a cutting block
+// whose peak force would exceed the limit. The cutting force grows with the
+// chip (f_z) while the edge force does not, so scaling F by limit / peak
+// brings the peak to the limit or below (0.1 mm/min, rounded down).
+inline double lowered_feed(double feed_mm_per_min, double limit_N, double peak_N) {
+  return std::max(std::floor(feed_mm_per_min * limit_N / peak_N * 10.0) / 10.0, 0.1);
+}
 
 // The stock and the tool's simulator along one run through the program.
 class Run {

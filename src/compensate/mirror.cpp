@@ -296,9 +296,18 @@ class Stream {
 }  // namespace
 
 struct Compensation::Impl {
-  Impl(const Physics& p, const Settings& st, const DesignNormals& n, PointSinks sk, Progress pr, std::size_t t)
+  Impl(const Physics& p, const Settings& st, const DesignNormals& n, PointSinks sk, Progress pr, std::size_t t,
+       bool as_written)
       : ph(p), s(st), one(st), normals(n), sinks(std::move(sk)), progress(std::move(pr)), total(t) {
     same = s.gain == 0.0;
+    if (!as_written) {  // the caller simulated the program as written already
+      if (same) throw Error(Exit::internal, "compensate: gain 0 without the program as written");
+      std::unique_ptr<stock::ZMap> map;
+      if (ph.consumable_stock && ph.consumable_stock == ph.stock)
+        map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
+      stream = std::make_unique<Stream>(ph, s, normals, progress, total, sinks, std::move(map));
+      return;
+    }
     // The program as written is simulated for the report beside the stream,
     // on its own thread, unless the feed limit needs its forces first (or one
     // thread was asked for).
@@ -329,8 +338,9 @@ struct Compensation::Impl {
   }
 
   Result add(const std::vector<interp::Motion>& motions, const std::vector<bool>& can,
-             const std::vector<bool>* splittable) {
+             const std::vector<bool>* splittable, const std::vector<double>* planned) {
     const std::size_t n = motions.size();
+    if (!nominal) return add_planned(motions, can, splittable, planned);
     if (s.feed_limit_N > 0 && pieces++)
       throw Error(Exit::internal, "compensate: --feed-limit takes the program in one piece");
     Result r;
@@ -382,16 +392,26 @@ struct Compensation::Impl {
     return r;
   }
 
-  // What VERICUT Force does alone: lower the feed of a cutting block whose
-  // peak force would exceed the limit. The cutting force grows with the chip
-  // (f_z) while the edge force does not, so scaling F by limit/peak brings the
-  // peak to the limit or below; the compensation then runs at these feeds.
+  // The mirror pass alone, at the feeds planned by the caller (null: as programmed).
+  Result add_planned(const std::vector<interp::Motion>& motions, const std::vector<bool>& can,
+                     const std::vector<bool>* splittable, const std::vector<double>* planned) {
+    Result r;
+    std::vector<double> feeds(motions.size());
+    for (std::size_t i = 0; i < motions.size(); ++i)
+      feeds[i] = planned ? (*planned)[i] : motions[i].feed_mm_per_min;
+    stream->go(motions, feeds, can, splittable, r);
+    for (const V3& o : r.offsets)
+      if (o.norm() > 0) ++r.compensated_points;
+    merge(r);
+    return r;
+  }
+
+  // --feed-limit: the blocks whose peak force would exceed it run at lowered_feed().
   void lower_feeds(const std::vector<interp::Motion>& motions, std::vector<double>& feeds, Result& r) const {
     for (std::size_t i = 0; i < motions.size(); ++i) {
       const interp::Motion& m = motions[i];
       if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
-      const double f = std::floor(m.feed_mm_per_min * s.feed_limit_N / peak[i] * 10.0) / 10.0;  // 0.1 mm/min, down
-      feeds[i] = std::max(f, 0.1);
+      feeds[i] = lowered_feed(m.feed_mm_per_min, s.feed_limit_N, peak[i]);
       r.feed_lowered_lines.push_back(m.line);
     }
   }
@@ -429,7 +449,7 @@ struct Compensation::Impl {
   }
 
   Result finish() {
-    nominal->finish();
+    if (nominal) nominal->finish();
     if (stream) stream->finish(totals);
     return totals;
   }
@@ -454,12 +474,12 @@ struct Compensation::Impl {
 };
 
 Compensation::Compensation(const Physics& ph, const Settings& s, const DesignNormals& normals, PointSinks sinks,
-                           Progress progress, std::size_t total)
-    : impl_(std::make_unique<Impl>(ph, s, normals, std::move(sinks), std::move(progress), total)) {}
+                           Progress progress, std::size_t total, bool as_written)
+    : impl_(std::make_unique<Impl>(ph, s, normals, std::move(sinks), std::move(progress), total, as_written)) {}
 Compensation::~Compensation() = default;
 Result Compensation::add(const std::vector<interp::Motion>& motions, const std::vector<bool>& can,
-                         const std::vector<bool>* splittable) {
-  return impl_->add(motions, can, splittable);
+                         const std::vector<bool>* splittable, const std::vector<double>* planned_feeds) {
+  return impl_->add(motions, can, splittable, planned_feeds);
 }
 Result Compensation::finish() { return impl_->finish(); }
 

@@ -1,9 +1,14 @@
 #include "deflex/compensate/pipeline.hpp"
 
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
 #include <ostream>
 
 #include "deflex/compensate/pieces.hpp"
 #include "deflex/engage/path.hpp"
+#include "internal.hpp"
 
 namespace deflex::compensate {
 
@@ -52,30 +57,107 @@ std::size_t simulate_in_pieces(const PipelineInput& in) {
   return n;
 }
 
-PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
+namespace {
+
+// --feed-limit in pieces: the program as written simulated first, on a copy
+// of the stock, its points to the nominal sink; a cutting block whose peak
+// force exceeds the limit gets its feed lowered as Compensation does on the
+// whole program (detail::lowered_feed). Returns the
+// lowered feeds by motion index (few) and their lines in program order.
+struct FeedPlan {
+  std::map<std::size_t, double> lowered;
+  std::vector<std::uint32_t> lines;
+};
+
+FeedPlan plan_feeds(const PipelineInput& in) {
+  const Physics& ph = *in.physics;
   const Settings& s = *in.settings;
   PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
   AheadNormals an(in);
+  struct Open {  // a motion whose samples may still come
+    std::size_t index;
+    double feed;
+    bool can_lower;
+    std::uint32_t line;
+    double peak = 0;
+  };
+  std::deque<Open> open;
+  FeedPlan plan;
+  auto settle = [&](std::size_t below) {
+    for (; !open.empty() && open.front().index < below; open.pop_front()) {
+      const Open& o = open.front();
+      if (!o.can_lower || o.peak <= s.feed_limit_N) continue;
+      plan.lowered[o.index] = detail::lowered_feed(o.feed, s.feed_limit_N, o.peak);
+      plan.lines.push_back(o.line);
+    }
+  };
+  std::unique_ptr<stock::ZMap> copy;
+  if (ph.stock) copy = std::make_unique<stock::ZMap>(detail::clone(*ph.stock));
+  Simulation sim(ph, s, an.normals,
+                 [&](const Point& p) {
+                   settle(p.motion);  // samples come in order: the motions before are done
+                   for (Open& o : open)
+                     if (o.index == p.motion) o.peak = std::max(o.peak, p.peak_N);
+                   if (in.sinks.nominal) in.sinks.nominal(p);
+                 },
+                 std::move(copy), in.progress, in.total_motions);
+  std::size_t before = 0;
+  while (std::unique_ptr<ProgramPiece> p = cut.next()) {
+    an.normals.forget_before(before);
+    before = p->first_motion;
+    for (std::size_t i = 0; i < p->motions.size(); ++i) {
+      const interp::Motion& m = p->motions[i];
+      open.push_back({p->first_motion + i, m.feed_mm_per_min, m.plain && m.kind != interp::MotionKind::rapid, m.line});
+    }
+    sim.add(p->motions);
+  }
+  sim.finish();
+  settle(std::numeric_limits<std::size_t>::max());
+  return plan;
+}
+
+}  // namespace
+
+PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
+  const bool limit = in.settings->feed_limit_N > 0;
+  if (limit && in.settings->gain == 0.0)
+    throw Error(Exit::internal, "compensate: --gain 0 with --feed-limit reads the program whole");
+  FeedPlan plan;
+  if (limit) plan = plan_feeds(in);
+  // With a plan the mirror pass runs alone, at the planned feeds.
+  Settings s = *in.settings;
+  s.feed_limit_N = 0;
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  AheadNormals an(in);
   DesignNormals& normals = an.normals;
-  Compensation comp(*in.physics, s, normals, in.sinks, in.progress, in.total_motions);
+  Compensation comp(*in.physics, s, normals, in.sinks, in.progress, in.total_motions, !limit);
   WriteState ws;
   ReadBack read_back(in.interp);
   process::MachiningClock clock(in.limits);
   PipelineResult res;
   std::size_t before = 0;  // first motion of the piece before
+  std::vector<double> planned;
   while (std::unique_ptr<ProgramPiece> p = cut.next()) {
     ++res.pieces;
     // Only the last samples of the piece before may still come.
     normals.forget_before(before);
     before = p->first_motion;
     const std::vector<bool> split_ok = splittable(p->text, p->motions);
-    const Result r = comp.add(p->motions, movable(p->motions), &split_ok);
+    if (limit) {
+      planned.resize(p->motions.size());
+      for (std::size_t i = 0; i < p->motions.size(); ++i) {
+        const auto it = plan.lowered.find(p->first_motion + i);
+        planned[i] = it == plan.lowered.end() ? p->motions[i].feed_mm_per_min : it->second;
+      }
+    }
+    const Result r = comp.add(p->motions, movable(p->motions), &split_ok, limit ? &planned : nullptr);
     if (in.on_piece) in.on_piece(r);
     ws.first_line = p->first_line;
     ws.last_line = p->last_line;
     WriteStats w;
+    const std::vector<double>* feeds = limit ? &r.feeds_mm_per_min : nullptr;
     const std::string text = apply_offsets(p->text, in.interp.dialect, r.motions, r.offsets, &w, &r.inserted,
-                                           nullptr, &ws);
+                                           feeds, &ws);
     res.written.numbers_changed += w.numbers_changed;
     res.written.words_inserted += w.words_inserted;
     res.written.blocks_inserted += w.blocks_inserted;
@@ -87,12 +169,14 @@ PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) 
     for (interp::Motion& m : om) m.line -= base;
     gcode::Tape tape = p->tape;
     const gcode::Program written(SourceText(p->text.source().name() + " (compensated)", text, 1), tape);
-    safety_check(p->own, om, written, in.interp, movable(r.motions), s.max_offset_mm, &r.inserted, nullptr,
+    safety_check(p->own, om, written, in.interp, movable(r.motions), s.max_offset_mm, &r.inserted, feeds,
                  &read_back, base);
     out << text;
-    for (const interp::Motion& m : r.motions) clock.add(m);
+    for (std::size_t i = 0; i < r.motions.size(); ++i)
+      clock.add(r.motions[i], limit ? r.feeds_mm_per_min[i] : std::numeric_limits<double>::quiet_NaN());
   }
   res.totals = comp.finish();
+  res.totals.feed_lowered_lines = std::move(plan.lines);
   res.time = clock.finish();
   return res;
 }

@@ -102,6 +102,10 @@ TEST_SUITE("cli") {
         {{"samples/programs/six_surfaces.nc", "--stock", "samples/stock/six_surfaces_stock.stl", "--part",
           "samples/parts/six_surfaces.stl"},
          {"7000"}},
+        // --feed-limit: the feeds planned by a first pass over the pieces.
+        {{"samples/programs/side_wall.nc", "--stock", "box:0,-40,-30,100,0,0", "--feed-limit", "150"}, {"3"}},
+        {{"samples/programs/freeform.nc", "--stock", "samples/stock/freeform_stock.stl", "--feed-limit", "40"},
+         {"25"}},
         {{(dir / "bad.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}},
         {{(dir / "tool.nc").string(), "--stock", "box:-5,-5,-5,40,5,0"}, {"2"}}};
     int compared = 0;
@@ -133,7 +137,7 @@ TEST_SUITE("cli") {
         CHECK(out.out == test::read_file(wout));
       }
     }
-    CHECK(compared == 9);
+    CHECK(compared == 11);
     fs::remove_all(dir);
   }
 }

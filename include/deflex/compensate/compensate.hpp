@@ -231,16 +231,19 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
 // simulation may come a batch late (all of them by finish()), Point::motion
 // counts from the first motion of the program (as written, for `final`).
 // With a feed limit the program comes in one piece (the feeds need every
-// peak force before the mirror pass).
+// peak force before the mirror pass), unless the caller simulated the program
+// as written first (`as_written` false: no as-written simulation here, the
+// sinks' nominal is not called) and plans the feeds: add()'s planned_feeds,
+// one per motion (null: as programmed), with Settings::feed_limit_N 0.
 class Compensation {
  public:
   Compensation(const Physics& ph, const Settings& s, const DesignNormals& normals, PointSinks sinks,
-               Progress progress = {}, std::size_t total = 0);
+               Progress progress = {}, std::size_t total = 0, bool as_written = true);
   ~Compensation();
   Compensation(const Compensation&) = delete;
   Compensation& operator=(const Compensation&) = delete;
   Result add(const std::vector<interp::Motion>& motions, const std::vector<bool>& movable,
-             const std::vector<bool>* splittable);
+             const std::vector<bool>* splittable, const std::vector<double>* planned_feeds = nullptr);
   Result finish();
 
  private:
