@@ -42,7 +42,7 @@ const char* kCompensateHelp =
     "capped at the machine profile's max_offset_mm. The written program is read back\n"
     "and checked against the original before anything is written; with --gain 0 the\n"
     "output is the input. A long program is read, compensated, written and checked\n"
-    "in pieces of 65,536 lines, so memory does not grow with it (--report reads it\n"
+    "in pieces of 16,384 lines, so memory does not grow with it (--report reads it\n"
     "whole).\n"
     "--report DIR writes report.html (open it in a browser: provenance, summary, the\n"
     "surface in 3D and top views coloured by the error as written and compensated,\n"
