@@ -1,16 +1,7 @@
 #include "deflex/gcode/program.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fcntl.h>
-#include <unistd.h>
-#include <cstdio>
-#include <fstream>
-#include <iostream>
-#include <iterator>
-#include <sstream>
 
 namespace deflex::gcode {
 
@@ -209,30 +200,6 @@ bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {
   }
   if (b.kind != LineKind::program_number && (!b.words.empty() || b.macro)) b.kind = LineKind::block;
   return ok;
-}
-
-SourceText read_source(const std::string& path, std::istream* stdin_stream) {
-  std::string bytes;
-  if (path == "-") {
-    std::ostringstream ss;
-    std::istream& in = stdin_stream ? *stdin_stream : std::cin;
-    // A closed standard input reads like an empty one: say it, it is no program.
-    if (&in == &std::cin && ::fcntl(STDIN_FILENO, F_GETFD) == -1)
-      throw Error(Exit::io, "<stdin>: error: standard input is closed; give a file, or pipe the program in");
-    if (in.peek() != std::char_traits<char>::eof()) ss << in.rdbuf();
-    if (in.bad()) throw Error(Exit::io, "<stdin>: error: read failed");
-    bytes = ss.str();
-    return SourceText("<stdin>", std::move(bytes));
-  }
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw Error(Exit::io, path + ": error: cannot open: " + std::strerror(errno));
-  char buf[1 << 16];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) bytes.append(buf, n);
-  bool bad = std::ferror(f);
-  std::fclose(f);
-  if (bad) throw Error(Exit::io, path + ": error: read failed");
-  return SourceText(path, std::move(bytes));
 }
 
 }  // namespace deflex::gcode

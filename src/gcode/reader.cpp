@@ -53,7 +53,24 @@ bool ProgramReader::fill() {
   return n > 0;
 }
 
+SourceText ProgramReader::whole_text() {
+  // No line ends to count (SourceText indexes them), no copy.
+  while (fill()) {
+  }
+  SourceText t(name_, std::move(buf_), next_line_);
+  buf_.clear();
+  return t;
+}
+
+SourceText read_source(const std::string& path, std::istream* stdin_stream) {
+  return ProgramReader(path, stdin_stream, 0).whole_text();
+}
+
 std::unique_ptr<Program> ProgramReader::next() {
+  if (max_bytes_ == SIZE_MAX) {
+    if (eof_) return nullptr;
+    return std::make_unique<Program>(whole_text(), tape_);
+  }
   for (;;) {
     // Line ends in the bytes not searched yet, up to the piece's last line.
     while (lines_in_buf_ < max_lines_ && cut_ < max_bytes_) {
@@ -74,7 +91,7 @@ std::unique_ptr<Program> ProgramReader::next() {
   }
   if (cut_ == 0 && gave_any_) return nullptr;
   gave_any_ = true;
-  std::string piece = buf_.substr(0, cut_);
+  std::string piece(buf_, 0, cut_);
   buf_.erase(0, cut_);
   scanned_ -= cut_;
   cut_ = 0;
@@ -85,11 +102,16 @@ std::unique_ptr<Program> ProgramReader::next() {
 }
 
 ProgramPasses::ProgramPasses(const std::string& path, std::istream* stdin_stream, std::uint32_t max_lines)
-    : path_(path), stdin_(stdin_stream), max_lines_(calls_subprograms(path) ? 0 : max_lines) {
+    : path_(path), stdin_(stdin_stream), max_lines_(path == "-" ? 0 : max_lines) {
   ProgramReader r(path_, stdin_, max_lines_);
   name_ = r.name();
   std::unique_ptr<Program> first = r.next();
-  if (r.done()) whole_ = std::move(first);  // one piece: held, read once
+  if (r.done()) {
+    whole_ = std::move(first);  // one piece: held, read once
+  } else if (calls_subprograms(path_)) {
+    max_lines_ = 0;  // a call jumps anywhere in the file: whole
+    whole_ = ProgramReader(path_, stdin_, 0).next();
+  }
 }
 
 void ProgramPasses::each(const std::function<void(const Program& piece, bool last)>& fn) {
@@ -107,44 +129,66 @@ void ProgramPasses::each(const std::function<void(const Program& piece, bool las
 }
 
 namespace {
-// An M word whose number reads 98 (leading zeros and blanks allowed, blanks
-// inside it too: the lexer reads `M9 8` as M98); the state carries from one
-// buffer to the next.
-struct M98Scan {
-  enum { none, letter, digit9, digit98 } st = none;
-  bool found = false;
-  void add(const char* p, std::size_t n) {
-    for (std::size_t i = 0; i < n && !found; ++i) {
-      const char c = p[i];
-      switch (st) {
-        case none: st = (c == 'M' || c == 'm') ? letter : none; break;
-        case letter: st = c == '9' ? digit9 : (c == '0' || c == ' ' || c == '\t') ? letter : none; break;
-        case digit9: st = c == '8' ? digit98 : (c == ' ' || c == '\t') ? digit9 : none; break;
-        case digit98: found = !(c >= '0' && c <= '9'); st = none; break;
+
+bool blank(char c) { return c == ' ' || c == '\t'; }
+
+// Whether the M word at p (*p is M or m) reads 98, the lexer's way: leading
+// zeros and blanks allowed, blanks inside the number too (`M9 8` is M98).
+// 1 yes, 0 no, -1 the bytes end first (at the end of the file: taken for yes).
+int m98_at(const char* p, const char* end) {
+  const char* q = p + 1;
+  while (q < end && (*q == '0' || blank(*q))) ++q;
+  if (q == end) return -1;
+  if (*q++ != '9') return 0;
+  while (q < end && blank(*q)) ++q;
+  if (q == end) return -1;
+  if (*q++ != '8') return 0;
+  if (q == end) return -1;
+  return *q >= '0' && *q <= '9' ? 0 : 1;
+}
+
+// Scans [b, e) for an M98, jumping from M to M with memchr (a G-code file
+// has few). Returns 1 found, 0 none, or -1 with `from` set to the M word the
+// bytes end inside of (the caller carries it into the next read).
+int scan_m98(const char* b, const char* e, const char*& from) {
+  for (char letter : {'M', 'm'})
+    for (const char* p = b; (p = static_cast<const char*>(std::memchr(p, letter, e - p))) != nullptr; ++p) {
+      const int r = m98_at(p, e);
+      if (r == 1) return 1;
+      if (r < 0) {
+        from = p;  // the last M word of the bytes: its rest comes with the next read
+        if (letter == 'M') break;
+        return -1;
       }
-      if (st == none && (c == 'M' || c == 'm')) st = letter;
     }
-  }
-  bool done() const { return found || st == digit98; }  // M98 at the very end
-};
+  return from ? -1 : 0;
+}
+
 }  // namespace
 
 bool may_call_subprograms(std::string_view text) {
-  M98Scan scan;
-  scan.add(text.data(), text.size());
-  return scan.done();
+  const char* from = nullptr;
+  return scan_m98(text.data(), text.data() + text.size(), from) != 0;  // cut off at the end: yes
 }
 
 bool calls_subprograms(const std::string& path) {
   if (path == "-") return true;
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return true;  // the reader says why
-  M98Scan scan;
-  std::vector<char> buf(1 << 16);
-  std::size_t n;
-  while (!scan.found && (n = std::fread(buf.data(), 1, buf.size(), f)) > 0) scan.add(buf.data(), n);
+  std::vector<char> buf;
+  std::size_t carry = 0;  // bytes of an M word cut off by the last read, at the front of buf
+  int found = 0;
+  for (;;) {
+    buf.resize(carry + (1u << 20));
+    const std::size_t n = std::fread(buf.data() + carry, 1, buf.size() - carry, f);
+    const char* from = nullptr;
+    found = scan_m98(buf.data(), buf.data() + carry + n, from);
+    if (found == 1 || n == 0) break;  // at the end, a word cut off counts as a call
+    carry = found < 0 ? static_cast<std::size_t>(buf.data() + carry + n - from) : 0;
+    if (found < 0) std::memmove(buf.data(), from, carry);
+  }
   std::fclose(f);
-  return scan.done();
+  return found != 0;
 }
 
 }  // namespace deflex::gcode

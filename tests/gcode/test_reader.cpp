@@ -101,6 +101,17 @@ TEST_SUITE("gcode") {
       CHECK_FALSE(gcode::calls_subprograms(f.p.string()));
     }
     CHECK(gcode::calls_subprograms("-"));
+    // The file is read a MiB at a time: a word cut by a read still counts,
+    // at every cut from before the M to after the 8.
+    for (std::size_t at = (1u << 20) - 4; at <= (1u << 20); ++at) {
+      CAPTURE(at);
+      std::string text(at, 'X');
+      text[0] = '(';
+      text[at - 1] = ')';
+      TempFile call(text + "M 9 8P1\n"), none(text + "M 9 80\n");
+      CHECK(gcode::calls_subprograms(call.p.string()));
+      CHECK_FALSE(gcode::calls_subprograms(none.p.string()));
+    }
   }
 
   TEST_CASE("interpreter fed in pieces: the motions and messages of the whole file") {

@@ -49,6 +49,7 @@ class Program {
 };
 
 // Reads a whole file (or `stdin_stream` for "-") into a SourceText; throws Error(io).
+// (gcode/reader.cpp: ProgramReader::whole_text)
 SourceText read_source(const std::string& path, std::istream* stdin_stream = nullptr);
 
 }  // namespace deflex::gcode

@@ -39,6 +39,8 @@ class ProgramReader {
   // The next piece, or null after the last one. A file with no bytes gives one
   // empty piece (line_count() 0), as read_source gives an empty program.
   std::unique_ptr<Program> next();
+  // max_lines 0: all of the input at once (read_source()).
+  SourceText whole_text();
   // True once the piece next() gave last was the file's last.
   bool done() const { return eof_ && buf_.empty(); }
   const std::string& name() const { return name_; }
