@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <tuple>
 
@@ -314,13 +315,22 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
 
 }  // namespace
 
-SourceText line_of_file(const Job& j, std::uint32_t line) {
-  if (!j.pieces) return SourceText(j.prog.source().name(), std::string(j.prog.source().line_text(line)), line);
-  std::string text;
+std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vector<std::uint32_t>& lines) {
+  std::map<std::uint32_t, SourceText> out;
+  auto keep = [&](const SourceText& src, std::uint32_t l) {
+    out.emplace(l, SourceText(src.name(), std::string(src.line_text(l)), l));
+  };
+  if (!j.pieces) {
+    for (std::uint32_t l : lines) keep(j.prog.source(), l);
+    return out;
+  }
+  // One pass over the file for all of them.
   j.pieces->each([&](const gcode::Program& p, bool) {
-    if (line >= p.first_line() && line <= p.last_line()) text = std::string(p.source().line_text(line));
+    for (std::uint32_t l : lines)
+      if (l >= p.first_line() && l <= p.last_line()) keep(p.source(), l);
   });
-  return SourceText(j.pieces->name(), text, line);
+  for (std::uint32_t l : lines) out.emplace(l, SourceText(j.pieces->name(), "", l));  // past the end: no text
+  return out;
 }
 
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
@@ -426,7 +436,8 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
         compensate::merge(g, gaps_of(piece));
         piece.clear();
       });
-      report_part_gaps(g, [&j](std::uint32_t l) { return line_of_file(j, l); }, gap, diags);
+      const auto text = lines_of_file(j, {g.overcut.worst_line, g.standoff.worst_line});
+      report_part_gaps(g, [&text](std::uint32_t l) { return text.at(l); }, gap, diags);
     }
   }
   return j;
@@ -475,9 +486,11 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
 
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io) {
   Diagnostics diags(&io.err, 0);
+  std::vector<std::uint32_t> lines;
+  for (const compensate::Finding& f : pl.findings) lines.push_back(f.line);
+  const auto text = lines_of_file(j, lines);
   for (const compensate::Finding& f : pl.findings)
-    diags.report(Severity::warning, j.pieces ? line_of_file(j, f.line) : j.prog.source(), f.line, 1,
-                 f.message + " [" + f.kind + "]");
+    diags.report(Severity::warning, text.at(f.line), f.line, 1, f.message + " [" + f.kind + "]");
 }
 
 report::Json warnings_json(const compensate::Plausibility& pl) {

@@ -2,6 +2,7 @@
 // reads (program, machine, tools, material, stock, part), the checks before
 // any computation, and the pieces of their output.
 #pragma once
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -90,8 +91,9 @@ void apply_job(Args& a, std::vector<std::string>& files);
 // --report); it is then read so where it is long, comes from a file and calls
 // no subprogram (and not --gain 0 with --feed-limit).
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, bool in_pieces = false);
-// A line of the program's file (a finding's excerpt when it was read in pieces).
-SourceText line_of_file(const Job& j, std::uint32_t line);
+// Lines of the program's file, each as a one-line SourceText (the excerpts of
+// findings, also when the program was read in pieces: one pass over the file).
+std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vector<std::uint32_t>& lines);
 // The progress line on a terminal (nothing elsewhere).
 compensate::Progress progress_for(Io& io);
 // The run's provenance for report.html: what a reader needs to trust or redo it.

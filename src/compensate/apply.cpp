@@ -98,7 +98,6 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
   // not touch may set F themselves; `scanned` is the last line looked at for that.
   double& carried_feed = ws.carried_feed;
   std::uint32_t& scanned = ws.scanned;
-  if (!scanned && prog.first_line() > 1) scanned = prog.first_line() - 1;
   auto feed_words_up_to = [&](std::uint32_t line, bool inch) {  // F words of untouched lines before `line`
     for (std::uint32_t l = scanned + 1; l < line; ++l) {
       prog.lex(l, b, quiet);
@@ -211,7 +210,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
   const std::uint32_t last = ws.last_line ? ws.last_line : prog.last_line();
   // The F words of the lines after the last motion: the next piece starts
   // from the feed they leave.
-  if (feeds && last >= first) feed_words_up_to(last + 1, !motions.empty() && motions.back().inch);
+  if (feeds && state && last >= first) feed_words_up_to(last + 1, ws.inch_after);
   if (stats) *stats = st;
   if (!state && w.edits() == 0) return prog.bytes();
   if (prog.line_count() == 0) return prog.bytes();

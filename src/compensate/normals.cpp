@@ -122,7 +122,10 @@ const DesignNormals::Clouds& DesignNormals::block(std::size_t b) const {
 
 std::shared_ptr<const DesignNormals::Trees> DesignNormals::window(std::size_t b) const {
   auto it = windows_.find(b);
-  if (it != windows_.end()) return it->second;
+  if (it != windows_.end()) {
+    it->second.used = ++clock_;
+    return it->second.trees;
+  }
   Clouds all;
   for (std::size_t k = b ? b - 1 : 0; k <= b + 1; ++k)
     for (const auto& [id, pts] : block(k)) all[id].insert(all[id].end(), pts.begin(), pts.end());
@@ -131,12 +134,15 @@ std::shared_ptr<const DesignNormals::Trees> DesignNormals::window(std::size_t b)
     compact(pts);
     (*trees)[id] = std::make_unique<part::PathNormals>(std::move(pts));
   }
-  windows_[b] = trees;
+  windows_[b] = {trees, ++clock_};
   // A whole program: the simulation beside the mirror pass may run far ahead
-  // of it; what is dropped is made again when asked for. In pieces the
-  // caller says what is done with (forget_before).
+  // of it; the least recently used window goes (made again if asked for).
+  // In pieces the caller says what is done with (forget_before).
   if (design_) {
-    while (windows_.size() > 4) windows_.erase(windows_.begin()->first == b ? std::next(windows_.begin()) : windows_.begin());
+    while (windows_.size() > 4)
+      windows_.erase(std::min_element(windows_.begin(), windows_.end(), [](const auto& x, const auto& y) {
+        return x.second.used < y.second.used;
+      }));
     while (blocks_.size() > 8) blocks_.erase(blocks_.begin());
   }
   return trees;

@@ -69,6 +69,7 @@ std::unique_ptr<ProgramPiece> PieceCutter::next() {
   auto piece = std::make_unique<ProgramPiece>();
   piece->first_line = next_line_;
   piece->last_line = c ? motions_[c].line - 1 : read_to_;
+  piece->inch_after = c && motions_[c].inch;
   const std::size_t n = c ? c : motions_.size();
   piece->motions.assign(motions_.begin(), motions_.begin() + static_cast<std::ptrdiff_t>(n));
   motions_.erase(motions_.begin(), motions_.begin() + static_cast<std::ptrdiff_t>(n));

@@ -95,9 +95,11 @@ FeedPlan plan_feeds(const PipelineInput& in) {
   if (ph.stock) copy = std::make_unique<stock::ZMap>(detail::clone(*ph.stock));
   Simulation sim(ph, s, an.normals,
                  [&](const Point& p) {
-                   settle(p.motion);  // samples come in order: the motions before are done
-                   for (Open& o : open)
-                     if (o.index == p.motion) o.peak = std::max(o.peak, p.peak_N);
+                   // Samples come in order: the motions before are done, and this
+                   // one is the first still open.
+                   settle(p.motion);
+                   if (!open.empty() && open.front().index == p.motion)
+                     open.front().peak = std::max(open.front().peak, p.peak_N);
                    if (in.sinks.nominal) in.sinks.nominal(p);
                  },
                  std::move(copy), in.progress, in.total_motions);
@@ -154,6 +156,7 @@ PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) 
     if (in.on_piece) in.on_piece(r);
     ws.first_line = p->first_line;
     ws.last_line = p->last_line;
+    ws.inch_after = p->inch_after;
     WriteStats w;
     const std::vector<double>* feeds = limit ? &r.feeds_mm_per_min : nullptr;
     const std::string text = apply_offsets(p->text, in.interp.dialect, r.motions, r.offsets, &w, &r.inserted,

@@ -35,6 +35,9 @@ struct WriteState {
   // The lines of `prog` to write, set per piece: a piece is read with lines of
   // context around it (the N numbers of inserted blocks look 200 lines about).
   std::uint32_t first_line = 0, last_line = 0;
+  // The unit of the motion after the piece: the F words of the lines after its
+  // last motion count in it (as on the whole program, where that motion reads them).
+  bool inch_after = false;
 };
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,

@@ -112,7 +112,12 @@ class DesignNormals {
   std::size_t forgotten_ = 0;     // blocks before it are dropped for good
   mutable std::mutex mutex_;
   mutable std::map<std::size_t, Clouds> blocks_;
-  mutable std::map<std::size_t, std::shared_ptr<const Trees>> windows_;
+  struct Window {
+    std::shared_ptr<const Trees> trees;
+    std::uint64_t used = 0;  // when last asked for (a whole program drops the least recent)
+  };
+  mutable std::map<std::size_t, Window> windows_;
+  mutable std::uint64_t clock_ = 0;
 };
 
 }  // namespace deflex::compensate

@@ -31,6 +31,7 @@ struct ProgramPiece {
   std::uint32_t first_line = 1, last_line = 0;
   std::vector<interp::Motion> motions;    // of its lines, in order
   std::size_t first_motion = 0;           // program index of motions[0]
+  bool inch_after = false;                // the motion after the piece was read in G20
   gcode::Tape tape;                       // before first_line (what a piece numbered from 1 needs)
   gcode::Program own{SourceText()};       // its own lines numbered from 1 (the safety check's view)
 };
