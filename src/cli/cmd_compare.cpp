@@ -9,7 +9,7 @@
 #include "common.hpp"
 #include "deflex/report/compare.hpp"
 #include "deflex/report/html.hpp"
-#include "deflex/report/points.hpp"
+#include "deflex/report/recorder.hpp"
 #include "deflex/report/summary.hpp"
 #include "deflex/writer/writer.hpp"
 #include "job.hpp"
@@ -17,6 +17,7 @@
 namespace deflex::cli {
 namespace {
 namespace fs = std::filesystem;
+using compensate::V3;
 
 const char* kCompareHelp =
     "Simulates each program from the same stock with the same machine, tool library and\n"
@@ -42,10 +43,14 @@ Outcome run_one(const Job& j, int threads) {
   try {
     compensate::Settings s = j.settings;
     s.threads = threads;
-    std::vector<compensate::Point> pts = compensate::simulate(j.motions, {}, j.physics, s);
-    const report::PointTable t = report::table_of_simulation(std::move(pts), {}, j.motions, j.physics, s);
+    report::RecorderOptions ro;
+    ro.tolerance_mm = s.tolerance_mm;
+    ro.percentiles = true;
+    ro.tool_of = tool_of(j);
+    report::Recorder rec(ro);
+    compensate::simulate(j.motions, {}, j.physics, s, [&rec](const compensate::Point& p) { rec.point(p, V3::Zero(), 0); });
     const process::MachiningTime tm = process::machining_time(j.motions, j.setup.machine->axis_limits);
-    o.row = report::compare_row(j.prog.source().name(), t, tm, s.tolerance_mm);
+    o.row = report::compare_row(j.prog.source().name(), rec.finish(), tm);
   } catch (...) {
     o.failed = std::current_exception();
   }

@@ -13,7 +13,7 @@
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/compensate/pipeline.hpp"
 #include "deflex/report/html.hpp"
-#include "deflex/report/points.hpp"
+#include "deflex/report/recorder.hpp"
 #include "deflex/report/stats.hpp"
 #include "deflex/report/summary.hpp"
 #include "deflex/writer/writer.hpp"
@@ -42,8 +42,8 @@ const char* kCompensateHelp =
     "capped at the machine profile's max_offset_mm. The written program is read back\n"
     "and checked against the original before anything is written; with --gain 0 the\n"
     "output is the input. A long program is read, compensated, written and checked\n"
-    "in pieces of 16,384 lines, so memory does not grow with it (--report reads it\n"
-    "whole).\n"
+    "in pieces of 16,384 lines, so memory does not grow with it; --report writes\n"
+    "points.csv as the points come and keeps what report.html draws on disk.\n"
     "--report DIR writes report.html (open it in a browser: provenance, summary, the\n"
     "surface in 3D and top views coloured by the error as written and compensated,\n"
     "plots of force, deflection, engagement and cusp along the path, the worst lines),\n"
@@ -60,33 +60,59 @@ void summary_line(Io& io, const char* what, const report::ErrorStats& s, double 
   io.err << buf;
 }
 
-// The report folder: points.csv, flank_profile.csv (flank cuts), summary.json
-// and report.html (whose top views replaced the SVG maps of earlier versions).
-// `motions`: those the table's points index (a compensation's, with its inserted blocks).
-void write_folder(const std::string& dir, const Job& j, const report::PointTable& t,
-                  const std::vector<interp::Motion>& motions,
-                  const std::vector<compensate::Point>& as_written, const report::Json& summary,
-                  std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
-                  const std::string& reference) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
-  const fs::path d(dir);
-  report::write_points_csv((d / "points.csv").string(), t);
-  report::write_flank_profile_csv((d / "flank_profile.csv").string(), as_written);
-  writer::write_file_atomically((d / "summary.json").string(), "",
-                                [&](std::ostream& o) { o << report::document(summary); });
-  report::HtmlInput h;
-  h.title = fs::path(j.prog.source().name()).filename().string() + ": deflex " + what;
-  h.provenance = provenance(j, command, reference);
-  h.summary = summary;
-  h.table = &t;
-  h.contact_mm = report::contact_points(t, motions, j.physics, j.settings);
-  h.source = &j.prog.source();
-  h.tolerance_mm = j.settings.tolerance_mm;
-  h.facts = std::move(facts);
-  writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
-}
+// The recorder of a run's points and, with --report, the report folder's
+// files it streams: points.csv and flank_profile.csv, each renamed into place
+// when the run ends well (flank_profile.csv only when a flank point has a
+// profile). The folder gets summary.json and report.html at the end (finish).
+struct Recording {
+  Recording(const Args& a, const Job& j, bool as_written) : dir(a.report) {
+    report::RecorderOptions o;
+    o.tolerance_mm = j.settings.tolerance_mm;
+    o.as_written = as_written;
+    o.tool_of = tool_of(j);
+    // Without a report nothing needs the cusp or the pairing: the figures only.
+    o.cusp = !dir.empty();
+    if (!dir.empty()) {
+      std::error_code ec;
+      fs::create_directories(dir, ec);
+      if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+      points = std::make_unique<writer::AtomicFile>((fs::path(dir) / "points.csv").string(), "");
+      flank = std::make_unique<writer::AtomicFile>((fs::path(dir) / "flank_profile.csv").string(), "");
+      o.points_csv = &points->stream();
+      o.flank_csv = &flank->stream();
+      o.page = o.percentiles = true;
+      o.spill_dir = dir;
+    }
+    rec = std::make_unique<report::Recorder>(std::move(o));
+  }
+
+  // points.csv and flank_profile.csv into place; summary.json and report.html.
+  void finish(const Job& j, const report::RunFigures& f, const report::Json& summary,
+              std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
+              const std::string& reference) {
+    points->commit();
+    if (f.flank_rows) flank->commit();
+    const fs::path d(dir);
+    writer::write_file_atomically((d / "summary.json").string(), "",
+                                  [&](std::ostream& o) { o << report::document(summary); });
+    const report::Page page = rec->page();
+    report::HtmlInput h;
+    h.title = fs::path(j.prog.source().name()).filename().string() + ": deflex " + what;
+    h.provenance = provenance(j, command, reference);
+    h.summary = summary;
+    h.page = &page;
+    std::vector<std::uint32_t> lines;
+    for (const auto& row : page.worst["rows"]) lines.push_back(row["line"].get<std::uint32_t>());
+    for (const auto& [l, text] : lines_of_file(j, lines)) h.line_text[l] = std::string(text.line_text(l));
+    h.tolerance_mm = j.settings.tolerance_mm;
+    h.facts = std::move(facts);
+    writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
+  }
+
+  std::string dir;
+  std::unique_ptr<writer::AtomicFile> points, flank;
+  std::unique_ptr<report::Recorder> rec;
+};
 
 // What compensate says of a run on stderr: lowered feeds, plausibility,
 // capped offsets, linearised and non-uniform arcs, convergence, the counts,
@@ -147,20 +173,19 @@ compensate::PipelineInput pipeline_input(Job& j, const Args& a, Io& io) {
   return in;
 }
 
+// What a compensation ends with, read whole or in pieces.
+struct Outcome {
+  compensate::Result r;
+  compensate::WriteStats ws;
+  process::MachiningTime t0, t1;  // as written, compensated
+};
+
 // compensate on a program read in pieces (prepare() decided): the same
 // messages and output as on the whole program, memory bounded by a piece.
-int compensate_in_pieces(Job& j, const Args& a, Io& io) {
-  const double tol = j.settings.tolerance_mm;
-  report::ErrorAccumulator before_acc(tol, false), after_acc(tol, false);
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+Outcome compensate_in_pieces(Job& j, const Args& a, Io& io, const compensate::PointSinks& sinks,
+                             compensate::PlausibilityScan& scan) {
   compensate::PipelineInput in = pipeline_input(j, a, io);
-  in.sinks.nominal = [&](const compensate::Point& p) {
-    scan.add(p);
-    if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
-  };
-  in.sinks.final = [&](const compensate::Point& p, const V3& off) {
-    if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
-  };
+  in.sinks = sinks;
   in.on_piece = [&scan](const compensate::Result& r) { scan.capped(r.capped_lines); };
   // Nothing reads the initial stock after this: the mirror pass may cut it.
   j.physics.consumable_stock = j.stock.get();
@@ -171,9 +196,36 @@ int compensate_in_pieces(Job& j, const Args& a, Io& io) {
   else writer::write_file_atomically(a.output, a.file, fill);
   j.physics.stock = j.physics.consumable_stock = nullptr;
   if (in.progress) io.err << "\r\033[K";
-  const compensate::Plausibility pl = scan.finish(true);
-  print_run(j, res.totals, res.written, pl, before_acc.stats(), after_acc.stats(), j.time_as_written, res.time, io);
-  return 0;
+  return {std::move(res.totals), res.written, j.time_as_written, res.time};
+}
+
+// compensate on the whole program (stdin, subprograms, --gain 0 --feed-limit).
+Outcome compensate_whole(Job& j, const Args& a, Io& io, const compensate::PointSinks& sinks,
+                         compensate::PlausibilityScan& scan) {
+  auto progress = progress_for(io);
+  const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
+  // Nothing reads the initial stock after this: the mirror pass may cut it.
+  j.physics.consumable_stock = j.stock.get();
+  Outcome o;
+  o.r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, &sinks);
+  compensate::Result& r = o.r;
+  j.physics.stock = j.physics.consumable_stock = nullptr;
+  if (progress) io.err << "\r\033[K";
+  std::vector<bool> can = compensate::movable(r.motions);
+  const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
+  // The written program read back holds the only copy of the text.
+  const gcode::Program written(
+      SourceText(j.prog.source().name() + " (compensated)",
+                 compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &o.ws, &r.inserted, feeds)));
+  compensate::safety_check(j.prog, r.motions, written, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
+  scan.capped(r.capped_lines);
+  const profile::AxisLimits& lim = j.setup.machine->axis_limits;
+  o.t0 = process::machining_time(j.motions, lim);
+  o.t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
+  const std::string& text = written.bytes();
+  if (a.output.empty() || a.output == "-") io.out << text;
+  else writer::write_file_atomically(a.output, a.file, [&](std::ostream& out) { out << text; });
+  return o;
 }
 
 }  // namespace
@@ -198,71 +250,42 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   // Every check of the command line before any computation.
   if (!a.output.empty() && a.output != "-") writer::check_output_path(a.output, a.file);
   if (!a.report.empty()) writer::check_output_folder(a.report);
-  // Without --report a long program is read, compensated and written in pieces.
-  Job j = prepare(a, io, true, nullptr, a.report.empty());
-  if (j.pieces) return compensate_in_pieces(j, a, io);
-  auto progress = progress_for(io);
-  const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
-  // The figures and the plausibility scan take the points as the simulations
-  // produce them; only --report keeps them (a million points are 270 MB).
-  const double tol = j.settings.tolerance_mm;
-  const bool keep = !a.report.empty();
-  report::ErrorAccumulator before_acc(tol, keep), after_acc(tol, keep);
+  // A long program is read, compensated and written in pieces.
+  Job j = prepare(a, io, true, nullptr, true);
+  Recording rec(a, j, true);
+  // The figures, the plausibility scan and the report take the points as the
+  // simulations produce them; nothing keeps them (a million points are 270 MB).
   compensate::PlausibilityScan scan(j.physics.tools, j.settings);
-  std::vector<compensate::Point> nominal, final;
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
-    if (!p.air && !p.plunge) before_acc.add(compensate::landing_error(p, V3::Zero()));
-    if (keep) nominal.push_back(p);
+    rec.rec->as_written(p);
   };
-  sinks.final = [&](const compensate::Point& p, const V3& off) {
-    if (!p.air && !p.plunge) after_acc.add(compensate::landing_error(p, off));
-    if (keep) final.push_back(p);
-  };
-  // Nothing reads the initial stock after this: the mirror pass may cut it.
-  j.physics.consumable_stock = j.stock.get();
-  compensate::Result r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, &sinks);
-  j.physics.stock = j.physics.consumable_stock = nullptr;
-  if (progress) io.err << "\r\033[K";
-  std::vector<bool> can = compensate::movable(r.motions);
-  compensate::WriteStats ws;
-  const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
-  // The written program read back holds the only copy of the text.
-  const gcode::Program written(
-      SourceText(j.prog.source().name() + " (compensated)",
-                 compensate::apply_offsets(j.prog, j.setup.dialect, r.motions, r.offsets, &ws, &r.inserted, feeds)));
-  const std::string& text = written.bytes();
-  compensate::safety_check(j.prog, r.motions, written, j.setup.interp(), can, j.settings.max_offset_mm, &r.inserted, feeds);
-  scan.capped(r.capped_lines);
+  sinks.final = [&](const compensate::Point& p, const V3& off, std::size_t original) { rec.rec->point(p, off, original); };
+  const Outcome o = j.pieces ? compensate_in_pieces(j, a, io, sinks, scan) : compensate_whole(j, a, io, sinks, scan);
+  const compensate::Result& r = o.r;
+  const report::RunFigures f = rec.rec->finish();
   const compensate::Plausibility pl = scan.finish(true);
-  const report::ErrorStats before = before_acc.stats(), after = after_acc.stats();
-  const profile::AxisLimits& lim = j.setup.machine->axis_limits;
-  const process::MachiningTime t0 = process::machining_time(j.motions, lim);
-  const process::MachiningTime t1 = process::machining_time(r.motions, lim, r.feeds_mm_per_min);
-  print_run(j, r, ws, pl, before, after, t0, t1, io);
-  if (!a.report.empty()) {
-    report::PointTable t = report::table_of_compensation(std::move(final), nominal, r, j.motions, j.physics, j.settings);
-    report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(after)},
-                    {"surface_error_as_written_mm", report::to_json(before)}, {"cl_points", after.points},
-                    {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
-                    {"evaluations", r.evaluations}, {"converged", r.converged},
-                    {"compensated_points", r.compensated_points}, {"inserted_blocks", ws.blocks_inserted},
-                    {"capped_points", r.capped_lines.size()}, {"feed_lowered_blocks", r.feed_lowered_lines.size()}};
-    js["cusp_height_mm"] = report::cusp_json(t);
-    js["machining_time"] = {{"as_written", report::to_json(t0)}, {"compensated", report::to_json(t1)}};
-    js["warnings"] = warnings_json(pl);
-    std::vector<std::vector<std::string>> facts = {
-        {"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(after.points), "compensated_points"},
-        {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},
-        {"blocks inserted to split moves", std::to_string(ws.blocks_inserted), "inserted_blocks"},
-        {"blocks with a lowered feed", std::to_string(r.feed_lowered_lines.size()), "feed_lowered_blocks"},
-        {"machining time as written / compensated", report::clock(t0.program.total_s) + " / " + report::clock(t1.program.total_s),
-         "machining_time"}};
-    write_folder(a.report, j, t, r.motions, nominal, js, std::move(facts), "compensate", command_of("compensate", args), "");
-  }
-  if (a.output.empty() || a.output == "-") io.out << text;
-  else writer::write_file_atomically(a.output, a.file, [&](std::ostream& o) { o << text; });
+  print_run(j, r, o.ws, pl, f.error_as_written, f.error, o.t0, o.t1, io);
+  if (a.report.empty()) return 0;
+  const double tol = j.settings.tolerance_mm;
+  report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(f.error)},
+                  {"surface_error_as_written_mm", report::to_json(f.error_as_written)}, {"cl_points", f.error.points},
+                  {"tolerance_mm", report::fixed(tol, 6)}, {"iterations", r.iterations},
+                  {"evaluations", r.evaluations}, {"converged", r.converged},
+                  {"compensated_points", r.compensated_points}, {"inserted_blocks", o.ws.blocks_inserted},
+                  {"capped_points", r.capped_lines.size()}, {"feed_lowered_blocks", r.feed_lowered_lines.size()}};
+  js["cusp_height_mm"] = report::cusp_json(f.cusp);
+  js["machining_time"] = {{"as_written", report::to_json(o.t0)}, {"compensated", report::to_json(o.t1)}};
+  js["warnings"] = warnings_json(pl);
+  std::vector<std::vector<std::string>> facts = {
+      {"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(f.error.points), "compensated_points"},
+      {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},
+      {"blocks inserted to split moves", std::to_string(o.ws.blocks_inserted), "inserted_blocks"},
+      {"blocks with a lowered feed", std::to_string(r.feed_lowered_lines.size()), "feed_lowered_blocks"},
+      {"machining time as written / compensated", report::clock(o.t0.program.total_s) + " / " + report::clock(o.t1.program.total_s),
+       "machining_time"}};
+  rec.finish(j, f, js, std::move(facts), "compensate", command_of("compensate", args), "");
   return 0;
 }
 
@@ -287,8 +310,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
   a.file = files[0];
   if (!a.report.empty()) writer::check_output_folder(a.report);
-  // Without --report or --reference a long program is read in pieces.
-  Job j = prepare(a, io, false, nullptr, a.report.empty() && a.reference.empty());
+  // Without --reference a long program is read in pieces.
+  Job j = prepare(a, io, false, nullptr, a.reference.empty());
   // With a reference, the offset of each motion is how far this program's
   // end point lies from the reference's: the design intent is the reference.
   std::vector<V3> intent;
@@ -324,16 +347,12 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const std::vector<interp::Motion>& design = intent.empty() ? j.motions : moved;
   // Nothing reads the initial stock after the simulation: it may cut it.
   j.physics.consumable_stock = j.stock.get();
-  // Without --report the points are not kept (as in compensate).
-  const double tol = j.settings.tolerance_mm;
-  const bool keep = !a.report.empty();
-  std::vector<compensate::Point> pts;
-  report::ErrorAccumulator acc(tol, keep);
+  // The points go to the recorder as they are produced; nothing keeps them.
+  Recording rec(a, j, false);
   compensate::PlausibilityScan scan(j.physics.tools, j.settings);
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
-    if (!p.air && !p.plunge) acc.add(compensate::landing_error(p, report::offset_at(p, intent)));
-    if (keep) pts.push_back(p);
+    rec.rec->point(p, report::offset_at(p, intent), p.motion);
   };
   if (j.pieces) {
     compensate::PipelineInput in = pipeline_input(j, a, io);
@@ -344,9 +363,11 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   }
   j.physics.stock = j.physics.consumable_stock = nullptr;
   if (progress) io.err << "\r\033[K";
+  const report::RunFigures f = rec.rec->finish();
   const compensate::Plausibility pl = scan.finish(false);
   print_plausibility(j, pl, io);
-  const report::ErrorStats st = acc.stats();
+  const report::ErrorStats& st = f.error;
+  const double tol = j.settings.tolerance_mm;
   char buf[300];
   std::snprintf(buf, sizeof buf,
                 "%s: %zu CL points%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "
@@ -357,19 +378,17 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime tm =
       j.pieces ? j.time_as_written : process::machining_time(j.motions, j.setup.machine->axis_limits);
   time_line(io, tm, tm);
-  if (!a.report.empty()) {
-    report::PointTable t = report::table_of_simulation(std::move(pts), intent, design, j.physics, j.settings);
-    report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(st)},
-                    {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
-                    {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
-    js["cusp_height_mm"] = report::cusp_json(t);
-    js["machining_time"] = report::to_json(tm);
-    js["warnings"] = warnings_json(pl);
-    std::vector<std::vector<std::string>> facts = {
-        {"CL points in material", std::to_string(st.points), "cl_points"},
-        {"machining time", report::clock(tm.program.total_s), "machining_time"}};
-    write_folder(a.report, j, t, design, t.points, js, std::move(facts), "simulate", command_of("simulate", args), a.reference);
-  }
+  if (a.report.empty()) return 0;
+  report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(st)},
+                  {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
+                  {"reference_file", a.reference.empty() ? report::Json() : report::Json(a.reference)}};
+  js["cusp_height_mm"] = report::cusp_json(f.cusp);
+  js["machining_time"] = report::to_json(tm);
+  js["warnings"] = warnings_json(pl);
+  std::vector<std::vector<std::string>> facts = {
+      {"CL points in material", std::to_string(st.points), "cl_points"},
+      {"machining time", report::clock(tm.program.total_s), "machining_time"}};
+  rec.finish(j, f, js, std::move(facts), "simulate", command_of("simulate", args), a.reference);
   return 0;
 }
 

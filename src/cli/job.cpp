@@ -273,10 +273,13 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
   gcode::ProgramPasses& src = *j.pieces;
   interp::ShapeCheck shape;
   interp::DecimalCheck dec(j.setup.dialect);
+  report::Sha256 sha;
   src.each([&](const gcode::Program& p, bool) {
     shape.add(p);
     dec.add(p);
+    sha.add(p.source().bytes());
   });
+  j.sha256 = sha.hex();
   shape.finish(diags);
   dec.finish(diags, j.setup.strict);
   const interp::Options opt = j.setup.interp();
@@ -304,6 +307,7 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
       interp::check_travel(m, j.setup.machine->travel, p.source(), diags);
       cut.check(m, p.source());
       clock.add(m);
+      if (m.kind != interp::MotionKind::rapid) j.cutting_tools.insert(compensate::tool_id(m, st));
     }
     piece.clear();
   });
@@ -314,6 +318,13 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
 }
 
 }  // namespace
+
+std::function<const stiffness::Tool*(int)> tool_of(const Job& j) {
+  return [&j](int t) -> const stiffness::Tool* {
+    const auto it = j.physics.tools.tools.find(compensate::tool_id(t, j.settings));
+    return it == j.physics.tools.tools.end() ? nullptr : &it->second;
+  };
+}
 
 std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vector<std::uint32_t>& lines) {
   std::map<std::uint32_t, SourceText> out;
@@ -457,10 +468,10 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
                                                             const std::string& reference) {
   std::vector<std::pair<std::string, std::string>> p;
   p.emplace_back("program", j.prog.source().name());
-  p.emplace_back("program SHA-256", report::sha256_hex(j.prog.source().bytes()));
+  p.emplace_back("program SHA-256", j.pieces ? j.sha256 : report::sha256_hex(j.prog.source().bytes()));
   if (!reference.empty()) p.emplace_back("judged against", reference);
   p.emplace_back("machine", j.setup.machine->name + " (" + j.setup.machine->file + "), dialect " + j.setup.dialect.name);
-  std::set<std::string> tools;
+  std::set<std::string> tools = j.cutting_tools;  // in pieces; else:
   for (const interp::Motion& m : j.motions)
     if (m.kind != interp::MotionKind::rapid) tools.insert(compensate::tool_id(m, j.settings));
   for (const std::string& id : tools) {

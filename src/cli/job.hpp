@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -52,6 +53,9 @@ struct Job {
   std::unique_ptr<gcode::ProgramPasses> pieces;
   process::MachiningTime time_as_written;
   std::size_t motion_count = 0;
+  // For the provenance, in pieces: the program's SHA-256 and its cutting tools.
+  std::string sha256;
+  std::set<std::string> cutting_tools;
 };
 
 struct Collect : interp::MotionSink {
@@ -94,6 +98,8 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, boo
 // Lines of the program's file, each as a one-line SourceText (the excerpts of
 // findings, also when the program was read in pieces: one pass over the file).
 std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vector<std::uint32_t>& lines);
+// The tool of a T number in the job's library (--tool overriding), null where none.
+std::function<const stiffness::Tool*(int)> tool_of(const Job& j);
 // The progress line on a terminal (nothing elsewhere).
 compensate::Progress progress_for(Io& io);
 // The run's provenance for report.html: what a reader needs to trust or redo it.

@@ -128,7 +128,7 @@ class Stream {
       p.motion = index;
       if (sinks_.final) {
         const double u = p.count ? static_cast<double>(p.index) / p.count : 1.0;
-        sinks_.final(p, V3(prev_ + u * (off - prev_)));
+        sinks_.final(p, V3(prev_ + u * (off - prev_)), done_);
       }
     }
     prev_ = off;
@@ -334,7 +334,7 @@ struct Compensation::Impl {
   void nominal_point(const Point& p) {
     if (!peak.empty()) peak.at(p.motion) = std::max(peak.at(p.motion), p.peak_N);
     if (sinks.nominal) sinks.nominal(p);
-    if (same && s.feed_limit_N <= 0 && sinks.final) sinks.final(p, V3::Zero());
+    if (same && s.feed_limit_N <= 0 && sinks.final) sinks.final(p, V3::Zero(), p.motion);
   }
 
   Result add(const std::vector<interp::Motion>& motions, const std::vector<bool>& can,
@@ -428,7 +428,7 @@ struct Compensation::Impl {
       planned = motions;
       for (std::size_t i = 0; i < planned.size(); ++i) planned[i].feed_mm_per_min = feeds[i];
     }
-    simulate(planned.empty() ? motions : planned, {}, ph, s, [&](const Point& p) { sinks.final(p, V3::Zero()); },
+    simulate(planned.empty() ? motions : planned, {}, ph, s, [&](const Point& p) { sinks.final(p, V3::Zero(), p.motion); },
              progress, &normals);
   }
 
@@ -492,7 +492,7 @@ Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph,
   if (!sinks) {
     nominal.reserve(motions.size() * 2);
     kept.nominal = [&nominal](const Point& p) { nominal.push_back(p); };
-    kept.final = [&final](const Point& p, const V3&) { final.push_back(p); };
+    kept.final = [&final](const Point& p, const V3&, std::size_t) { final.push_back(p); };
   }
   Compensation c(ph, s, *normals, sinks ? *sinks : kept, progress, motions.size());
   Result piece = c.add(motions, movable(motions), splittable);

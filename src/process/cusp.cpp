@@ -9,11 +9,13 @@
 #include <CGAL/property_map.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iterator>
 #include <numbers>
+#include <stdexcept>
 
 namespace deflex::process {
 
@@ -134,25 +136,74 @@ CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size
 
 }  // namespace
 
-std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s) {
-  std::vector<CuspResult> out(s.size());
+namespace {
+
+// The results of samples [first, last) of `s`, their neighbours searched among
+// all of `s`.
+void cusp_over(const std::vector<CuspSample>& s, std::size_t first, std::size_t last, std::vector<CuspResult>& out) {
   std::vector<std::size_t> idx;
   for (std::size_t i = 0; i < s.size(); ++i)
     if (sideways(s[i])) idx.push_back(i);
-  if (idx.empty()) return out;
+  if (idx.empty()) return;
   Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
   tree.build();
   // Each point reads the tree and writes its own result: in parallel, the
-  // same results whatever the threads.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, idx.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-    std::vector<std::size_t> near;
-    for (std::size_t k = r.begin(); k != r.end(); ++k) {
-      const std::size_t i = idx[k];
-      const CuspSample& p = s[i];
-      if (!p.cutting) continue;
-      out[i] = cusp_at(s, tree, i, near);
-    }
+  // same results whatever the threads. Isolated: a caller holding a lock (the
+  // report's recorder) must not be handed an outer task that takes it again.
+  tbb::this_task_arena::isolate([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+      std::vector<std::size_t> near;
+      for (std::size_t i = r.begin(); i != r.end(); ++i)
+        if (s[i].cutting && sideways(s[i])) out[i - first] = cusp_at(s, tree, i, near);
+    });
   });
+}
+
+}  // namespace
+
+CuspStream::CuspStream(std::size_t block) : block_(std::max<std::size_t>(1, block)) {}
+
+void CuspStream::add(const CuspSample& s) {
+  samples_.push_back(s);
+  ++size_;
+  // Block b is done once block b + 1 is whole.
+  if (size_ % block_ == 0 && size_ >= 2 * block_) solve(size_ / block_ - 2);
+}
+
+void CuspStream::finish() {
+  for (std::size_t b = ready_ / block_; b * block_ < size_; ++b) solve(b);
+}
+
+void CuspStream::solve(std::size_t b) {
+  const std::size_t first = b * block_, last = std::min(size_, first + block_);
+  const std::size_t w0 = b ? first - block_ : 0, w1 = std::min(size_, last + block_);
+  // The samples before the window are not needed again.
+  while (samples_base_ < w0) {
+    samples_.pop_front();
+    ++samples_base_;
+  }
+  const std::vector<CuspSample> window(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(w1 - w0));
+  std::vector<CuspResult> out(last - first);
+  cusp_over(window, first - w0, last - w0, out);
+  results_.insert(results_.end(), out.begin(), out.end());
+  ready_ = last;
+}
+
+const CuspResult& CuspStream::result(std::size_t i) const {
+  if (i < results_base_ || i >= ready_) throw std::out_of_range("CuspStream::result");
+  return results_[i - results_base_];
+}
+
+void CuspStream::forget_before(std::size_t i) {
+  for (; results_base_ < std::min(i, ready_); ++results_base_) results_.pop_front();
+}
+
+std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& s, std::size_t block) {
+  CuspStream cs(block);
+  for (const CuspSample& x : s) cs.add(x);
+  cs.finish();
+  std::vector<CuspResult> out(s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) out[i] = cs.result(i);
   return out;
 }
 

@@ -69,34 +69,19 @@ std::string html_unit(const std::string& u) {
 
 }  // namespace
 
-CompareRow compare_row(const std::string& program, const PointTable& t, const process::MachiningTime& time,
-                       double tol) {
+CompareRow compare_row(const std::string& program, const RunFigures& f, const process::MachiningTime& time) {
   CompareRow r;
   r.program = program;
-  r.error = error_stats(t.error_mm, tol);
-  std::size_t n = 0;
-  std::vector<double> cusp;
-  for (std::size_t i = 0; i < t.points.size(); ++i) {
-    if (!t.cutting(i)) continue;
-    const compensate::Point& p = t.points[i];
-    ++n;
-    r.peak_force_N = std::max(r.peak_force_N, p.peak_N);
-    r.mean_force_N += p.force_N.norm();
-    r.peak_deflection_mm = std::max(r.peak_deflection_mm, p.delta_mm.norm());
-    r.peak_mrr_mm3_per_s = std::max(r.peak_mrr_mm3_per_s, p.mrr_mm3_per_s);
-    r.mean_d_eff_mm += p.d_eff_mm;
-    r.mean_area_mm2 += p.cwe_area_mm2;
-    cusp.push_back(t.cusp[i].height_mm);
-  }
-  if (n) {
-    r.mean_force_N /= static_cast<double>(n);
-    r.mean_d_eff_mm /= static_cast<double>(n);
-    r.mean_area_mm2 /= static_cast<double>(n);
-  }
-  const ValueStats c = value_stats(cusp);
-  r.cusp_max_mm = c.max;
-  r.cusp_mean_mm = c.mean;
-  r.cusp_points = c.points;
+  r.error = f.error;
+  r.peak_force_N = f.peak_force_N;
+  r.mean_force_N = f.mean_force_N;
+  r.peak_deflection_mm = f.peak_deflection_mm;
+  r.peak_mrr_mm3_per_s = f.peak_mrr_mm3_per_s;
+  r.mean_d_eff_mm = f.mean_d_eff_mm;
+  r.mean_area_mm2 = f.mean_area_mm2;
+  r.cusp_max_mm = f.cusp.max;
+  r.cusp_mean_mm = f.cusp.mean;
+  r.cusp_points = f.cusp.points;
   r.path_mm = time.program.cutting_mm;
   r.time_s = time.program.total_s;
   return r;

@@ -5,10 +5,14 @@
 
 namespace deflex::report {
 
+ErrorAccumulator::ErrorAccumulator(double tolerance_mm, bool percentiles, const std::string& spill_dir)
+    : tol_(tolerance_mm), mag_(percentiles ? std::make_unique<Spill<double>>(spill_dir) : nullptr) {}
+ErrorAccumulator::~ErrorAccumulator() = default;
+
 void ErrorAccumulator::add(double v) {
   if (std::isnan(v)) return;
   const double a = std::fabs(v);
-  if (keep_) mag_.push_back(a);
+  if (mag_) mag_->push_back(a);
   ++s_.points;
   s_.max_under = std::max(s_.max_under, v);
   s_.max_over = std::min(s_.max_over, v);
@@ -24,12 +28,11 @@ ErrorStats ErrorAccumulator::stats() {
   s.rms = std::sqrt(sq_ / n);
   s.share_out = static_cast<double>(out_) / n;
   s.max_abs = max_abs_;
-  if (keep_) {
+  if (mag_) {
     // Nearest-rank percentiles: the smallest value with at least p of the points at or below it.
     auto rank = [&](double p) {
       const std::size_t k = static_cast<std::size_t>(std::ceil(p * n)) - 1;
-      std::nth_element(mag_.begin(), mag_.begin() + static_cast<std::ptrdiff_t>(k), mag_.end());
-      return mag_[k];
+      return kth_value([&](const std::function<void(double)>& f) { mag_->each(f); }, s.points, k, 0.0, max_abs_);
     };
     s.p50_abs = rank(0.50);
     s.p95_abs = rank(0.95);
@@ -51,17 +54,23 @@ Json to_json(const ErrorStats& s) {
           {"max_undercut", fixed(s.max_under, 6)}, {"max_overcut", fixed(s.max_over, 6)}};
 }
 
-ValueStats value_stats(const std::vector<double>& v) {
-  ValueStats s;
-  double sum = 0;
-  for (double x : v) {
-    if (std::isnan(x)) continue;
-    ++s.points;
-    sum += x;
-    s.max = std::max(s.max, x);
-  }
-  if (s.points) s.mean = sum / static_cast<double>(s.points);
+void ValueAccumulator::add(double x) {
+  if (std::isnan(x)) return;
+  ++s_.points;
+  sum_ += x;
+  s_.max = std::max(s_.max, x);
+}
+
+ValueStats ValueAccumulator::stats() const {
+  ValueStats s = s_;
+  if (s.points) s.mean = sum_ / static_cast<double>(s.points);
   return s;
+}
+
+ValueStats value_stats(const std::vector<double>& v) {
+  ValueAccumulator a;
+  for (double x : v) a.add(x);
+  return a.stats();
 }
 
 }  // namespace deflex::report

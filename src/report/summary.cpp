@@ -34,11 +34,7 @@ std::string clock(double seconds) {
   return b;
 }
 
-Json cusp_json(const PointTable& t) {
-  std::vector<double> h;
-  for (std::size_t i = 0; i < t.points.size(); ++i)
-    if (t.cutting(i)) h.push_back(t.cusp[i].height_mm);
-  const ValueStats s = value_stats(h);
+Json cusp_json(const ValueStats& s) {
   return {{"max", fixed(s.max, 6)}, {"mean", fixed(s.mean, 6)}, {"points", s.points}};
 }
 

@@ -225,49 +225,66 @@ void check_output_folder(const std::string& dir) {
     throw Error(Exit::io, dir + ": error: cannot create it: " + p.string() + " is not writable: " + std::strerror(errno));
 }
 
-void write_file_atomically(const std::string& path, const std::string& input_path,
-                           const std::function<void(std::ostream&)>& fill) {
+AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) : path_(path) {
   check_output_path(path, input_path);
   std::error_code ec;
   // Through a symlink the target is replaced, so the link stays a link.
   const bool existed = fs::exists(path, ec);
-  const fs::path target = existed ? fs::canonical(path, ec) : fs::path(path);
+  target_ = existed ? fs::canonical(path, ec).string() : path;
   struct stat old {};
-  const bool have_old = existed && ::stat(target.c_str(), &old) == 0;
+  have_old_ = existed && ::stat(target_.c_str(), &old) == 0;
+  old_mode_ = old.st_mode;
+  old_uid_ = old.st_uid;
+  old_gid_ = old.st_gid;
+  const fs::path target(target_);
   fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string hidden(".");
   hidden.append(target.filename().string()).append(".deflex-XXXXXX");
   std::string tmpl = (dir / hidden).string();
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
-  int fd = mkstemp(name.data());
+  const int fd = mkstemp(name.data());
   if (fd < 0) throw Error(Exit::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
   ::close(fd);
-  std::string tmp(name.data());
-  try {
-    {
-      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-      if (!out) throw Error(Exit::io, path + ": error: cannot write " + tmp);
-      fill(out);
-      out.flush();
-      if (!out) throw Error(Exit::io, path + ": error: write failed (disk full?)");
-    }
-    if (have_old) {
-      // The file keeps what it was: mode, and owner where we may set it.
-      ::chmod(tmp.c_str(), old.st_mode & 07777);
-      if (::chown(tmp.c_str(), old.st_uid, old.st_gid) != 0) { /* not ours to give away: keep ours */ }
-    } else {
-      // Keep the permissions a new file would get (mkstemp creates 0600).
-      mode_t mask = ::umask(0);
-      ::umask(mask);
-      fs::permissions(tmp, static_cast<fs::perms>(0666 & ~mask), ec);
-    }
-    if (std::rename(tmp.c_str(), target.c_str()) != 0)
-      throw Error(Exit::io, path + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
+  tmp_ = name.data();
+  out_.open(tmp_, std::ios::binary | std::ios::trunc);
+  if (!out_) {
+    std::remove(tmp_.c_str());
+    throw Error(Exit::io, path + ": error: cannot write " + tmp_);
   }
+}
+
+AtomicFile::~AtomicFile() {
+  if (tmp_.empty()) return;
+  out_.close();
+  std::remove(tmp_.c_str());
+}
+
+void AtomicFile::commit() {
+  out_.flush();
+  if (!out_) throw Error(Exit::io, path_ + ": error: write failed (disk full?)");
+  out_.close();
+  if (have_old_) {
+    // The file keeps what it was: mode, and owner where we may set it.
+    ::chmod(tmp_.c_str(), old_mode_ & 07777);
+    if (::chown(tmp_.c_str(), old_uid_, old_gid_) != 0) { /* not ours to give away: keep ours */ }
+  } else {
+    // Keep the permissions a new file would get (mkstemp creates 0600).
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    std::error_code ec;
+    fs::permissions(tmp_, static_cast<fs::perms>(0666 & ~mask), ec);
+  }
+  if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
+    throw Error(Exit::io, path_ + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
+  tmp_.clear();
+}
+
+void write_file_atomically(const std::string& path, const std::string& input_path,
+                           const std::function<void(std::ostream&)>& fill) {
+  AtomicFile f(path, input_path);
+  fill(f.stream());
+  f.commit();
 }
 
 void write_through_temporary(std::ostream& out, const std::function<void(std::ostream&)>& fill) {

@@ -3,6 +3,7 @@
 // whole file, whatever the piece size (DEFLEX_CHUNK_LINES).
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <unistd.h>
@@ -158,5 +159,59 @@ TEST_SUITE("cli") {
         CHECK(whole.out.find("CL points") != std::string::npos);
       }
     }
+  }
+}
+
+TEST_SUITE("cli") {
+  TEST_CASE("--report in pieces: every file of the folder byte for byte that of the whole program") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-rpieces-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    ::setenv("SOURCE_DATE_EPOCH", "1700000000", 1);  // the page's date
+    const std::vector<std::vector<std::string>> cases = {
+        {"compensate", "samples/programs/freeform.nc", "--stock", "samples/stock/freeform_stock.stl"},
+        {"compensate", "samples/programs/six_surfaces.nc", "--stock", "samples/stock/six_surfaces_stock.stl", "--part",
+         "samples/parts/six_surfaces.stl"},
+        {"compensate", "samples/programs/side_wall.nc", "--stock", "box:0,-40,-30,100,0,0", "--feed-limit", "150"},
+        {"compensate", "samples/programs/pocket_finish.nc", "--stock", "box:-5,-5,-20,105,85,0", "--gain", "0"},
+        {"simulate", "samples/programs/freeform.nc", "--stock", "samples/stock/freeform_stock.stl"}};
+    const std::vector<std::string> files = {"points.csv", "summary.json", "report.html", "flank_profile.csv"};
+    int compared = 0;
+    for (const auto& c : cases) {
+      CAPTURE(c[0]);
+      CAPTURE(c[1]);
+      // Into the same folder (its name is in the page's command line), moved aside after.
+      auto run = [&](const std::string& lines, const fs::path& keep) {
+        std::vector<std::string> a = c;
+        a.insert(a.end(), {"--report", (dir / "report").string(), "-o", (dir / "out.nc").string()});
+        if (c[0] == "simulate") a.resize(a.size() - 2);
+        const test::CliResult r = run_in(lines, a);
+        fs::rename(dir / "report", keep);
+        return r;
+      };
+      fs::remove_all(dir / "whole");
+      fs::remove_all(dir / "pieces");
+      const test::CliResult whole = run("0", dir / "whole"), pieces = run("37", dir / "pieces");
+      CAPTURE(whole.err);
+      REQUIRE(whole.rc == 0);
+      CHECK(pieces.rc == 0);
+      CHECK(pieces.err == whole.err);
+      for (const std::string& f : files) {
+        CAPTURE(f);
+        REQUIRE(fs::exists(dir / "whole" / f) == fs::exists(dir / "pieces" / f));
+        if (!fs::exists(dir / "whole" / f)) continue;
+        const std::string w = test::read_file((dir / "whole" / f).string());
+        CHECK(w.size() > 100);
+        const bool same = test::read_file((dir / "pieces" / f).string()) == w;  // (not printed: a page is MBs)
+        CHECK(same);
+        ++compared;
+      }
+      // Nothing but the report's files is left in the folder (no spill, no temporary).
+      for (const auto& e : fs::directory_iterator(dir / "pieces"))
+        CHECK(std::find(files.begin(), files.end(), e.path().filename().string()) != files.end());
+    }
+    ::unsetenv("SOURCE_DATE_EPOCH");
+    CHECK(compared >= 15);
+    fs::remove_all(dir);
   }
 }

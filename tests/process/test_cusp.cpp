@@ -131,3 +131,35 @@ TEST_SUITE("process") {
     for (const auto& c : r) CHECK(c.stepover_mm > 0.45);
   }
 }
+
+TEST_SUITE("process") {
+  TEST_CASE("cusp in a window of blocks: the neighbours a search over the whole program finds, pass for pass") {
+    // 30 passes of 41 samples: a block of 100 samples holds about 2.4 passes,
+    // so each pass's neighbours lie in its block or the next or the one before.
+    const std::vector<CuspSample> v = raster(10, 20, true, 0.4, 30);
+    const auto whole = process::cusp_heights(v, v.size() * 2);
+    const auto windowed = process::cusp_heights(v, 100);
+    REQUIRE(windowed.size() == whole.size());
+    int with_cusp = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      CAPTURE(i);
+      CHECK(windowed[i].stepover_mm == Approx(whole[i].stepover_mm));
+      CHECK(windowed[i].height_mm == Approx(whole[i].height_mm));
+      with_cusp += !std::isnan(whole[i].height_mm);
+    }
+    CHECK(with_cusp == static_cast<int>(v.size()));
+    // Streamed: a block's results come once the block after it is whole.
+    process::CuspStream cs(100);
+    for (std::size_t i = 0; i < 250; ++i) cs.add(v[i]);
+    CHECK(cs.ready() == 100);
+    cs.forget_before(50);
+    CHECK_THROWS(cs.result(49));
+    CHECK(cs.result(50).height_mm == Approx(whole[50].height_mm));
+    // A window too small for a pass (20 samples, half a pass) misses a
+    // neighbour that the whole search finds: the window is what decides.
+    const auto tiny = process::cusp_heights(v, 10);
+    int missing = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) missing += std::isnan(tiny[i].height_mm) && !std::isnan(whole[i].height_mm);
+    CHECK(missing > 0);
+  }
+}

@@ -19,23 +19,23 @@ using doctest::Approx;
 
 namespace {
 
-// A table of `n` points in material along X, error e(i), one per line.
-report::PointTable table(std::size_t n, double (*e)(std::size_t)) {
-  report::PointTable t;
+// A recorder's page of `n` points in material along X, error e(i), one per line.
+report::Page page_of(std::size_t n, double (*e)(std::size_t)) {
+  report::RecorderOptions o;
+  o.page = true;
+  report::Recorder rec(o);
   for (std::size_t i = 0; i < n; ++i) {
     compensate::Point p;
     p.line = static_cast<std::uint32_t>(i + 1);
+    p.motion = static_cast<std::uint32_t>(i);
     p.air = false;
     p.tip_mm = {static_cast<double>(i) * 0.1, 0, 0};
     p.force_N = {static_cast<double>(i), 0, 0};
-    t.points.push_back(p);
-    t.error_mm.push_back(e(i));
-    t.error_as_written_mm.push_back(report::kNone);
-    t.offset_n_mm.push_back(0);
-    t.path_mm.push_back(static_cast<double>(i) * 0.1);
-    t.cusp.emplace_back();
+    p.error_mm = e(i);
+    rec.point(p, report::V3::Zero(), 0);
   }
-  return t;
+  rec.finish();
+  return rec.page();
 }
 
 std::string data_of(const std::string& page) {
@@ -97,20 +97,13 @@ TEST_SUITE("report") {
 
   TEST_CASE("report.html: decimated plots keep every peak; hostile program text cannot break out of the page") {
     // 100,000 points with one spike: the plots draw at most 4000 rows, the spike among them.
-    report::PointTable t = table(100000, [](std::size_t i) { return i == 77777 ? 0.5 : 1e-4 * std::sin(i * 0.01); });
-    std::vector<Eigen::Vector3d> contact;
-    for (const auto& p : t.points) contact.push_back(p.tip_mm);
-    const SourceText src("evil.nc", [] {
-      std::string s;
-      for (int i = 0; i < 100000; ++i) s += "G1 X1 (</script><script>alert(1)</script> @@DATA@@ /*@@THREE@@*/)\n";
-      return s;
-    }());
+    const report::Page pg = page_of(100000, [](std::size_t i) { return i == 77777 ? 0.5 : 1e-4 * std::sin(i * 0.01); });
+    const std::string evil = "G1 X1 (</script><script>alert(1)</script> @@DATA@@ /*@@THREE@@*/)";
     report::HtmlInput in;
     in.title = "<b>evil</b>";
-    in.table = &t;
-    in.contact_mm = contact;
-    in.source = &src;
-    in.summary = {{"surface_error_mm", report::to_json(report::error_stats(t.error_mm, 0.01))}};
+    in.page = &pg;
+    for (const auto& row : pg.worst["rows"]) in.line_text[row["line"].get<std::uint32_t>()] = evil;
+    in.summary = {{"surface_error_mm", "x"}};
     const std::string page = report::report_html(in);
     // The program's text appears only inside the data, escaped: exactly the
     // template's scripts close, and the title is escaped.

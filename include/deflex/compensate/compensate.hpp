@@ -215,7 +215,9 @@ struct Result {
 // report::offset_at does).
 struct PointSinks {
   PointSink nominal;
-  std::function<void(const Point&, const V3& offset)> final;
+  // The offset commanded at the point, and the motion of the program as
+  // written it lies on (a block inserted to split a move: the move's).
+  std::function<void(const Point&, const V3& offset, std::size_t original)> final;
 };
 Result compensate(const std::vector<interp::Motion>& motions, const Physics& ph, const Settings& s,
                   const Progress& progress = {}, const std::vector<bool>* splittable = nullptr,

@@ -25,7 +25,9 @@
 // paper's model and get no cusp height.
 #pragma once
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <limits>
 #include <vector>
 
@@ -68,6 +70,32 @@ struct CuspResult {
 // measured from the point to the line of travel of the neighbour's sample
 // nearest to it, so on straight passes it does not depend on where the samples
 // fall. Neighbours are found through CGAL's kd-tree; O(n log n).
-std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& samples);
+//
+// The neighbours of a sample are searched in a window of the program, not all
+// of it, so that a program of any length is read in constant memory: its
+// block of `block` samples and the blocks before and after (a pass is its
+// neighbour's neighbour in program order in every strategy but one returning
+// to a region much later). Programs of up to 2 blocks are searched whole.
+constexpr std::size_t kCuspBlock = 32768;
+std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& samples, std::size_t block = kCuspBlock);
+
+// The same over samples given one at a time, in program order: the results of
+// a block are known once the block after it is whole (or after finish()).
+class CuspStream {
+ public:
+  explicit CuspStream(std::size_t block = kCuspBlock);
+  void add(const CuspSample& s);  // sample number size()
+  void finish();
+  std::size_t size() const { return size_; }
+  std::size_t ready() const { return ready_; }  // the results of samples [0, ready()) are known
+  const CuspResult& result(std::size_t i) const;  // not forgotten, below ready()
+  void forget_before(std::size_t i);             // results below i are not asked for again
+
+ private:
+  void solve(std::size_t b);
+  std::size_t block_, size_ = 0, ready_ = 0, samples_base_ = 0, results_base_ = 0;
+  std::deque<CuspSample> samples_;
+  std::deque<CuspResult> results_;
+};
 
 }  // namespace deflex::process

@@ -7,7 +7,7 @@
 
 #include "deflex/process/machining_time.hpp"
 #include "deflex/report/json.hpp"
-#include "deflex/report/points.hpp"
+#include "deflex/report/recorder.hpp"
 #include "deflex/report/stats.hpp"
 
 namespace deflex::report {
@@ -27,8 +27,8 @@ struct CompareRow {
   double time_s = 0;                // machining time, rapids included
 };
 
-CompareRow compare_row(const std::string& program, const PointTable& t, const process::MachiningTime& time,
-                       double tolerance_mm);
+// A program's row: the figures of its simulation (a Recorder's) and its machining time.
+CompareRow compare_row(const std::string& program, const RunFigures& f, const process::MachiningTime& time);
 
 // The table for a terminal (fixed columns, units in the header).
 std::string compare_text(const std::vector<CompareRow>& rows, double tolerance_mm);

@@ -2,9 +2,12 @@
 // figures of the summary line, summary.json and report.html.
 #pragma once
 #include <cstddef>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "deflex/report/json.hpp"
+#include "deflex/report/spill.hpp"
 
 namespace deflex::report {
 
@@ -20,21 +23,22 @@ struct ErrorStats {
 ErrorStats error_stats(const std::vector<double>& e_mm, double tolerance_mm);
 
 // The same one value at a time, as a simulation produces them. Percentiles
-// need every |e|: with `percentiles` false nothing is kept (memory constant)
+// need every |e|: with `percentiles` they go to a Spill in `spill_dir` ("":
+// the temporary folder), so memory stays constant; without, nothing is kept
 // and they stay 0.
 class ErrorAccumulator {
  public:
-  ErrorAccumulator(double tolerance_mm, bool percentiles) : tol_(tolerance_mm), keep_(percentiles) {}
+  ErrorAccumulator(double tolerance_mm, bool percentiles, const std::string& spill_dir = "");
+  ~ErrorAccumulator();
   void add(double e_mm);
   ErrorStats stats();
 
  private:
   double tol_;
-  bool keep_;
   ErrorStats s_;
   double sq_ = 0, max_abs_ = 0;
   std::size_t out_ = 0;
-  std::vector<double> mag_;
+  std::unique_ptr<Spill<double>> mag_;
 };
 Json to_json(const ErrorStats& s);
 
@@ -44,5 +48,15 @@ struct ValueStats {
   double max = 0, mean = 0;
 };
 ValueStats value_stats(const std::vector<double>& v);
+// The same one value at a time.
+class ValueAccumulator {
+ public:
+  void add(double v);
+  ValueStats stats() const;
+
+ private:
+  ValueStats s_;
+  double sum_ = 0;
+};
 
 }  // namespace deflex::report

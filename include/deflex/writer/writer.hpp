@@ -3,6 +3,7 @@
 // the target control's dialect. With no edit the output equals the input.
 #pragma once
 #include <cstdint>
+#include <fstream>
 #include <functional>
 #include <ostream>
 #include <map>
@@ -86,11 +87,29 @@ void check_output_path(const std::string& path, const std::string& input_path);
 // be created (its parent exists and is writable). Throws Error(usage/io).
 void check_output_folder(const std::string& dir);
 
-// Writes `path` atomically: the content goes to a temporary file beside it,
-// which is renamed over `path` only when `fill` returned normally. Runs
-// check_output_path first. A symlink is followed (its target is replaced, the
-// link stays); an existing file keeps its mode (and owner, where allowed); a
-// new one gets 0666 less the umask. Throws Error(io) when writing fails.
+// A file written atomically: the content goes to a temporary file beside
+// `path` (check_output_path first), renamed over it by commit(); destroyed
+// without commit() (an error, or nothing worth keeping), it leaves `path` as it
+// was. A symlink is followed (its target is replaced, the link stays); an
+// existing file keeps its mode (and owner, where allowed); a new one gets 0666
+// less the umask. Throws Error(io) when writing fails.
+class AtomicFile {
+ public:
+  AtomicFile(const std::string& path, const std::string& input_path);
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  std::ostream& stream() { return out_; }
+  void commit();
+
+ private:
+  std::string path_, target_, tmp_;
+  std::ofstream out_;
+  bool have_old_ = false;
+  unsigned old_mode_ = 0, old_uid_ = 0, old_gid_ = 0;
+};
+
+// Writes `path` atomically (an AtomicFile committed when `fill` returned normally).
 void write_file_atomically(const std::string& path, const std::string& input_path,
                            const std::function<void(std::ostream&)>& fill);
 
