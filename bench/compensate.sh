@@ -7,7 +7,8 @@
 # (STRESS=1 adds the $BLOCKS raster out of a box). Prints the medians
 # (hyperfine), program CL points per second end to end (CL points / median
 # wall time), engagement evaluations of the mirror pass per CL point, and peak
-# memory; with 1M and 10M in SIZES, the ratio of their peaks.
+# memory; with 1M and 10M in SIZES, the ratio of their peaks; REPORT=1 adds a
+# run of each size with --report.
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh --bench
@@ -62,6 +63,18 @@ if [ -f bench/out/raster_1000000_time.txt ] && [ -f bench/out/raster_10000000_ti
   a=$(sed -n 's/.*peak memory \([0-9]*\) KiB.*/\1/p' bench/out/raster_1000000_time.txt)
   b=$(sed -n 's/.*peak memory \([0-9]*\) KiB.*/\1/p' bench/out/raster_10000000_time.txt)
   echo "peak memory 10M / 1M: $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.3f", b / a }')"
+fi
+# REPORT=1: each size once more with --report (points.csv written as the
+# points come, what report.html draws kept on disk): one run, GNU time.
+if [ -n "${REPORT:-}" ]; then
+  for n in ${SIZES:-${BLOCKS:-100000}}; do
+    area=$n; [ "$n" -gt 1000000 ] && area=1000000
+    /usr/bin/time -f "raster_$n --report: %e s wall, peak memory %M KiB" build/deflex compensate \
+      "bench/data/finish_$n.nc" --stock "bench/data/stock_${area}_0.5.stl" --tool T5 --tolerance 0.002 \
+      --report "bench/out/report_$n" -o "bench/out/raster_${n}_comp.nc" 2>"bench/out/report_${n}_time.txt"
+    tail -n 1 "bench/out/report_${n}_time.txt"
+    ls -l "bench/out/report_$n"
+  done
 fi
 if [ -n "${STRESS:-}" ]; then
   # Stress: the same raster from a box 0.3 mm above the highest point; the first
