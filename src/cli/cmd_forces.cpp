@@ -158,6 +158,10 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   require_positive("dz", a.dz);
   if (a.steps < 4 || a.steps > 1000000) throw Error(Exit::usage, "--steps must be between 4 and 1000000");
 
+  // The material library: --material-file, else the config's (search order
+  // of profile/search.hpp), else the installed one.
+  if (a.mat.material_file.empty() && !a.mat.material.empty())
+    a.mat.material_file = config_path(profile::load_config(), "material_file");
   const fo::Coefficients k = coefficients_of(a.mat);
   const fo::Cutter cutter = fo::cutter_of(stiffness::find_tool(stiffness::load_tool_library(a.tool_file), a.tool));
   if (a.ap > cutter.flute_length_mm)

@@ -154,7 +154,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json")
-                    ("tool-file", po::value(&tool_file), "tool library for the gouge check (default: config tool_file, else samples/tools.yaml)")
+                    ("tool-file", po::value(&tool_file), "tool library for the gouge check (default: config tool_file, else the installed samples/tools.yaml)")
                     ("tool", po::value(&tool), "with --part: check every cut with this tool (default: the program's T words)");
   add_part_options(desc, part);
   add_read_options(desc, r);

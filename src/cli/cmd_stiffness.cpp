@@ -7,6 +7,7 @@
 
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/profile/search.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/report.hpp"
@@ -44,7 +45,8 @@ const char* kHelp =
 
 std::string resolve_machine(const std::string& m) {
   if (m.find('/') != std::string::npos || m.ends_with(".yaml") || std::filesystem::exists(m)) return m;
-  return std::string(DEFLEX_SOURCE_DIR) + "/samples/machines/" + m + ".yaml";
+  const std::string f = profile::find_machine(m);
+  return f.empty() ? m : f;
 }
 
 // Heights to print: the user's, checked against the flutes, or seven evenly spaced.

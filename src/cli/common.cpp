@@ -8,6 +8,7 @@
 #include <ostream>
 
 #include "deflex/force/material.hpp"
+#include "deflex/profile/search.hpp"
 #include "deflex/gcode/reader.hpp"
 #include "deflex/profile/yaml.hpp"
 #ifndef DEFLEX_PENDING_STIFFNESS
@@ -20,7 +21,9 @@ void add_read_options(po::options_description& d, ReadOptions& r, bool with_mach
   d.add_options()
     ("dialect", po::value(&r.dialect), "control dialect: fanuc (default), haas, linuxcnc, siemens-iso, "
                                        "heidenhain-iso, or a dialect .yaml file; overrides the machine's")
-    ("config", po::value(&r.config), "config file (default: ./config.yaml, else the one in the source tree)")
+    ("config", po::value(&r.config), "config file (default: the first of ./deflex.yaml, ./config.yaml, "
+                                     "$XDG_CONFIG_HOME/deflex/config.yaml, /etc/deflex/config.yaml, the installed "
+                                     "defaults)")
     ("max-errors", po::value(&r.max_errors), "stop after N errors (0: no limit; default from config, 20)")
     ("block-delete", po::value(&r.block_delete)->default_value("off"),
      "block-delete switch: off executes '/' blocks (never compensated), on skips them")
@@ -30,7 +33,8 @@ void add_read_options(po::options_description& d, ReadOptions& r, bool with_mach
      "most blocks executed and motions generated, subprogram and cycle repeats included (a guard against "
      "input that would run for hours)");
   if (with_machine)
-    d.add_options()("machine", po::value(&r.machine), "machine profile: a name in samples/machines/ or a .yaml file");
+    d.add_options()("machine", po::value(&r.machine), "machine profile: a .yaml file, or a name NAME for NAME.yaml in ./machines, ./samples/machines, "
+                                                       "$XDG_CONFIG_HOME/deflex/machines, /etc/deflex/machines or the installed ones");
 }
 
 Setup resolve(const ReadOptions& r) {
@@ -84,7 +88,7 @@ void add_material_options(po::options_description& d, MaterialOptions& m) {
   };
   d.add_options()
       ("material", po::value(&m.material), "material name or alias in the material library")
-      ("material-file", po::value(&m.material_file), "material library (default samples/materials.yaml)")
+      ("material-file", po::value(&m.material_file), "material library (default: config material_file, else the installed samples/materials.yaml)")
       ("kt", opt(m.kt), "K_tc, tangential cutting coefficient, N/mm^2")
       ("kr", opt(m.kr), "K_rc, radial cutting coefficient, N/mm^2")
       ("ka", opt(m.ka), "K_ac, axial cutting coefficient, N/mm^2")
@@ -148,10 +152,7 @@ void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceT
   }
 }
 
-std::string default_library(const char* rel) {
-  if (std::filesystem::exists(rel)) return rel;
-  return std::string(DEFLEX_SOURCE_DIR) + "/" + rel;
-}
+std::string default_library(const char* name) { return profile::data_dir() + "/" + name; }
 
 force::Coefficients coefficients_of(const MaterialOptions& a, const std::string& fallback_material,
                                     std::string* described) {

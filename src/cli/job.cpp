@@ -21,6 +21,7 @@
 #include "deflex/report/summary.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
+#include "deflex/version.hpp"
 
 namespace deflex::cli {
 namespace fs = std::filesystem;
@@ -33,7 +34,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
         ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N");
   else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
   d.add_options()
-      ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else samples/tools.yaml)")
+      ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else the installed samples/tools.yaml)")
       ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
@@ -489,7 +490,7 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   for (const std::string& f : j.stock_from) p.emplace_back("stock from", f);
   p.emplace_back("part model", j.part_spec.empty() ? "none (normals fitted through the path, or from the travel)" : j.part_spec);
   p.emplace_back("tolerance", report_number(j.settings.tolerance_mm) + " mm");
-  p.emplace_back("deflex", std::string(DEFLEX_VERSION));
+  p.emplace_back("deflex", std::string(DEFLEX_VERSION " (git ") + revision() + ")");
   p.emplace_back("date", report::utc_now());
   p.emplace_back("command", command);
   return p;

@@ -6,6 +6,8 @@
 
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/profile/search.hpp"
+#include "deflex/version.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -44,7 +46,10 @@ void top_help(std::ostream& out) {
   out << "\nA FILE of '-' is standard input; programs go to standard output unless -o is\n"
          "given, and -o FILE is written atomically, never over the input.\n"
          "Diagnostics go to standard error as FILE:LINE:COL: error|warning: MESSAGE.\n"
-         "Units: lengths in mm, forces in N, compliance in mm/N, angles in degrees.\n\n"
+         "Units: lengths in mm, forces in N, compliance in mm/N, angles in degrees.\n"
+         "Configuration: --config FILE, else the first of ./deflex.yaml, ./config.yaml,\n"
+         "$XDG_CONFIG_HOME/deflex/config.yaml, /etc/deflex/config.yaml and the installed\n"
+         "defaults (deflex --version names the one in use).\n\n"
          "exit codes:\n"
          "  0   success (check: clean; diff: only coordinates of motion blocks differ)\n"
          "  1   input error in a program (diff: the programs differ in more than coordinates)\n"
@@ -62,8 +67,13 @@ int run(const std::vector<std::string>& argv, Io& io) {
       top_help(argv.empty() ? io.err : io.out);
       return argv.empty() ? static_cast<int>(Exit::usage) : 0;
     }
-    if (argv[0] == "--version") {
-      io.out << "deflex " DEFLEX_VERSION "\n";
+    if (argv[0] == "--version" || argv[0] == "-V") {
+      io.out << "deflex " DEFLEX_VERSION " (git " << revision() << ")\n"
+             << "data: " << profile::data_dir() << "\n"
+             << "config: " << [] {
+                  const std::string c = profile::find_config("");
+                  return c.empty() ? std::string("none found (built-in defaults)") : c;
+                }() << "\n";
       return 0;
     }
     for (const Command& c : kCommands)

@@ -1,4 +1,5 @@
 #include "deflex/profile/profile.hpp"
+#include "deflex/profile/search.hpp"
 
 #include <filesystem>
 
@@ -107,14 +108,6 @@ Dialect load_dialect(const std::string& name_or_path) {
 
 namespace {
 
-std::string find_named(const std::string& dir, const std::string& name) {
-  for (const std::string& base : {std::string("."), std::string(DEFLEX_SOURCE_DIR)}) {
-    fs::path p = fs::path(base) / dir / (name + ".yaml");
-    if (fs::exists(p)) return p.string();
-  }
-  return {};
-}
-
 void read_travel(const Map& t, Travel& travel) {
   const char* axes[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i) {
@@ -153,10 +146,13 @@ void read_reference_points(const Map& n, MachineProfile& m) {
 MachineProfile load_machine(const std::string& name_or_path) {
   std::string file = name_or_path;
   if (name_or_path.find('/') == std::string::npos && !name_or_path.ends_with(".yaml")) {
-    file = find_named("samples/machines", name_or_path);
-    if (file.empty())
-      throw Error(Exit::config, "machine profile '" + name_or_path +
-                                    "' not found (looked for samples/machines/" + name_or_path + ".yaml)");
+    file = find_machine(name_or_path);
+    if (file.empty()) {
+      std::string where;
+      for (const std::string& d : machine_folders()) where += (where.empty() ? "" : ", ") + d;
+      throw Error(Exit::config, "machine profile '" + name_or_path + "' not found (looked for " + name_or_path +
+                                    ".yaml in " + where + ")");
+    }
   }
   const YAML::Node root = yaml::load_file(file);
   // holder: and stiffness: are read (with their own key checks) by deflex::stiffness.
@@ -178,11 +174,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
 }
 
 Config load_config(const std::string& path) {
-  std::string file = path;
-  if (file.empty()) {
-    for (const std::string& base : {std::string("."), std::string(DEFLEX_SOURCE_DIR)})
-      if (fs::exists(fs::path(base) / "config.yaml")) { file = (fs::path(base) / "config.yaml").string(); break; }
-  }
+  const std::string file = find_config(path);
   Config c;
   if (file.empty()) return c;
   const YAML::Node root = yaml::load_file(file);

@@ -70,8 +70,7 @@ struct MachineProfile {
   YAML::Node root;             // the whole document (stiffness, holder ... sections)
 };
 
-// A machine profile by path, or by name from samples/machines/NAME.yaml (next
-// to config.yaml, or in the source tree).
+// A machine profile by path, or by name (profile/search.hpp: find_machine).
 MachineProfile load_machine(const std::string& name_or_path);
 
 struct Config {
@@ -82,7 +81,8 @@ struct Config {
   YAML::Node root;
 };
 
-// config.yaml from the current directory, else the source tree's, else defaults.
+// The config file `path` (--config), else the first found in the search order
+// (profile/search.hpp: find_config), else the built-in defaults.
 Config load_config(const std::string& path = "");
 
 }  // namespace deflex::profile

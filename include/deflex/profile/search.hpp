@@ -1,0 +1,32 @@
+// Where deflex finds its files, installed or not, never in the source tree
+// (issue 15; README "Configuration"). The config file in use is the first of
+//   --config FILE
+//   ./deflex.yaml, ./config.yaml                (the folder deflex runs in)
+//   $XDG_CONFIG_HOME/deflex/config.yaml         (~/.config when unset)
+//   /etc/deflex/config.yaml
+//   DATA/config.yaml                            (the installed defaults)
+// and a machine profile named NAME (not a path) the first of NAME.yaml in
+//   ./machines, ./samples/machines, $XDG_CONFIG_HOME/deflex/machines,
+//   /etc/deflex/machines, DATA/samples/machines.
+// DATA is $DEFLEX_DATA_DIR where set, else the folder deflex was installed to
+// share its files in (CMAKE_INSTALL_FULL_DATADIR/deflex, compiled in). It
+// mirrors a clone: config.yaml, postproc/ (the dialects, also compiled in),
+// samples/ (machines, tools.yaml, materials.yaml, programs, stock, parts), so
+// one config.yaml serves both.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace deflex::profile {
+
+std::string data_dir();
+// The folders searched, in order, for a file `rel` of a user's configuration
+// (".../deflex/" + rel beyond the current folder).
+std::vector<std::string> config_candidates();
+std::vector<std::string> machine_folders();
+// The config file in use ("" when none exists: the built-in defaults).
+std::string find_config(const std::string& given);
+// A machine profile's file by name ("" when none).
+std::string find_machine(const std::string& name);
+
+}  // namespace deflex::profile

@@ -1,0 +1,87 @@
+// cmake --install (issue 15): the installed deflex finds its data through
+// DEFLEX_DATA_DIR, never through the source tree, runs the sample job from any
+// folder, and takes its config in the documented order.
+#include <doctest/doctest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "../support.hpp"
+
+namespace fs = std::filesystem;
+using namespace deflex;
+
+namespace {
+
+int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
+
+}  // namespace
+
+TEST_SUITE("cli") {
+  TEST_CASE("cmake --install: the sample job from an empty folder; the config search order") {
+    std::string t = (fs::temp_directory_path() / "deflex-install-XXXXXX").string();
+    const fs::path tmp = mkdtemp(t.data());
+    const fs::path build = fs::path(DEFLEX_BINARY).parent_path();
+    REQUIRE(exit_code(std::system(("cmake --install " + build.string() + " --prefix " + (tmp / "usr").string() + " > " +
+                                   (tmp / "install.log").string() + " 2>&1")
+                                      .c_str())) == 0);
+    const fs::path bin = tmp / "usr/bin/deflex", data = tmp / "usr/share/deflex";
+    CHECK(fs::is_regular_file(bin));
+    for (const char* f : {"config.yaml", "samples/machines/mill3.yaml", "samples/tools.yaml", "samples/materials.yaml",
+                          "postproc/fanuc.yaml", "samples/programs/six_surfaces.nc"})
+      CHECK_MESSAGE(fs::is_regular_file(data / f), f);
+    const fs::path work = tmp / "work", home = tmp / "home";
+    fs::create_directories(work);
+    fs::create_directories(home);
+    // deflex as installed, in `dir`, with a home of its own and `data` as its data folder.
+    auto run = [&](const fs::path& dir, const std::string& args, const fs::path& data_dir) {
+      const std::string cmd = "cd " + dir.string() + " && env -u XDG_CONFIG_HOME HOME=" + home.string() +
+                              " DEFLEX_DATA_DIR=" + data_dir.string() + " " + bin.string() + " " + args + " > " +
+                              (tmp / "out").string() + " 2> " + (tmp / "err").string();
+      const int rc = exit_code(std::system(cmd.c_str()));
+      return test::CliResult{rc, test::read_file((tmp / "out").string()), test::read_file((tmp / "err").string())};
+    };
+    // The installed defaults from an empty folder, and the sample job with them:
+    // the same program as the clone's config gives in the source tree.
+    test::CliResult v = run(work, "--version", data);
+    CHECK(v.rc == 0);
+    CHECK(v.out.find("config: " + (data / "config.yaml").string()) != std::string::npos);
+    const std::string job = "compensate " + (data / "samples/programs/six_surfaces.nc").string() + " --stock " +
+                            (data / "samples/stock/six_surfaces_stock.stl").string() + " -o comp.nc";
+    const test::CliResult c = run(work, job, data);
+    CAPTURE(c.err);
+    REQUIRE(c.rc == 0);
+    const test::CliResult here = test::run_cli({"compensate", "samples/programs/six_surfaces.nc", "--stock",
+                                                "samples/stock/six_surfaces_stock.stl", "-o", (tmp / "here.nc").string()});
+    REQUIRE(here.rc == 0);
+    CHECK(test::read_file((work / "comp.nc").string()) == test::read_file((tmp / "here.nc").string()));
+    // Without its data the installed deflex does not fall back on the source
+    // tree: the machine is not found, and the message says where it looked.
+    const test::CliResult lost = run(work, job, tmp / "nowhere");
+    CHECK(lost.rc == 2);  // no config at all: no machine named
+    CHECK(lost.err.find("a machine profile is needed") != std::string::npos);
+    const test::CliResult lost_m = run(work, job + " --machine mill3", tmp / "nowhere");
+    CHECK(lost_m.rc == 3);
+    CHECK(lost_m.err.find("samples/machines") != std::string::npos);
+    CHECK(lost_m.err.find(DEFLEX_SOURCE_DIR) == std::string::npos);
+    // The search order: ~/.config/deflex over the installed defaults,
+    // ./config.yaml over that, ./deflex.yaml over ./config.yaml, --config over all.
+    fs::create_directories(home / ".config/deflex");
+    test::write_file((home / ".config/deflex/config.yaml").string(), "machine: mill3\n");
+    CHECK(run(work, "--version", data).out.find("config: " + (home / ".config/deflex/config.yaml").string()) !=
+          std::string::npos);
+    test::write_file((work / "config.yaml").string(), "machine: mill3\n");
+    CHECK(run(work, "--version", data).out.find("config: config.yaml") != std::string::npos);
+    test::write_file((work / "deflex.yaml").string(), "machine: mill3\n");
+    CHECK(run(work, "--version", data).out.find("config: deflex.yaml") != std::string::npos);
+    // A config in use is read: its mistakes are the user's to see.
+    test::write_file((work / "deflex.yaml").string(), "tolerance_mm: -1\n");
+    const test::CliResult bad = run(work, "check " + (data / "samples/programs/side_wall.nc").string(), data);
+    CHECK(bad.rc == 3);
+    CHECK(bad.err.find("deflex.yaml") != std::string::npos);
+    fs::remove_all(tmp);
+  }
+}
