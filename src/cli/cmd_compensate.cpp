@@ -57,7 +57,7 @@ void summary_line(Io& io, const char* what, const report::ErrorStats& s, double 
   char buf[256];
   std::snprintf(buf, sizeof buf, "  %-28s max %.4f mm, rms %.4f mm, %.1f%% of %zu points outside +-%.4f mm\n", what,
                 s.max_abs, s.rms, 100.0 * s.share_out, s.points, tol);
-  io.err << buf;
+  io.info() << buf;
 }
 
 // The recorder of a run's points and, with --report, the report folder's
@@ -126,7 +126,7 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
     for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)
       lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
     if (r.feed_lowered_lines.size() > 12) lines += ", ...";
-    io.err << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
+    io.info() << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
            << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
   }
   print_plausibility(j, pl, io);
@@ -138,7 +138,7 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
            << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
   }
   if (r.linearised_arcs)
-    io.err << j.prog.source().name() << ": note: " << r.linearised_arcs
+    io.info() << j.prog.source().name() << ": note: " << r.linearised_arcs
            << " arcs whose compensation varies along them were linearised (G1 chords within "
            << j.settings.chord_tol_mm << " mm of the arc; the arc block keeps the last piece)\n";
   for (std::uint32_t l : r.nonuniform_arcs)
@@ -148,7 +148,7 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
     io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
            << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
            << " mm); the best iterate is written\n";
-  io.err << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
+  io.info() << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
          << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
          << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
          << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
@@ -195,7 +195,7 @@ Outcome compensate_in_pieces(Job& j, const Args& a, Io& io, const compensate::Po
   if (a.output.empty() || a.output == "-") writer::write_through_temporary(io.out, fill);
   else writer::write_file_atomically(a.output, a.file, fill);
   j.physics.stock = j.physics.consumable_stock = nullptr;
-  if (in.progress) io.err << "\r\033[K";
+  end_progress(in.progress);
   return {std::move(res.totals), res.written, j.time_as_written, res.time};
 }
 
@@ -210,7 +210,7 @@ Outcome compensate_whole(Job& j, const Args& a, Io& io, const compensate::PointS
   o.r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, &sinks);
   compensate::Result& r = o.r;
   j.physics.stock = j.physics.consumable_stock = nullptr;
-  if (progress) io.err << "\r\033[K";
+  end_progress(progress);
   std::vector<bool> can = compensate::movable(r.motions);
   const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
   // The written program read back holds the only copy of the text.
@@ -362,7 +362,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     compensate::simulate(design, intent, j.physics, j.settings, sink, progress);
   }
   j.physics.stock = j.physics.consumable_stock = nullptr;
-  if (progress) io.err << "\r\033[K";
+  end_progress(progress);
   const report::RunFigures f = rec.rec->finish();
   const compensate::Plausibility pl = scan.finish(false);
   print_plausibility(j, pl, io);

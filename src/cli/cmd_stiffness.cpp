@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "common.hpp"
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/search.hpp"
@@ -100,7 +101,7 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
     throw Error(Exit::usage, std::string("stiffness: ") + e.what());
   }
   if (vm.count("help")) {
-    io.out << "usage: " << kUsage << "\n\n" << kHelp << "\n" << d << "\n";
+    print_help(io.out, kUsage, kHelp, d);
     return 0;
   }
   if (tool_file.empty() || tool_id.empty())

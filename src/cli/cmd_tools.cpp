@@ -33,7 +33,7 @@ int cmd_tools(const std::vector<std::string>& args, Io& io) {
   const stiffness::ImportedLibrary imp = stiffness::import_tool_library(words[1]);
   // What was written must load as a library: the same check --tool-file makes.
   (void)stiffness::parse_tool_library(imp.yaml, output.empty() ? words[1] : output);
-  for (const std::string& s : imp.skipped) io.err << words[1] << ": note: skipped " << s << "\n";
+  for (const std::string& s : imp.skipped) io.info() << words[1] << ": note: skipped " << s << "\n";
   io.err << words[1] << ": " << imp.format << ": " << imp.tools << " tools converted, " << imp.skipped.size()
          << " skipped\n";
   if (output.empty() || output == "-") io.out << imp.yaml;

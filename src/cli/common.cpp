@@ -189,7 +189,12 @@ force::Coefficients coefficients_of(const MaterialOptions& a, const std::string&
 
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
                 const po::options_description& desc) {
-  out << "usage: " << usage << "\n\n" << text << "\n" << desc << "\n";
+  out << "usage: " << usage << "\n\n" << text << "\n" << desc << "\n"
+      << "output (every command):\n"
+         "  -q [ --quiet ]        errors and warnings only (no notes, summary or progress)\n"
+         "  -v [ --verbose ]      also the files and settings in use, and each stage's time\n"
+         "  --progress arg (=auto) a progress line on stderr with the stage, percentage,\n"
+         "                        elapsed time and ETA: auto (on a terminal), always, never\n\n";
 }
 
 std::uint32_t piece_lines() {

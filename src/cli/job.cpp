@@ -1,10 +1,12 @@
 // The job of compensate, simulate and compare (job.hpp).
 #include "job.hpp"
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <set>
 #include <tuple>
 
@@ -45,7 +47,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
       ("report", po::value(&a.report), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
-      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
+      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
       ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
@@ -345,6 +347,27 @@ std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vecto
   return out;
 }
 
+namespace {
+
+// --verbose: the files and settings of a run, before it starts.
+void print_setup(const Job& j, const Args& a, Io& io) {
+  const profile::MachineProfile& m = *j.setup.machine;
+  char cell[64];
+  std::snprintf(cell, sizeof cell, "%g mm", a.cell_mm);
+  io.err << "deflex: config " << (j.setup.config.file.empty() ? "none (built-in defaults)" : j.setup.config.file)
+         << "; machine " << m.name << " (" << m.file << "), dialect " << j.setup.dialect.name << "\n"
+         << "deflex: tool library " << j.physics.tools.file << "; material " << j.material << "\n"
+         << "deflex: stock " << j.stock_spec << ", Z-map cell " << cell << "; part model "
+         << (j.part_spec.empty() ? "none" : j.part_spec) << "\n"
+         << "deflex: tolerance " << j.settings.tolerance_mm << " mm, gain " << j.settings.gain << "; "
+         << (j.pieces ? std::to_string(j.motion_count) + " motions, read in pieces of " +
+                            std::to_string(j.pieces->max_lines()) + " lines"
+                      : std::to_string(j.motions.size()) + " motions, read whole")
+         << "\n";
+}
+
+}  // namespace
+
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
   Setup s = resolve_with_machine(a.read);
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(s.config, "part");
@@ -452,18 +475,56 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
       report_part_gaps(g, [&text](std::uint32_t l) { return text.at(l); }, gap, diags);
     }
   }
+  if (io.verbose) print_setup(j, a, io);
   return j;
 }
 
 compensate::Progress progress_for(Io& io) {
-  if (!io.err_is_terminal) return {};
-  return [&io](const std::string& stage, double f) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "\r\033[Kdeflex: %s %3.0f%%", stage.c_str(), 100.0 * f);
-    io.err << buf << std::flush;
+  const bool shown = !io.quiet && (io.progress == ProgressWhen::always ||
+                                   (io.progress == ProgressWhen::automatic && io.err_is_terminal));
+  if (!shown && !io.verbose) return {};
+  using Clock = std::chrono::steady_clock;
+  struct State {
+    std::string stage;
+    Clock::time_point start;
+    int decile = -1;
+  };
+  auto st = std::make_shared<State>();
+  // On a terminal one line redrawn in place; elsewhere (a log) a line per 10%.
+  const bool redraw = io.err_is_terminal;
+  return [&io, st, shown, redraw](const std::string& stage, double f) {
+    const Clock::time_point now = Clock::now();
+    if (stage != st->stage) {
+      if (shown && redraw) io.err << "\r\033[K";
+      if (io.verbose && !st->stage.empty()) {
+        char done[32];
+        std::snprintf(done, sizeof done, "%.1f s", std::chrono::duration<double>(now - st->start).count());
+        io.err << "deflex: " << st->stage << " done in " << done << "\n";
+      }
+      st->stage = stage;
+      st->start = now;
+      st->decile = -1;
+    }
+    if (!shown || stage.empty()) return;  // end_progress(): the last stage closed
+    const double s = std::chrono::duration<double>(now - st->start).count();
+    char buf[160];
+    const int n = std::snprintf(buf, sizeof buf, "deflex: %s %3.0f%%, %s elapsed", stage.c_str(), 100.0 * f,
+                                report::clock(s).c_str());
+    std::string text(buf, static_cast<std::size_t>(std::max(0, n)));
+    // The rest at the rate so far, once there is a rate to go by.
+    if (f > 0.01 && f < 1 && s > 1) text += ", about " + report::clock(s * (1 - f) / f) + " left";
+    if (redraw) {
+      io.err << "\r\033[K" << text << std::flush;
+    } else if (const int d = static_cast<int>(10 * f); d != st->decile) {
+      st->decile = d;
+      io.err << text << "\n";
+    }
   };
 }
 
+void end_progress(const compensate::Progress& p) {
+  if (p) p("", 1.0);
+}
 
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference) {
@@ -515,11 +576,12 @@ report::Json warnings_json(const compensate::Plausibility& pl) {
 }
 
 void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after) {
-  io.err << "  machining time:              " << report::clock(before.program.total_s) << " (cutting "
-         << report::clock(before.program.cutting_s) << ", rapids " << report::clock(before.program.rapid_s) << ")";
+  std::ostream& o = io.info();
+  o << "  machining time:              " << report::clock(before.program.total_s) << " (cutting "
+    << report::clock(before.program.cutting_s) << ", rapids " << report::clock(before.program.rapid_s) << ")";
   if (std::fabs(after.program.total_s - before.program.total_s) >= 0.5)
-    io.err << ", compensated " << report::clock(after.program.total_s);
-  io.err << " [m:ss, axis limits of the machine profile]\n";
+    o << ", compensated " << report::clock(after.program.total_s);
+  o << " [m:ss, axis limits of the machine profile]\n";
 }
 
 std::string command_of(const char* cmd, const std::vector<std::string>& args) {

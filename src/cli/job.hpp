@@ -100,8 +100,12 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared = nullptr, boo
 std::map<std::uint32_t, SourceText> lines_of_file(const Job& j, const std::vector<std::uint32_t>& lines);
 // The tool of a T number in the job's library (--tool overriding), null where none.
 std::function<const stiffness::Tool*(int)> tool_of(const Job& j);
-// The progress line on a terminal (nothing elsewhere).
+// The progress line (--progress: on a terminal by default) with the stage,
+// percentage, elapsed time and what is left at the rate so far; with
+// --verbose each stage's time when it ends. Null when nothing is shown.
 compensate::Progress progress_for(Io& io);
+// After the last stage: the line cleared, the last stage's time (--verbose).
+void end_progress(const compensate::Progress& p);
 // The run's provenance for report.html: what a reader needs to trust or redo it.
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference);

@@ -59,7 +59,42 @@ void top_help(std::ostream& out) {
          "  70  internal error (a bug in deflex: please report it)\n";
 }
 
+// The output options every command takes, anywhere after its name: taken out
+// here, so no command parses them (common.cpp's print_help lists them).
+std::vector<std::string> take_output_options(const std::vector<std::string>& args, Io& io) {
+  std::vector<std::string> rest;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (a == "-q" || a == "--quiet") {
+      io.quiet = true;
+    } else if (a == "-v" || a == "--verbose") {
+      io.verbose = true;
+    } else if (a == "--progress" || a.starts_with("--progress=")) {
+      std::string when;
+      if (a == "--progress") {
+        if (i + 1 == args.size()) throw Error(Exit::usage, "--progress needs auto, always or never");
+        when = args[++i];
+      } else {
+        when = a.substr(11);
+      }
+      if (when == "auto") io.progress = ProgressWhen::automatic;
+      else if (when == "always") io.progress = ProgressWhen::always;
+      else if (when == "never") io.progress = ProgressWhen::never;
+      else throw Error(Exit::usage, "--progress must be auto, always or never, not '" + when + "'");
+    } else {
+      rest.push_back(a);
+    }
+  }
+  if (io.quiet && io.verbose) throw Error(Exit::usage, "--quiet and --verbose contradict each other");
+  return rest;
+}
+
 }  // namespace
+
+std::ostream& Io::info() {
+  static std::ostream none(nullptr);  // a stream without a buffer writes nothing
+  return quiet ? none : err;
+}
 
 int run(const std::vector<std::string>& argv, Io& io) {
   try {
@@ -77,7 +112,8 @@ int run(const std::vector<std::string>& argv, Io& io) {
       return 0;
     }
     for (const Command& c : kCommands)
-      if (argv[0] == c.name) return c.fn(std::vector<std::string>(argv.begin() + 1, argv.end()), io);
+      if (argv[0] == c.name)
+        return c.fn(take_output_options(std::vector<std::string>(argv.begin() + 1, argv.end()), io), io);
     io.err << "deflex: error: unknown command '" << argv[0] << "' (see deflex --help)\n";
     return static_cast<int>(Exit::usage);
   } catch (const Error& e) {
