@@ -10,10 +10,10 @@ set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev libjs-three libjs-dygraphs"
+libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev libjs-three libjs-dygraphs help2man"
 for a in "$@"; do
   case "$a" in
-    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev" ;;
+    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion" ;;
     --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
     --fuzz)  pkgs="$pkgs clang-14 libclang-rt-14-dev" ;;
     *) echo "install-deps.sh: unknown option $a" >&2; exit 2 ;;

@@ -82,6 +82,40 @@ TEST_SUITE("cli") {
     const test::CliResult bad = run(work, "check " + (data / "samples/programs/side_wall.nc").string(), data);
     CHECK(bad.rc == 3);
     CHECK(bad.err.find("deflex.yaml") != std::string::npos);
+    // The man pages (help2man, from --help at build time) and the completion.
+    for (const char* f : {"deflex.1", "deflex-compensate.1", "deflex-list.1"})
+      CHECK_MESSAGE(fs::is_regular_file(tmp / "usr/share/man/man1" / f), f);
+    CHECK(test::read_file((tmp / "usr/share/man/man1/deflex-compensate.1").string()).find("feed\\-limit") !=  // roff escapes the hyphens
+          std::string::npos);
+    const fs::path completion = tmp / "usr/share/bash-completion/completions/deflex";
+    REQUIRE(fs::is_regular_file(completion));
+    // What bash offers after each line, with the installed deflex first on PATH.
+    auto offered = [&](const std::string& line) {
+      const std::string script = tmp.string() + "/complete.sh";
+      test::write_file(script, "source /usr/share/bash-completion/bash_completion\nsource " + completion.string() +
+                                   "\nCOMP_LINE='" + line + "'; COMP_POINT=${#COMP_LINE}\n"
+                                   "read -ra COMP_WORDS <<< \"$COMP_LINE\"; [[ $COMP_LINE == *' ' ]] && COMP_WORDS+=('')\n"
+                                   "COMP_CWORD=$((${#COMP_WORDS[@]} - 1)); _deflex; printf '%s\\n' \"${COMPREPLY[@]}\"\n");
+      const std::string cmd = "cd " + work.string() + " && env HOME=" + home.string() + " DEFLEX_DATA_DIR=" +
+                              data.string() + " PATH=" + (tmp / "usr/bin").string() + ":/usr/bin:/bin bash " + script +
+                              " > " + (tmp / "out").string() + " 2>&1";
+      std::system(cmd.c_str());
+      return test::read_file((tmp / "out").string());
+    };
+    fs::remove(work / "deflex.yaml");
+    fs::remove(work / "config.yaml");
+    fs::remove_all(home / ".config");
+    if (fs::exists("/usr/share/bash-completion/bash_completion")) {
+      CHECK(offered("deflex comp") == "compensate\ncompare\n");
+      CHECK(offered("deflex compensate --feed-") == "--feed-limit\n");
+      CHECK(offered("deflex compensate x.nc --machine ") == "mill3\n");
+      CHECK(offered("deflex simulate x.nc --dialect li") == "linuxcnc\n");
+      CHECK(offered("deflex compensate x.nc --tool T") == "T1\nT2\nT3\nT4\nT5\nT6\nT7\n");
+      CHECK(offered("deflex compensate x.nc --material Al") == "Al6082-T4\nAl7075-T6\n");
+      CHECK(offered("deflex check x.nc --progress a") == "auto\nalways\n");
+    } else {
+      MESSAGE("bash-completion is not installed (scripts/install-deps.sh --test): completion not tried");
+    }
     fs::remove_all(tmp);
   }
 }

@@ -39,6 +39,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io);  // issue 5
 int cmd_simulate(const std::vector<std::string>& args, Io& io);    // issue 5
 int cmd_compare(const std::vector<std::string>& args, Io& io);     // issue 12
 int cmd_tools(const std::vector<std::string>& args, Io& io);       // issue 13
+int cmd_list(const std::vector<std::string>& args, Io& io);        // issue 15
 int cmd_stock(const std::vector<std::string>& args, Io& io);       // issue 13
 int cmd_rough(const std::vector<std::string>& args, Io& io);       // issue 13
 

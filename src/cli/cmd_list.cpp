@@ -1,0 +1,58 @@
+// deflex list WHAT: the names a command line can give (--machine, --dialect,
+// --tool, --material), found where the commands find them: for the user, and
+// for the bash completion (packaging/deflex.bash-completion).
+#include <filesystem>
+#include <set>
+
+#include "common.hpp"
+#include "deflex/force/material.hpp"
+#include "deflex/profile/search.hpp"
+#include "deflex/stiffness/tool.hpp"
+
+namespace deflex::cli {
+
+int cmd_list(const std::vector<std::string>& args, Io& io) {
+  std::string config, tool_file, material_file;
+  bool help = false;
+  po::options_description desc("options");
+  desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
+      "config", po::value(&config), "config file (default: the search order of deflex --help)")(
+      "tool-file", po::value(&tool_file), "tool library (default: config tool_file, else the installed one)")(
+      "material-file", po::value(&material_file),
+      "material library (default: config material_file, else the installed one)");
+  std::vector<std::string> words;
+  parse_with_files(args, desc, words, 1);
+  if (help || words.empty()) {
+    print_help(io.out, "deflex list machines|dialects|tools|materials",
+               "Prints the names a command line can give, one per line: machine profiles (in the\n"
+               "folders of the search order, the first of a name wins), the built-in dialects, the\n"
+               "tools of the tool library and the materials of the material library in use.\n",
+               desc);
+    return help ? 0 : static_cast<int>(Exit::usage);
+  }
+  const std::string& what = words[0];
+  if (what == "machines") {
+    std::set<std::string> seen;
+    for (const std::string& d : profile::machine_folders()) {
+      std::error_code ec;
+      for (const auto& e : std::filesystem::directory_iterator(d, ec))
+        if (e.path().extension() == ".yaml" && seen.insert(e.path().stem().string()).second)
+          io.out << e.path().stem().string() << "\n";
+    }
+  } else if (what == "dialects") {
+    for (const std::string& n : profile::dialect_names()) io.out << n << "\n";
+  } else if (what == "tools") {
+    const profile::Config c = profile::load_config(config);
+    for (const auto& [id, t] : stiffness::load_tool_library(tool_library_path(tool_file, c)).tools) io.out << id << "\n";
+  } else if (what == "materials") {
+    std::string f = material_file;
+    if (f.empty()) f = config_path(profile::load_config(config), "material_file");
+    if (f.empty()) f = default_library("samples/materials.yaml");
+    for (const force::MaterialEntry& m : force::load_material_library(f).entries) io.out << m.name << "\n";
+  } else {
+    throw Error(Exit::usage, "list: machines, dialects, tools or materials, not '" + what + "'");
+  }
+  return 0;
+}
+
+}  // namespace deflex::cli
