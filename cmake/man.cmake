@@ -6,7 +6,7 @@ execute_process(COMMAND "${DEFLEX}" --help OUTPUT_VARIABLE top RESULT_VARIABLE r
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "deflex --help failed")
 endif()
-file(MAKE_DIRECTORY "${OUT}/bin")
+file(MAKE_DIRECTORY "${OUT}-wrappers")
 set(common --no-info --no-discard-stderr "--version-string=${VERSION}" --source=deflex --manual=deflex)
 execute_process(COMMAND help2man ${common} "--name=compensates milling-tool deflection in Fanuc/ISO programs"
                         "--output=${OUT}/deflex.1" "${DEFLEX}" RESULT_VARIABLE rc)
@@ -21,7 +21,7 @@ foreach(line ${lines})
   string(REGEX REPLACE "\n  ([a-z]+) +([^\n]+)" "\\1" cmd "${line}")
   string(REGEX REPLACE "\n  ([a-z]+) +([^\n]+)" "\\2" summary "${line}")
   # help2man runs a program: a wrapper running `deflex COMMAND`.
-  set(wrapper "${OUT}/bin/deflex-${cmd}")
+  set(wrapper "${OUT}-wrappers/deflex-${cmd}")
   file(WRITE "${wrapper}" "#!/bin/sh\nexec \"${DEFLEX}\" ${cmd} \"$@\"\n")
   file(CHMOD "${wrapper}" PERMISSIONS OWNER_READ OWNER_WRITE OWNER_EXECUTE)
   execute_process(COMMAND help2man ${common} "--name=${summary}" "--output=${OUT}/deflex-${cmd}.1" "${wrapper}"

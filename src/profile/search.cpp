@@ -33,7 +33,16 @@ std::string user_dir() {
 
 std::string data_dir() {
   const std::string e = env("DEFLEX_DATA_DIR");
-  return e.empty() ? DEFLEX_DATA_DIR : e;
+  if (!e.empty()) return e;
+  // Installed under any prefix (a .deb's /usr, cmake --install's /usr/local or
+  // a user's ~/.local): the data beside the binary, ../share/deflex.
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    const fs::path beside = exe.parent_path().parent_path() / "share" / "deflex";
+    if (fs::is_regular_file(beside / "config.yaml", ec)) return beside.string();
+  }
+  return DEFLEX_DATA_DIR;
 }
 
 namespace {

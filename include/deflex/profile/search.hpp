@@ -8,8 +8,9 @@
 // and a machine profile named NAME (not a path) the first of NAME.yaml in
 //   ./machines, ./samples/machines, $XDG_CONFIG_HOME/deflex/machines,
 //   /etc/deflex/machines, DATA/samples/machines.
-// DATA is $DEFLEX_DATA_DIR where set, else the folder deflex was installed to
-// share its files in (CMAKE_INSTALL_FULL_DATADIR/deflex, compiled in). It
+// DATA is $DEFLEX_DATA_DIR where set, else ../share/deflex beside the binary
+// when it holds config.yaml (an install under any prefix), else the folder
+// deflex was configured to install to (CMAKE_INSTALL_FULL_DATADIR/deflex). It
 // mirrors a clone: config.yaml, postproc/ (the dialects, also compiled in),
 // samples/ (machines, tools.yaml, materials.yaml, programs, stock, parts), so
 // one config.yaml serves both.

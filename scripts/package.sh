@@ -1,0 +1,13 @@
+#!/bin/sh
+# Builds the Debian package of deflex (CPack, the rules of CMakeLists.txt):
+# build/deflex_VERSION_ARCH.deb. It installs deflex in /usr/bin, its data in
+# /usr/share/deflex, the man pages and the bash completion; its Depends are the
+# Debian libraries the binary links. scripts/test-package.sh installs it on a
+# fresh Debian 12 and runs the sample job.
+set -eu
+cd "$(dirname "$0")/.."
+sh scripts/install-deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j2 --target deflex deflex_man
+(cd build && cpack -G DEB >/dev/null)
+ls build/deflex_*.deb
