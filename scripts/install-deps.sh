@@ -6,6 +6,7 @@
 #   scripts/install-deps.sh --test   also what the test suite needs (LinuxCNC's rs274)
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
 #   scripts/install-deps.sh --fuzz   also clang 14 and its runtimes (ASan, UBSan, libFuzzer)
+#   scripts/install-deps.sh --package  also what CPack's .deb needs (file, dpkg-shlibdeps)
 set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
@@ -16,6 +17,7 @@ for a in "$@"; do
     --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion" ;;
     --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
     --fuzz)  pkgs="$pkgs clang-14 libclang-rt-14-dev" ;;
+    --package) pkgs="$pkgs file dpkg-dev" ;;
     *) echo "install-deps.sh: unknown option $a" >&2; exit 2 ;;
   esac
 done

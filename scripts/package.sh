@@ -6,7 +6,7 @@
 # fresh Debian 12 and runs the sample job.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh
+sh scripts/install-deps.sh --package
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target deflex deflex_man
 (cd build && cpack -G DEB >/dev/null)
