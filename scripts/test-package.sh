@@ -23,7 +23,9 @@ deflex compensate /usr/share/deflex/samples/programs/six_surfaces.nc \
 test -s /tmp/six_surfaces_comp.nc
 echo "== man deflex-compensate"
 man deflex-compensate | head -n 6
-echo "== completion of 'deflex compensate x.nc --machine '"
-bash -c '. /usr/share/bash-completion/bash_completion
-COMP_WORDS=(deflex compensate x.nc --machine ""); COMP_CWORD=4; _deflex; echo "${COMPREPLY[@]}"'
+echo "== completion of 'deflex compensate x.nc --machine ' (loaded as bash loads it, on first use)"
+got=$(bash -c '. /usr/share/bash-completion/bash_completion; _completion_loader deflex
+COMP_WORDS=(deflex compensate x.nc --machine ""); COMP_CWORD=4; _deflex; echo "${COMPREPLY[@]}"')
+echo "$got"
+[ "$got" = mill3 ]
 echo "package test: passed"

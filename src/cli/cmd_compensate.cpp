@@ -157,6 +157,40 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
   time_line(io, t0, t1);
 }
 
+// The points left outside the tolerance on moves deflex never moves, once per
+// reason with a count, at the first line: "N points compensated" is never
+// silently smaller than the points outside the tolerance.
+void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
+  if (f.left_alone.empty()) return;
+  std::vector<std::uint32_t> lines;
+  for (const auto& [why, l] : f.left_alone) lines.push_back(l.first_line);
+  const auto text = lines_of_file(j, lines);
+  Diagnostics diags(&io.err, 0);
+  auto moves = [](interp::Fixed why) -> std::string {
+    switch (why) {
+      case interp::Fixed::cutter_comp: return "moves under cutter compensation (G41/G42), which deflex does not compensate yet";
+      case interp::Fixed::incremental: return "incremental (G91) moves, which deflex does not compensate yet";
+      case interp::Fixed::subprogram: return "moves in a subprogram, which deflex does not compensate yet";
+      case interp::Fixed::canned_cycle: return "canned-cycle moves, which deflex never moves (drilling is not a surface)";
+      default: return std::string("moves ") + interp::to_string(why) + ", which deflex never moves";
+    }
+  };
+  for (const auto& [why, l] : f.left_alone) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%zu points outside +-%.4f mm are left as programmed on ", l.points,
+                  j.settings.tolerance_mm);
+    diags.report(Severity::warning, text.at(l.first_line), l.first_line, 1,
+                 buf + moves(why) + " (the first here) [left_alone]");
+  }
+}
+
+report::Json left_alone_json(const report::RunFigures& f) {
+  report::Json a = report::Json::array();
+  for (const auto& [why, l] : f.left_alone)
+    a.push_back({{"reason", interp::to_string(why)}, {"points", l.points}, {"first_line", l.first_line}});
+  return a;
+}
+
 // What the pipeline in pieces needs of a job read in pieces.
 compensate::PipelineInput pipeline_input(Job& j, const Args& a, Io& io) {
   compensate::PipelineInput in;
@@ -266,6 +300,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   const compensate::Result& r = o.r;
   const report::RunFigures f = rec.rec->finish();
   const compensate::Plausibility pl = scan.finish(true);
+  print_left_alone(j, f, io);
   print_run(j, r, o.ws, pl, f.error_as_written, f.error, o.t0, o.t1, io);
   if (a.report.empty()) return 0;
   const double tol = j.settings.tolerance_mm;
@@ -278,6 +313,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   js["cusp_height_mm"] = report::cusp_json(f.cusp);
   js["machining_time"] = {{"as_written", report::to_json(o.t0)}, {"compensated", report::to_json(o.t1)}};
   js["warnings"] = warnings_json(pl);
+  js["left_alone"] = left_alone_json(f);
   std::vector<std::vector<std::string>> facts = {
       {"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(f.error.points), "compensated_points"},
       {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},

@@ -72,6 +72,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   Point p;
   p.line = cl.line;
   p.tool = design.tool;
+  p.fixed = design.fixed;
   p.index = cl.index;
   p.count = cl.count;
   p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);

@@ -182,6 +182,10 @@ struct Recorder::Impl {
     if (opt.points_csv && !p.air) csv_row(p, error, as_written, offset_n, c);
     if (p.air || p.plunge) return;
     err.add(error);
+    if (p.fixed != interp::Fixed::no && std::fabs(error) > opt.tolerance_mm) {
+      RunFigures::LeftAlone& l = left_alone[p.fixed];
+      if (!l.points++) l.first_line = p.line;
+    }
     cusp_stats.add(c.height_mm);
     ++cutting;
     const double f = p.force_N.norm();
@@ -269,6 +273,7 @@ struct Recorder::Impl {
       f.mean_area_mm2 = area_sum / n;
     }
     f.flank_rows = any_flank;
+    f.left_alone = left_alone;
     return f;
   }
 
@@ -299,6 +304,7 @@ struct Recorder::Impl {
   std::size_t cutting = 0;
   double peak_force_N = 0, force_sum = 0, peak_deflection_mm = 0, peak_mrr = 0, d_eff_sum = 0, area_sum = 0;
   bool any_flank = false;
+  std::map<interp::Fixed, RunFigures::LeftAlone> left_alone;
   std::unique_ptr<PageSink> page;
   // The tool of the last T number asked.
   bool have_tool = false;

@@ -93,6 +93,7 @@ struct Point {
   std::uint32_t line = 0;
   std::uint32_t motion = 0;     // index into the motion list
   std::int32_t tool = 0;        // T number of its motion
+  interp::Fixed fixed = interp::Fixed::no;  // why its motion is never moved (no: it may be)
   int index = 0, count = 0;     // sample index within the motion (count: its end)
   V3 tip_mm = V3::Zero();       // commanded tool tip (with the offsets applied)
   double ap_mm = 0, ae_mm = 0;

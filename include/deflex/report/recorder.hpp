@@ -22,6 +22,7 @@
 #include <deque>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <ostream>
@@ -75,6 +76,13 @@ struct RunFigures {
   double peak_force_N = 0, mean_force_N = 0, peak_deflection_mm = 0, peak_mrr_mm3_per_s = 0;
   double mean_d_eff_mm = 0, mean_area_mm2 = 0;
   bool flank_rows = false;      // flank_profile.csv got a row
+  // The rows outside the tolerance on motions deflex never moves, per reason
+  // (interp::Fixed): how many, and the line of the first.
+  struct LeftAlone {
+    std::size_t points = 0;
+    std::uint32_t first_line = 0;
+  };
+  std::map<interp::Fixed, LeftAlone> left_alone;
 };
 
 // A grid of the top view: per cell the design surface's height and, per map,
