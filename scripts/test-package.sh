@@ -24,6 +24,8 @@ test -s /tmp/six_surfaces_comp.nc
 echo "== man deflex-compensate"
 man deflex-compensate | head -n 6
 echo "== completion of 'deflex compensate x.nc --machine ' (loaded as bash loads it, on first use)"
+# In an empty folder: a path is a machine too, so files and folders would be offered.
+cd "$(mktemp -d)"
 got=$(bash -c '. /usr/share/bash-completion/bash_completion; _completion_loader deflex
 COMP_WORDS=(deflex compensate x.nc --machine ""); COMP_CWORD=4; _deflex; echo "${COMPREPLY[@]}"')
 echo "$got"
