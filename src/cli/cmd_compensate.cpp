@@ -157,30 +157,38 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
   time_line(io, t0, t1);
 }
 
-// The points left outside the tolerance on moves deflex never moves, once per
-// reason with a count, at the first line: "N points compensated" is never
-// silently smaller than the points outside the tolerance.
+// The cutting moves deflex leaves as written, once per reason with a count
+// and the first line (a note); and the points they leave outside the
+// tolerance (a warning at the first such line): "N points compensated" is
+// never silently smaller than the points outside the tolerance.
+// The moves of a reason deflex leaves as written, and whether that may change.
+std::string moves_of(interp::Fixed why) {
+  switch (why) {
+    case interp::Fixed::cutter_comp: return "moves under cutter compensation (G41/G42), not compensated yet";
+    case interp::Fixed::incremental: return "incremental (G91) moves, not compensated yet";
+    case interp::Fixed::subprogram: return "moves in subprograms, not compensated yet";
+    case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";
+    case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";
+    case interp::Fixed::block_delete: return "block-delete '/' moves (run or not at the operator's switch)";
+    default: return std::string("moves: ") + interp::to_string(why);
+  }
+}
+
 void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
+  for (const auto& [why, l] : j.left_moves)
+    io.info() << j.prog.source().name() << ": note: " << l.blocks << (l.blocks == 1 ? " block stays" : " blocks stay")
+              << " as written: " << moves_of(why) << "; the first at line " << l.first_line << "\n";
   if (f.left_alone.empty()) return;
   std::vector<std::uint32_t> lines;
   for (const auto& [why, l] : f.left_alone) lines.push_back(l.first_line);
   const auto text = lines_of_file(j, lines);
   Diagnostics diags(&io.err, 0);
-  auto moves = [](interp::Fixed why) -> std::string {
-    switch (why) {
-      case interp::Fixed::cutter_comp: return "moves under cutter compensation (G41/G42), which deflex does not compensate yet";
-      case interp::Fixed::incremental: return "incremental (G91) moves, which deflex does not compensate yet";
-      case interp::Fixed::subprogram: return "moves in a subprogram, which deflex does not compensate yet";
-      case interp::Fixed::canned_cycle: return "canned-cycle moves, which deflex never moves (drilling is not a surface)";
-      default: return std::string("moves ") + interp::to_string(why) + ", which deflex never moves";
-    }
-  };
   for (const auto& [why, l] : f.left_alone) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%zu points outside +-%.4f mm are left as programmed on ", l.points,
                   j.settings.tolerance_mm);
     diags.report(Severity::warning, text.at(l.first_line), l.first_line, 1,
-                 buf + moves(why) + " (the first here) [left_alone]");
+                 buf + moves_of(why) + " (the first here) [left_alone]");
   }
 }
 

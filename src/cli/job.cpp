@@ -311,6 +311,7 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
       cut.check(m, p.source());
       clock.add(m);
       if (m.kind != interp::MotionKind::rapid) j.cutting_tools.insert(compensate::tool_id(m, st));
+      j.count_left(m);
     }
     piece.clear();
   });
@@ -475,6 +476,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
       report_part_gaps(g, [&text](std::uint32_t l) { return text.at(l); }, gap, diags);
     }
   }
+  for (const interp::Motion& m : j.motions) j.count_left(m);  // in pieces: the check pass counted them
   if (io.verbose) print_setup(j, a, io);
   return j;
 }

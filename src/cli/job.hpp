@@ -53,6 +53,19 @@ struct Job {
   std::unique_ptr<gcode::ProgramPasses> pieces;
   process::MachiningTime time_as_written;
   std::size_t motion_count = 0;
+  // The cutting moves deflex leaves as written, per reason: blocks and the first line.
+  struct LeftMoves {
+    std::size_t blocks = 0;
+    std::uint32_t first_line = 0, last_line = 0;
+  };
+  std::map<interp::Fixed, LeftMoves> left_moves;
+  void count_left(const interp::Motion& m) {
+    if (m.kind == interp::MotionKind::rapid || m.fixed == interp::Fixed::no || m.fixed == interp::Fixed::rapid) return;
+    LeftMoves& l = left_moves[m.fixed];
+    if (l.blocks && l.last_line == m.line) return;
+    if (!l.blocks++) l.first_line = m.line;
+    l.last_line = m.line;
+  }
   // For the provenance, in pieces: the program's SHA-256 and its cutting tools.
   std::string sha256;
   std::set<std::string> cutting_tools;

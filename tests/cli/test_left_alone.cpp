@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "../support.hpp"
@@ -51,5 +52,27 @@ TEST_SUITE("cli") {
     CHECK(g90.err.find("[left_alone]") == std::string::npos);
     CHECK(report::Json::parse(test::read_file((dir / "r90/summary.json").string()))["left_alone"].empty());
     fs::remove_all(dir);
+  }
+}
+
+TEST_SUITE("cli") {
+  TEST_CASE("left as written: one note per reason with the block count and the first line, in pieces too") {
+    const std::vector<std::string> a = {"compensate", "samples/programs/pocket_finish.nc", "--stock",
+                                        "box:-5,-5,-20,105,85,0", "-o", "/tmp/deflex-left-pf.nc"};
+    const test::CliResult r = test::run_cli(a);
+    REQUIRE(r.rc == 0);
+    const std::string note =
+        "samples/programs/pocket_finish.nc: note: 2 blocks stay as written: canned-cycle moves (drilling is not a "
+        "surface); the first at line 21\n";
+    CHECK(r.err.find(note) != std::string::npos);
+    CHECK(r.err.find("canned-cycle") == r.err.rfind("canned-cycle"));  // once, not per block
+    ::setenv("DEFLEX_CHUNK_LINES", "5", 1);
+    const test::CliResult p = test::run_cli(a);
+    ::unsetenv("DEFLEX_CHUNK_LINES");
+    CHECK(p.err == r.err);
+    // The plain side wall has no such move: no note.
+    CHECK(test::run_cli({"compensate", "samples/programs/side_wall.nc", "--stock", "box:0,-40,-30,100,0,0", "-o",
+                         "/tmp/deflex-left-sw.nc"})
+              .err.find("stay as written") == std::string::npos);
   }
 }
