@@ -7,6 +7,11 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "deflex --help failed")
 endif()
 file(MAKE_DIRECTORY "${OUT}-wrappers")
+# No page of a command that is gone.
+file(GLOB old "${OUT}/*.1")
+if(old)
+  file(REMOVE ${old})
+endif()
 set(common --no-info --no-discard-stderr "--version-string=${VERSION}" --source=deflex --manual=deflex)
 execute_process(COMMAND help2man ${common} "--name=compensates milling-tool deflection in Fanuc/ISO programs"
                         "--output=${OUT}/deflex.1" "${DEFLEX}" RESULT_VARIABLE rc)

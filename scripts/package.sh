@@ -7,7 +7,10 @@
 set -eu
 cd "$(dirname "$0")/.."
 sh scripts/install-deps.sh --package
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# Installed under /usr (the data folder compiled in as the fallback where
+# /proc is missing; only profile/search.cpp depends on it).
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr >/dev/null
 cmake --build build -j2 --target deflex deflex_man
+rm -f build/deflex_*.deb
 (cd build && cpack -G DEB >/dev/null)
 ls build/deflex_*.deb

@@ -22,6 +22,7 @@ deflex compensate /usr/share/deflex/samples/programs/six_surfaces.nc \
   --stock /usr/share/deflex/samples/stock/six_surfaces_stock.stl -o /tmp/six_surfaces_comp.nc
 test -s /tmp/six_surfaces_comp.nc
 echo "== man deflex-compensate"
+man -w deflex-compensate
 man deflex-compensate | head -n 6
 echo "== completion of 'deflex compensate x.nc --machine ' (loaded as bash loads it, on first use)"
 # In an empty folder: a path is a machine too, so files and folders would be offered.

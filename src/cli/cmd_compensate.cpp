@@ -176,7 +176,7 @@ std::string moves_of(interp::Fixed why) {
 
 void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
   for (const auto& [why, l] : j.left_moves)
-    io.info() << j.prog.source().name() << ": note: " << l.blocks << (l.blocks == 1 ? " block stays" : " blocks stay")
+    io.info() << j.prog.source().name() << ": note: " << l.blocks << (l.blocks == 1 ? " executed block stays" : " executed blocks stay")
               << " as written: " << moves_of(why) << "; the first at line " << l.first_line << "\n";
   if (f.left_alone.empty()) return;
   std::vector<std::uint32_t> lines;
@@ -400,6 +400,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   };
   if (j.pieces) {
     compensate::PipelineInput in = pipeline_input(j, a, io);
+    in.progress = progress;  // the one end_progress() closes
     in.sinks.nominal = sink;
     compensate::simulate_in_pieces(in);
   } else {

@@ -104,7 +104,15 @@ std::string config_string(const profile::Config& c, const char* key) {
 std::string config_path(const profile::Config& c, const char* key) {
   std::string v = config_string(c, key);
   if (v.empty() || std::filesystem::path(v).is_absolute() || v.starts_with("box:")) return v;
-  return (std::filesystem::path(c.file).parent_path() / v).lexically_normal().string();
+  const std::string here = (std::filesystem::path(c.file).parent_path() / v).lexically_normal().string();
+  // A copy of the installed config (in ~/.config/deflex or /etc/deflex) keeps
+  // naming the installed libraries: samples/tools.yaml from the data folder.
+  std::error_code ec;
+  if (!std::filesystem::exists(here, ec)) {
+    const std::filesystem::path installed = std::filesystem::path(profile::data_dir()) / v;
+    if (std::filesystem::exists(installed, ec)) return installed.lexically_normal().string();
+  }
+  return here;
 }
 double config_number(const profile::Config& c, const char* key, double dflt) {
   if (c.root && c.root[key]) return yaml::number(c.root[key], key, c.file);

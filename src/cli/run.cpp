@@ -66,6 +66,10 @@ std::vector<std::string> take_output_options(const std::vector<std::string>& arg
   std::vector<std::string> rest;
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
+    if (a == "--") {  // the rest are files (a file named -v)
+      rest.insert(rest.end(), args.begin() + static_cast<std::ptrdiff_t>(i), args.end());
+      break;
+    }
     if (a == "-q" || a == "--quiet") {
       io.quiet = true;
     } else if (a == "-v" || a == "--verbose") {

@@ -320,7 +320,7 @@ struct Compensation::Impl {
     const bool take = ph.consumable_stock && ph.consumable_stock == ph.stock && !same;
     std::unique_ptr<stock::ZMap> nominal_map = take ? std::make_unique<stock::ZMap>(clone(*ph.stock)) : nullptr;
     nominal = std::make_unique<Simulation>(ph, one, normals, [this](const Point& p) { nominal_point(p); },
-                                           std::move(nominal_map), threaded ? Progress() : progress, total);
+                                           std::move(nominal_map), same ? progress : Progress(), total);
     if (!same) {
       std::unique_ptr<stock::ZMap> mirror_map =
           take ? std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock)) : nullptr;

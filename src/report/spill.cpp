@@ -71,6 +71,8 @@ double kth_value(const std::function<void(const std::function<void(double)>&)>& 
     // A histogram over [lo, hi]; a bin's values are those between its
     // smallest and largest (the binning is monotone), the next range.
     const double w = (hi - lo) / kBins;
+    if (!(w > 0) || !std::isfinite(w)) level = 12;  // infinite or subnormal range: sort what is there
+    if (level >= 12) continue;
     auto bin = [&](double x) { return std::min<std::size_t>(kBins - 1, static_cast<std::size_t>((x - lo) / w)); };
     std::vector<std::size_t> count(kBins, 0);
     std::vector<double> mn(kBins, HUGE_VAL), mx(kBins, -HUGE_VAL);

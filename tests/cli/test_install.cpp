@@ -77,6 +77,15 @@ TEST_SUITE("cli") {
     CHECK(run(work, "--version", data).out.find("config: config.yaml") != std::string::npos);
     test::write_file((work / "deflex.yaml").string(), "machine: mill3\n");
     CHECK(run(work, "--version", data).out.find("config: deflex.yaml") != std::string::npos);
+    // The installed config copied to ~/.config/deflex to be edited keeps naming
+    // the installed libraries (relative paths: its folder, else the data's).
+    fs::copy_file(data / "config.yaml", home / ".config/deflex/config.yaml", fs::copy_options::overwrite_existing);
+    fs::remove(work / "config.yaml");
+    fs::remove(work / "deflex.yaml");
+    const test::CliResult copied = run(work, job + " --tolerance 0.005", data);
+    CAPTURE(copied.err);
+    CHECK(copied.rc == 0);
+    test::write_file((work / "deflex.yaml").string(), "machine: mill3\n");
     // A config in use is read: its mistakes are the user's to see.
     test::write_file((work / "deflex.yaml").string(), "tolerance_mm: -1\n");
     const test::CliResult bad = run(work, "check " + (data / "samples/programs/side_wall.nc").string(), data);

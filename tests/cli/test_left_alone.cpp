@@ -62,7 +62,7 @@ TEST_SUITE("cli") {
     const test::CliResult r = test::run_cli(a);
     REQUIRE(r.rc == 0);
     const std::string note =
-        "samples/programs/pocket_finish.nc: note: 2 blocks stay as written: canned-cycle moves (drilling is not a "
+        "samples/programs/pocket_finish.nc: note: 2 executed blocks stay as written: canned-cycle moves (drilling is not a "
         "surface); the first at line 21\n";
     CHECK(r.err.find(note) != std::string::npos);
     CHECK(r.err.find("canned-cycle") == r.err.rfind("canned-cycle"));  // once, not per block

@@ -4,6 +4,7 @@
 // a user would type them.
 #include <doctest/doctest.h>
 
+#include <cstdlib>
 #include <regex>
 
 #include "../support.hpp"
@@ -64,5 +65,24 @@ TEST_SUITE("cli") {
       CHECK(h.out.find("--progress arg (=auto)") != std::string::npos);
     }
     CHECK(test::run_cli({"compensate", "--help"}).out.find("--cell-mm arg (=0.05)") != std::string::npos);
+  }
+}
+
+TEST_SUITE("cli") {
+  TEST_CASE("--verbose in pieces: one stage per simulation, closed at the end") {
+    ::setenv("DEFLEX_CHUNK_LINES", "40", 1);
+    const test::CliResult s = test::run_cli({"simulate", "samples/programs/side_wall.nc", "--stock",
+                                             "box:0,-40,-30,100,0,0", "-v", "--threads", "1"});
+    const test::CliResult c = with({"-v", "--threads", "1"});
+    ::unsetenv("DEFLEX_CHUNK_LINES");
+    CHECK(s.rc == 0);
+    CHECK(s.err.find("deflex: simulating done in ") != std::string::npos);
+    // With one thread the program as written is simulated beside the mirror
+    // pass: the stage stays "compensating", once.
+    CHECK(c.rc == 0);
+    const std::size_t at = c.err.find("deflex: compensating done in ");
+    CHECK(at != std::string::npos);
+    CHECK(c.err.find("done in ", at + 30) == std::string::npos);
+    CHECK(c.err.find("simulating") == std::string::npos);
   }
 }
