@@ -38,11 +38,11 @@ double written_mm(double value_mm, bool inch, const profile::Dialect& d) {
 
 }  // namespace
 
-// A block deflex may split: words only N, G1/G01, X, Y, Z, F.
+// A block deflex may split: words only N, G1/G01, G90/G91, X, Y, Z, F.
 static bool split_form(const gcode::Block& b) {
   if (b.macro || b.block_delete || !b.comments.empty()) return false;
   for (const gcode::Word& w : b.words) {
-    if (w.letter == 'G' && w.code10() == 10) continue;
+    if (w.letter == 'G' && (w.code10() == 10 || w.code10() == 900 || w.code10() == 910)) continue;
     if (w.letter != 'N' && w.letter != 'X' && w.letter != 'Y' && w.letter != 'Z' && w.letter != 'F') return false;
   }
   return true;
@@ -80,6 +80,36 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
     ok[i] = m.kind == interp::MotionKind::linear ? split_form(b) : arc_split_form(b, m);
   }
   return ok;
+}
+
+// A plain G1 in G91: each axis word becomes the increment from where the
+// written program stands (`carried`, on the grid of the written digits) to the
+// compensated end, so the control's sum of increments is the compensated
+// position, and back to the original's once the offsets return to zero. The
+// programmer's text stays where the increment written does not change.
+static void write_increments(writer::Rewriter& w, const gcode::Block& b, const interp::Motion& m, const V3& o,
+                             double* carried, const profile::Dialect& d, WriteStats& st) {
+  static const char axes[] = {'X', 'Y', 'Z'};
+  for (int a = 0; a < 3; ++a) {
+    // Unknown (NaN): nothing deflex wrote moved the axis, the control stands
+    // where the original puts it.
+    if (std::isnan(carried[a])) carried[a] = m.start_mm[a];
+    const double want = written_mm(m.end_mm[a] + o[a], m.inch, d);
+    const double step = written_mm(want - carried[a], m.inch, d);
+    const gcode::Word* word = b.find(axes[a]);
+    if (word) {
+      // The block's own increment (a split move starts elsewhere than its block did).
+      const double programmed = word->value * (m.inch ? 25.4 : 1.0);
+      if (written_mm(programmed, m.inch, d) != step) {
+        w.set_number(*word, m.inch ? step / 25.4 : step, m.inch);
+        ++st.numbers_changed;
+      }
+    } else if (step != 0.0) {
+      w.insert_word(insert_position(b, axes[a]), axes[a], m.inch ? step / 25.4 : step, m.inch);
+      ++st.words_inserted;
+    }
+    carried[a] += step;
+  }
 }
 
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
@@ -133,6 +163,15 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       std::vector<std::pair<char, double>> words;
       for (int a = 0; a < 3; ++a) {
         const double want = m.end_mm[a] + o[a];
+        if (m.incremental) {
+          // In G91 (the parent block has no G90/G91 word: split_form) the
+          // words are increments from where the written program stands.
+          if (std::isnan(carried[a])) carried[a] = m.start_mm[a];
+          const double step = written_mm(want, m.inch, d) - carried[a];
+          words.push_back({axes[a], m.inch ? step / 25.4 : step});
+          carried[a] += written_mm(step, m.inch, d);
+          continue;
+        }
         words.push_back({axes[a], m.inch ? want / 25.4 : want});
         carried[a] = written_mm(want, m.inch, d);
       }
@@ -144,7 +183,12 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       } else if (const gcode::Word* f = b.find('F')) {
         words.push_back({'F', f->value});
       }
-      w.insert_block_before(m.line, w.format_block(m.line - 1, words, m.inch, "", "G1"));
+      // The pieces run in the distance mode of the block they split: where it
+      // sets the mode itself, they say it too (they come before it).
+      bool sets_mode = false;
+      for (const gcode::Word& x : b.words) sets_mode = sets_mode || (x.letter == 'G' && (x.code10() == 900 || x.code10() == 910));
+      const char* lead = !sets_mode ? "G1" : m.incremental ? "G91 G1" : "G90 G1";
+      w.insert_block_before(m.line, w.format_block(m.line - 1, words, m.inch, "", lead));
       ++st.blocks_inserted;
       continue;
     }
@@ -180,6 +224,12 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
           ++st.words_inserted;
         }
       }
+    }
+    if (m.incremental) {
+      if (!lexed) prog.lex(m.line, b, quiet);
+      write_increments(w, b, m, o, carried, d, st);
+      feed_edit(i);
+      continue;
     }
     for (int a = 0; a < 3; ++a) {
       const double want = m.end_mm[a] + o[a];

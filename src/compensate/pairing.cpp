@@ -19,14 +19,15 @@ void LineFactsSink::motion(const interp::Motion& m) {
 
 namespace {
 
-// The form of a block deflex inserts: words only N, G1, X, Y, Z, F, an axis
-// word at least, no comment (apply_offsets writes `G1 X Y Z [F]`; diff also
-// accepts a hand-written split that leaves modal axes out).
+// The form of a block deflex inserts: words only N, G1, G90/G91, X, Y, Z, F,
+// an axis word at least, no comment (apply_offsets writes `G1 X Y Z [F]`, led
+// by the distance mode of a block that sets its own; diff also accepts a
+// hand-written split that leaves modal axes out).
 bool insert_form(const gcode::Block& b) {
   if (b.kind != gcode::LineKind::block || b.macro || b.block_delete || !b.comments.empty()) return false;
   bool axis = false;
   for (const gcode::Word& w : b.words) {
-    if (w.letter == 'G' && w.code10() == 10) continue;
+    if (w.letter == 'G' && (w.code10() == 10 || w.code10() == 900 || w.code10() == 910)) continue;
     if (w.letter == 'X' || w.letter == 'Y' || w.letter == 'Z') axis = true;
     else if (w.letter != 'N' && w.letter != 'F') return false;
   }

@@ -11,45 +11,105 @@
 #include "../support.hpp"
 #include "deflex/report/json.hpp"
 
+#include <string>
+#include <vector>
+
 namespace fs = std::filesystem;
 using namespace deflex;
 
+namespace {
+
+// The sample side wall with its first pass (line 16) rewritten by `edit`.
+std::string wall_with(const fs::path& dir, const std::string& name, const std::string& pass) {
+  std::string text = test::read_file("samples/programs/side_wall.nc");
+  const std::string first = "N22 X110. F2546.4\n";
+  REQUIRE(text.find(first) != std::string::npos);
+  text.replace(text.find(first), first.size(), pass);
+  const std::string p = (dir / name).string();
+  test::write_file(p, text);
+  return p;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> v;
+  std::size_t a = 0;
+  for (std::size_t b; (b = text.find('\n', a)) != std::string::npos; a = b + 1) v.push_back(text.substr(a, b - a));
+  return v;
+}
+
+}  // namespace
+
 TEST_SUITE("cli") {
-  TEST_CASE("left alone: the first pass of the side wall in G91 is named, with its count, on stderr and in summary.json") {
+  TEST_CASE("G91 (issue 16 item 1): a wall cut in increments is compensated as the same wall in G90; every later position is the original's") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-g91-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    // The first pass as an increment from X-10, its block setting G91 itself.
+    const std::string g91 = wall_with(dir, "wall91.nc", "N22 G91 X120. F2546.4\nN23 G90\n");
+    const std::vector<std::string> stock = {"--stock", "box:0,-40,-30,100,0,0"};
+    auto compensate = [&](const std::string& in, const std::string& out) {
+      std::vector<std::string> a = {"compensate", in, "-o", out};
+      a.insert(a.end(), stock.begin(), stock.end());
+      return test::run_cli(a);
+    };
+    const std::string out90 = (dir / "out90.nc").string(), out91 = (dir / "out91.nc").string();
+    REQUIRE(compensate("samples/programs/side_wall.nc", out90).rc == 0);
+    const test::CliResult r91 = compensate(g91, out91);
+    CAPTURE(r91.err);
+    REQUIRE(r91.rc == 0);
+    CHECK(r91.err.find("[left_alone]") == std::string::npos);
+    // The same compensated path, point for point (the written digits: exact).
+    const std::string p90 = test::run_cli({"path", out90}).out, p91 = test::run_cli({"path", out91}).out;
+    CHECK(p91 == p90);
+    // The blocks deflex put in before the G91 block are increments in G91 too.
+    const std::string text = test::read_file(out91);
+    CHECK(text.find("G91 G1 X6.667 Y-0.02 Z0. F2546.4\n") != std::string::npos);
+    CHECK(text.find("N22 G91 X110. Y0.02 F2546.4\n") != std::string::npos);
+    // Every rapid ends where the original's does.
+    const std::vector<std::string> orig = lines_of(test::run_cli({"path", g91}).out), comp = lines_of(p91);
+    std::vector<std::string> rapids_o, rapids_c;
+    for (const auto& l : orig) if (l.starts_with("G0 ")) rapids_o.push_back(l);
+    for (const auto& l : comp) if (l.starts_with("G0 ")) rapids_c.push_back(l);
+    CHECK(rapids_o.size() >= 4);
+    CHECK(rapids_c == rapids_o);
+    // Read in pieces: the same bytes.
+    ::setenv("DEFLEX_CHUNK_LINES", "3", 1);
+    const std::string outp = (dir / "out91p.nc").string();
+    CHECK(compensate(g91, outp).err == r91.err);
+    ::unsetenv("DEFLEX_CHUNK_LINES");
+    CHECK(test::read_file(outp) == text);
+    fs::remove_all(dir);
+  }
+
+  TEST_CASE("left alone: a pass deflex does not move is named with its count, on stderr and in summary.json") {
     const fs::path dir = fs::temp_directory_path() / ("deflex-left-" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    // The sample's first pass (line 16) as an incremental move of the same end.
-    std::string text = test::read_file("samples/programs/side_wall.nc");
-    const std::string pass = "N22 X110. F2546.4\n";
-    REQUIRE(text.find(pass) != std::string::npos);
-    text.replace(text.find(pass), pass.size(), "N22 G91 X120. F2546.4\nN23 G90\n");
-    const std::string prog = (dir / "wall91.nc").string();
-    test::write_file(prog, text);
+    // The first pass as a block-delete block (run or not at the operator's switch).
+    const std::string prog = wall_with(dir, "wall_bd.nc", "/N22 X110. F2546.4\n");
     const std::vector<std::string> stock = {"--stock", "box:0,-40,-30,100,0,0"};
     auto run = [&](const std::string& p, const fs::path& report) {
       std::vector<std::string> a = {"compensate", p, "-o", (dir / "out.nc").string(), "--report", report.string()};
       a.insert(a.end(), stock.begin(), stock.end());
       return test::run_cli(a);
     };
-    const test::CliResult g91 = run(prog, dir / "r91"), g90 = run("samples/programs/side_wall.nc", dir / "r90");
-    REQUIRE(g91.rc == 0);
-    REQUIRE(g90.rc == 0);
+    const test::CliResult bd = run(prog, dir / "rbd"), plain = run("samples/programs/side_wall.nc", dir / "r90");
+    REQUIRE(bd.rc == 0);
+    REQUIRE(plain.rc == 0);
     const std::string want = prog + ":16:1: warning: ";
-    const std::size_t at = g91.err.find(want);
+    const std::size_t at = bd.err.find(want);
     REQUIRE(at != std::string::npos);
-    const std::string line = g91.err.substr(at, g91.err.find('\n', at) - at);
-    CHECK(line.find("points outside +-0.0100 mm are left as programmed on incremental (G91) moves") != std::string::npos);
+    const std::string line = bd.err.substr(at, bd.err.find('\n', at) - at);
+    CHECK(line.find("points outside +-0.0100 mm are left as programmed on block-delete '/' moves") != std::string::npos);
     CHECK(line.find("[left_alone]") != std::string::npos);
-    const report::Json s = report::Json::parse(test::read_file((dir / "r91/summary.json").string()));
+    const report::Json s = report::Json::parse(test::read_file((dir / "rbd/summary.json").string()));
     REQUIRE(s["left_alone"].size() == 1);
-    CHECK(s["left_alone"][0]["reason"] == "incremental (G91)");
+    CHECK(s["left_alone"][0]["reason"] == "block delete '/'");
     CHECK(s["left_alone"][0]["first_line"] == 16);
-    // The count is the first pass's points outside the tolerance: on the
-    // program in G90 the same pass is compensated, and nothing is left alone.
+    // The count is the first pass's points outside the tolerance: on the plain
+    // program the same pass is compensated, and nothing is left alone.
     const std::size_t n = s["left_alone"][0]["points"];
     CHECK(n > 150);
     CHECK(n <= s["cl_points"].get<std::size_t>());
-    CHECK(g90.err.find("[left_alone]") == std::string::npos);
+    CHECK(plain.err.find("[left_alone]") == std::string::npos);
     CHECK(report::Json::parse(test::read_file((dir / "r90/summary.json").string()))["left_alone"].empty());
     fs::remove_all(dir);
   }

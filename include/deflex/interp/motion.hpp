@@ -37,10 +37,16 @@ struct Motion {
   int tool = 0;                     // active T number
   double spindle_rpm = 0.0;         // last S word (0: none yet)
   bool inch = false;                // the block was read in G20
-  // A plain G0/G1/G2/G3 block in G90, outside subprograms, cutter compensation
-  // and block delete: one motion whose end is exactly its X/Y/Z words (or the
-  // modal values), so the writer may re-target it by setting or adding words.
+  // A plain G0/G1/G2/G3 block in G90 (or a G1 in G91), outside subprograms,
+  // cutter compensation and block delete: one motion whose end is exactly its
+  // X/Y/Z words (or the modal values; in G91 their sum with the position), so
+  // the writer may re-target it by setting or adding words.
   bool plain = false;
+  // G91: the block's X/Y/Z words are increments from where the control stands
+  // (a plain G1 in G91 is compensable: the writer turns its ends into
+  // increments from the written program's position, so every later position
+  // stays the original's).
+  bool incremental = false;
   // Offset of the active work frame in machine coordinates (work + this = machine), mm.
   Vec3 work_offset_mm{};
   bool compensable() const { return fixed == Fixed::no; }
