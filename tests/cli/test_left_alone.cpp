@@ -77,6 +77,32 @@ TEST_SUITE("cli") {
     CHECK(compensate(g91, outp).err == r91.err);
     ::unsetenv("DEFLEX_CHUNK_LINES");
     CHECK(test::read_file(outp) == text);
+    // A program in G91 throughout (two passes, G91 rapids between them), read
+    // back by LinuxCNC's rs274: every rapid of the output is the original's.
+    const std::string inc = (dir / "inc.nc").string(), incc = (dir / "incc.nc").string();
+    test::write_file(inc,
+                     "%\nO1\nG21 G90 G17 G40 G49 G80\nT6 M06\nG00 G54 X-10. Y3.5 S6366 M03\nG43 H6 Z50.\nZ5.\n"
+                     "G01 Z-12. F1000.\nG91\nG1 X40. F2546.4\nG1 X40.\nG1 X40.\nG0 Z17.\nG0 X-120. Y-2.5\n"
+                     "G1 Z-17. F1000.\nG1 X60. F2546.4\nG1 X60.\nG0 Z62.\nG90\nM30\n%\n");
+    const test::CliResult ri = compensate(inc, incc);
+    REQUIRE(ri.rc == 0);
+    CHECK(ri.err.find("0 points compensated") == std::string::npos);
+    REQUIRE_MESSAGE(fs::exists("/usr/bin/rs274"), "rs274 missing: run scripts/install-deps.sh --test");
+    test::write_file((dir / "tools.tbl").string(), "T6 P6 Z0 D12 ;\n");
+    auto traverses = [&](const std::string& prog) {
+      const std::string out = (dir / "rs274.txt").string();
+      const std::string cmd = "/usr/bin/rs274 -t " + (dir / "tools.tbl").string() + " -g " + prog + " " + out +
+                              " </dev/null >/dev/null 2>&1";
+      REQUIRE(std::system(cmd.c_str()) == 0);
+      std::vector<std::string> v;
+      for (const std::string& l : lines_of(test::read_file(out)))
+        if (l.find("STRAIGHT_TRAVERSE") != std::string::npos) v.push_back(l.substr(l.find("N.....")));
+      return v;
+    };
+    const std::vector<std::string> t0 = traverses(inc), t1 = traverses(incc);
+    CHECK(t0.size() >= 5);
+    CHECK(t1 == t0);
+    CHECK(test::read_file(incc) != test::read_file(inc));
     fs::remove_all(dir);
   }
 
