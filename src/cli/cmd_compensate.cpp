@@ -34,8 +34,8 @@ const char* kCompensateHelp =
     "each) with the moves before it already cut where they will run.\n"
     "Only the X/Y/Z (and a re-aimed arc's I/J/K) numbers of cutting blocks change (an\n"
     "axis word is added where a modal value would carry an offset into the next\n"
-    "block; a G1 in G91 gets the increments that reach the compensated points);\n"
-    "rapids, canned cycles, subprograms, G91 arcs and G41/G42 moves, and points\n"
+    "block; a G1/G2/G3 in G91 gets the increments that reach the compensated\n"
+    "points); rapids, canned cycles, subprograms and G41/G42 moves, and points\n"
     "predicted inside +-tolerance stay as programmed. A long G1 whose error varies\n"
     "along it gets G1 blocks inserted before it; an arc whose compensation varies is\n"
     "linearised (G1 chords within 1 um, the arc block keeps the last piece) when its\n"
@@ -166,7 +166,7 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
 std::string moves_of(interp::Fixed why) {
   switch (why) {
     case interp::Fixed::cutter_comp: return "moves under cutter compensation (G41/G42), not compensated yet";
-    case interp::Fixed::incremental: return "incremental (G91) arcs, not compensated yet";
+    case interp::Fixed::incremental: return "incremental (G91) arcs with absolute centres (G90.1), not compensated";
     case interp::Fixed::subprogram: return "moves in subprograms, not compensated yet";
     case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";
     case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";

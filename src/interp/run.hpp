@@ -198,7 +198,7 @@ class Run {
     if (forced != Fixed::no) return forced;
     if (blk_.block_delete) return Fixed::block_delete;
     if (!stack_.empty()) return Fixed::subprogram;
-    if (!absolute_ && !(plain_ && k == MotionKind::linear)) return Fixed::incremental;
+    if (!absolute_ && !plain_) return Fixed::incremental;
     return Fixed::no;
   }
   void emit(MotionKind k, const Vec3& end, Fixed forced = Fixed::no, const Vec3* center = nullptr) {
@@ -215,7 +215,7 @@ class Run {
     m.tool = tool_;
     m.spindle_rpm = spindle_rpm_;
     m.inch = inch_;
-    m.plain = plain_ && (absolute_ || k == MotionKind::linear) && stack_.empty() && comp_ == 400 && !blk_.block_delete;
+    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && stack_.empty() && comp_ == 400 && !blk_.block_delete;
     m.incremental = !absolute_;
     m.work_offset_mm = wofs_;
     ++stats_.motions;

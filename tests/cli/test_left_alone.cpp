@@ -40,7 +40,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 }  // namespace
 
 TEST_SUITE("cli") {
-  TEST_CASE("G91 (issue 16 item 1): a wall cut in increments is compensated as the same wall in G90; every later position is the original's") {
+  TEST_CASE("G91 (issue 16 item 1): walls, arcs and a pocket cut in increments are compensated as the same cuts in G90; every later position is the original's") {
     const fs::path dir = fs::temp_directory_path() / ("deflex-g91-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     // The first pass as an increment from X-10, its block setting G91 itself.
@@ -103,6 +103,33 @@ TEST_SUITE("cli") {
     CHECK(t0.size() >= 5);
     CHECK(t1 == t0);
     CHECK(test::read_file(incc) != test::read_file(inc));
+    // Arcs in G91 (I/J/K and R): the pocket sample's finishing pass rewritten
+    // in increments, judged at 0.5 um so most of it is compensated (and its
+    // G2 linearised): the same compensated path as the sample in G90.
+    std::string pocket = test::read_file("samples/programs/pocket_finish.nc");
+    const std::vector<std::pair<std::string, std::string>> to_g91 = {
+        {"N60 G01 Z-1. F400.\n", "N60 G01 Z-1. F400.\nN65 G91\n"}, {"N70 X60.\n", "N70 X80.\n"},
+        {"N80 Y-8.5\n", "N80 Y1.5\n"}, {"N90 X-20.\n", "N90 X-80.\n"}, {"N100 Y-7.\n", "N100 Y1.5\n"},
+        {"N110 X60.\n", "N110 X80.\n"}, {"N120 G02 X70. Y3. I0. J10.\n", "N120 G02 X10. Y10. I0. J10.\n"},
+        {"N130 G01 Y20.\n", "N130 G01 Y17.\n"}, {"N140 G03 X60. Y30. R10.\n", "N140 G03 X-10. Y10. R10.\n"},
+        {"N150 G01 X-20.\n", "N150 G01 X-80.\nN155 G90\n"}};
+    for (const auto& [from, to] : to_g91) {
+      REQUIRE(pocket.find(from) != std::string::npos);
+      pocket.replace(pocket.find(from), from.size(), to);
+    }
+    const std::string pocket91 = (dir / "pocket91.nc").string();
+    test::write_file(pocket91, pocket);
+    REQUIRE(test::run_cli({"path", pocket91}).out == test::run_cli({"path", "samples/programs/pocket_finish.nc"}).out);
+    auto tight = [&](const std::string& in, const std::string& out) {
+      return test::run_cli({"compensate", in, "--stock", "box:-5,-5,-20,105,85,0", "--tolerance", "0.0005", "-o", out});
+    };
+    const test::CliResult a90 = tight("samples/programs/pocket_finish.nc", (dir / "pa.nc").string()),
+                          a91 = tight(pocket91, (dir / "pb.nc").string());
+    REQUIRE(a90.rc == 0);
+    REQUIRE(a91.rc == 0);
+    CHECK(a91.err.find("blocks inserted") != std::string::npos);
+    CHECK(a91.err.find("[left_alone]") == std::string::npos);
+    CHECK(test::run_cli({"path", (dir / "pb.nc").string()}).out == test::run_cli({"path", (dir / "pa.nc").string()}).out);
     fs::remove_all(dir);
   }
 
