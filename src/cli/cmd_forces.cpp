@@ -160,8 +160,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
 
   // The material library: --material-file, else the config's (search order
   // of profile/search.hpp), else the installed one.
-  if (a.mat.material_file.empty() && !a.mat.material.empty())
-    a.mat.material_file = config_path(profile::load_config(), "material_file");
+  if (!a.mat.material.empty()) a.mat.material_file = material_library_path(a.mat.material_file, profile::load_config());
   const fo::Coefficients k = coefficients_of(a.mat);
   const fo::Cutter cutter = fo::cutter_of(stiffness::find_tool(stiffness::load_tool_library(a.tool_file), a.tool));
   if (a.ap > cutter.flute_length_mm)

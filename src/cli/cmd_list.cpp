@@ -45,9 +45,7 @@ int cmd_list(const std::vector<std::string>& args, Io& io) {
     const profile::Config c = profile::load_config(config);
     for (const auto& [id, t] : stiffness::load_tool_library(tool_library_path(tool_file, c)).tools) io.out << id << "\n";
   } else if (what == "materials") {
-    std::string f = material_file;
-    if (f.empty()) f = config_path(profile::load_config(config), "material_file");
-    if (f.empty()) f = default_library("samples/materials.yaml");
+    const std::string f = material_library_path(material_file, profile::load_config(config));
     for (const force::MaterialEntry& m : force::load_material_library(f).entries) io.out << m.name << "\n";
   } else {
     throw Error(Exit::usage, "list: machines, dialects, tools or materials, not '" + what + "'");

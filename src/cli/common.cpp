@@ -134,6 +134,12 @@ std::string tool_library_path(const std::string& option, const profile::Config& 
   return f.empty() ? default_library("samples/tools.yaml") : f;
 }
 
+std::string material_library_path(const std::string& option, const profile::Config& c) {
+  if (!option.empty()) return option;
+  const std::string f = config_path(c, "material_file");
+  return f.empty() ? default_library("samples/materials.yaml") : f;
+}
+
 void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags) {
   report_part_gaps(g, [&src](std::uint32_t) -> SourceText { return src; }, gap_mm, diags);
 }

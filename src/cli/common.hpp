@@ -92,6 +92,8 @@ struct PartOptions {
 void add_part_options(po::options_description& d, PartOptions& p);
 // The tool library the options or config name (samples/tools.yaml by default).
 std::string tool_library_path(const std::string& option, const profile::Config& c);
+// The material library: the option, else the config's material_file, else the installed one.
+std::string material_library_path(const std::string& option, const profile::Config& c);
 
 // Parses args whose positional words are program files (up to max_files of
 // them) into `files`; the named options go to `desc`. Throws Error(usage).

@@ -396,8 +396,9 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = a.tool_only;
   MaterialOptions mat = a.mat;
-  if (mat.material_file.empty() && mat.material.empty() && !mat.kt) mat.material_file = config_path(cfg, "material_file");
-  else if (mat.material_file.empty() && !mat.material.empty()) mat.material_file = config_path(cfg, "material_file");
+  // A material by name (given, or the config's): its library. Coefficients
+  // given alone need none (and a --material-file beside them is an error).
+  if (!mat.material.empty() || !mat.kt) mat.material_file = material_library_path(mat.material_file, cfg);
   j.physics.k = coefficients_of(mat, config_string(cfg, "material"), &j.material);
   Diagnostics diags(&io.err, j.setup.max_errors);
   if (j.pieces) {

@@ -87,15 +87,21 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
 // compensated end, so the control's sum of increments is the compensated
 // position, and back to the original's once the offsets return to zero. The
 // programmer's text stays where the increment written does not change.
+// The increment on axis a from where the written program stands to `want_mm`,
+// as written; `carried` moves on by it. Unknown (NaN): nothing deflex wrote
+// moved the axis, the control stands where the original puts it.
+static double step_to(double* carried, int a, const interp::Motion& m, double want_mm, const profile::Dialect& d) {
+  if (std::isnan(carried[a])) carried[a] = m.start_mm[a];
+  const double step = written_mm(written_mm(want_mm, m.inch, d) - carried[a], m.inch, d);
+  carried[a] += step;
+  return step;
+}
+
 static void write_increments(writer::Rewriter& w, const gcode::Block& b, const interp::Motion& m, const V3& o,
                              double* carried, const profile::Dialect& d, WriteStats& st) {
   static const char axes[] = {'X', 'Y', 'Z'};
   for (int a = 0; a < 3; ++a) {
-    // Unknown (NaN): nothing deflex wrote moved the axis, the control stands
-    // where the original puts it.
-    if (std::isnan(carried[a])) carried[a] = m.start_mm[a];
-    const double want = written_mm(m.end_mm[a] + o[a], m.inch, d);
-    const double step = written_mm(want - carried[a], m.inch, d);
+    const double step = step_to(carried, a, m, m.end_mm[a] + o[a], d);
     const gcode::Word* word = b.find(axes[a]);
     if (word) {
       // The block's own increment (a split move starts elsewhere than its block did).
@@ -108,7 +114,6 @@ static void write_increments(writer::Rewriter& w, const gcode::Block& b, const i
       w.insert_word(insert_position(b, axes[a]), axes[a], m.inch ? step / 25.4 : step, m.inch);
       ++st.words_inserted;
     }
-    carried[a] += step;
   }
 }
 
@@ -163,13 +168,9 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       std::vector<std::pair<char, double>> words;
       for (int a = 0; a < 3; ++a) {
         const double want = m.end_mm[a] + o[a];
-        if (m.incremental) {
-          // In G91 (the parent block has no G90/G91 word: split_form) the
-          // words are increments from where the written program stands.
-          if (std::isnan(carried[a])) carried[a] = m.start_mm[a];
-          const double step = written_mm(want, m.inch, d) - carried[a];
+        if (m.incremental) {  // in G91: increments from where the written program stands
+          const double step = step_to(carried, a, m, want, d);
           words.push_back({axes[a], m.inch ? step / 25.4 : step});
-          carried[a] += written_mm(step, m.inch, d);
           continue;
         }
         words.push_back({axes[a], m.inch ? want / 25.4 : want});

@@ -171,7 +171,8 @@ void CuspStream::add(const CuspSample& s) {
 }
 
 void CuspStream::finish() {
-  for (std::size_t b = ready_ / block_; b * block_ < size_; ++b) solve(b);
+  // The blocks not solved yet (a second call finds none).
+  for (std::size_t b = (ready_ + block_ - 1) / block_; b * block_ < size_; ++b) solve(b);
 }
 
 void CuspStream::solve(std::size_t b) {

@@ -154,25 +154,26 @@ void PageSink::add(const compensate::Point& p, const V3& contact, double path_mm
     step_lo_ = std::min(step_lo_, static_cast<double>(r.stepover_mm));
     step_hi_ = std::max(step_hi_, static_cast<double>(r.stepover_mm));
   }
-  std::vector<double> vals;
-  for (int m = maps_; m-- > 0;) vals.push_back(r.e[m]);
-  vals.push_back(c.height_mm);
   const double last = r.e[maps_ - 1];
-  if (!std::isnan(last)) worst_add(p.line, std::fabs(last), std::move(vals));
+  if (std::isnan(last)) return;
+  std::array<double, 3> vals{kNone, kNone, kNone};
+  for (int m = maps_, k = 0; m-- > 0;) vals[static_cast<std::size_t>(k++)] = r.e[m];
+  vals[static_cast<std::size_t>(maps_)] = c.height_mm;
+  worst_add(p.line, std::fabs(last), vals);
 }
 
-void PageSink::worst_add(std::uint32_t line, double key, std::vector<double> values) {
+void PageSink::worst_add(std::uint32_t line, double key, const std::array<double, 3>& values) {
   auto same = std::find_if(worst_.begin(), worst_.end(), [&](const Worst& w) { return w.line == line; });
   if (same != worst_.end()) {
-    if (key > same->key) *same = {line, key, std::move(values)};
+    if (key > same->key) *same = {line, key, values};
     return;
   }
   if (worst_.size() < 20) {
-    worst_.push_back({line, key, std::move(values)});
+    worst_.push_back({line, key, values});
     return;
   }
   auto least = std::min_element(worst_.begin(), worst_.end(), [](const Worst& a, const Worst& b) { return a.key < b.key; });
-  if (key > least->key) *least = {line, key, std::move(values)};
+  if (key > least->key) *least = {line, key, values};
 }
 
 Page PageSink::finish(const ValueStats& cusp) {
@@ -264,7 +265,7 @@ Page PageSink::finish(const ValueStats& cusp) {
   wcols.push_back("cusp, µm");
   for (const Worst& wr : worst_) {
     Json vals = Json::array();
-    for (double v : wr.values) vals.push_back(num_or_null(v, 6));
+    for (int k = 0; k <= maps_; ++k) vals.push_back(num_or_null(wr.values[static_cast<std::size_t>(k)], 6));
     rows.push_back({{"line", wr.line}, {"values", std::move(vals)}, {"text", ""}});
   }
   pg.worst = {{"columns", std::move(wcols)}, {"rows", std::move(rows)}};

@@ -1,6 +1,7 @@
 // What report.html draws, kept point by point on disk and made at the end
 // (the Recorder's; include/deflex/report/recorder.hpp has Page).
 #pragma once
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -39,9 +40,9 @@ class PageSink {
   struct Worst {
     std::uint32_t line;
     double key;
-    std::vector<double> values;  // the maps, last first, then the cusp
+    std::array<double, 3> values;  // the maps, last first, then the cusp (unused: NaN)
   };
-  void worst_add(std::uint32_t line, double key, std::vector<double> values);
+  void worst_add(std::uint32_t line, double key, const std::array<double, 3>& values);
 
   Spill<Rec> spill_;
   int maps_;

@@ -93,9 +93,8 @@ struct Recorder::Impl {
   // --- the rows
 
   void add_row(const compensate::Point& p, const V3& offset, std::size_t original) {
-    if (!opt.cusp) {
-      if (!opt.as_written) flank_rows(p);
-      write_row({p, offset, original}, kNoSample);
+    if (!opt.cusp) {  // the figures only: no row waits, nothing is copied
+      write_row(p, offset, kNoSample);
       return;
     }
     if (!opt.as_written) {
@@ -119,7 +118,7 @@ struct Recorder::Impl {
         if (range_end > cusp.ready()) break;
         q = nearest(r);
       }
-      write_row(r, q);
+      write_row(r.p, r.offset, q);
       rows.pop_front();
     }
     // The samples before the cursor are not asked for again.
@@ -163,13 +162,12 @@ struct Recorder::Impl {
     return cursor;
   }
 
-  void write_row(const Row& r, std::size_t q) {
-    const compensate::Point& p = r.p;
+  void write_row(const compensate::Point& p, const V3& offset, std::size_t q) {
     if (have_last) path_mm += continuous(last_motion, p.motion) ? (p.tip_mm - last_tip).norm() : 0.0;
     have_last = true;
     last_motion = p.motion;
     last_tip = p.tip_mm;
-    const double error = p.air ? kNone : compensate::landing_error(p, r.offset);
+    const double error = p.air ? kNone : compensate::landing_error(p, offset);
     double as_written = error;
     process::CuspResult c;
     if (q != kNoSample) {
@@ -178,7 +176,7 @@ struct Recorder::Impl {
     } else if (opt.as_written) {
       as_written = kNone;  // no sample as written on its move (or no pairing asked for)
     }
-    const double offset_n = r.offset.dot(p.normal);
+    const double offset_n = offset.dot(p.normal);
     if (opt.points_csv && !p.air) csv_row(p, error, as_written, offset_n, c);
     if (p.air || p.plunge) return;
     err.add(error);

@@ -30,6 +30,13 @@ std::string wall_with(const fs::path& dir, const std::string& name, const std::s
   return p;
 }
 
+// deflex compensate of a side wall program on the sample's stock, `more` options after.
+test::CliResult compensate_wall(const std::string& in, const std::string& out, std::vector<std::string> more = {}) {
+  std::vector<std::string> a = {"compensate", in, "-o", out, "--stock", "box:0,-40,-30,100,0,0"};
+  a.insert(a.end(), more.begin(), more.end());
+  return test::run_cli(a);
+}
+
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> v;
   std::size_t a = 0;
@@ -45,12 +52,7 @@ TEST_SUITE("cli") {
     fs::create_directories(dir);
     // The first pass as an increment from X-10, its block setting G91 itself.
     const std::string g91 = wall_with(dir, "wall91.nc", "N22 G91 X120. F2546.4\nN23 G90\n");
-    const std::vector<std::string> stock = {"--stock", "box:0,-40,-30,100,0,0"};
-    auto compensate = [&](const std::string& in, const std::string& out) {
-      std::vector<std::string> a = {"compensate", in, "-o", out};
-      a.insert(a.end(), stock.begin(), stock.end());
-      return test::run_cli(a);
-    };
+    const auto compensate = [](const std::string& in, const std::string& out) { return compensate_wall(in, out); };
     const std::string out90 = (dir / "out90.nc").string(), out91 = (dir / "out91.nc").string();
     REQUIRE(compensate("samples/programs/side_wall.nc", out90).rc == 0);
     const test::CliResult r91 = compensate(g91, out91);
@@ -138,11 +140,8 @@ TEST_SUITE("cli") {
     fs::create_directories(dir);
     // The first pass as a block-delete block (run or not at the operator's switch).
     const std::string prog = wall_with(dir, "wall_bd.nc", "/N22 X110. F2546.4\n");
-    const std::vector<std::string> stock = {"--stock", "box:0,-40,-30,100,0,0"};
     auto run = [&](const std::string& p, const fs::path& report) {
-      std::vector<std::string> a = {"compensate", p, "-o", (dir / "out.nc").string(), "--report", report.string()};
-      a.insert(a.end(), stock.begin(), stock.end());
-      return test::run_cli(a);
+      return compensate_wall(p, (dir / "out.nc").string(), {"--report", report.string()});
     };
     const test::CliResult bd = run(prog, dir / "rbd"), plain = run("samples/programs/side_wall.nc", dir / "r90");
     REQUIRE(bd.rc == 0);

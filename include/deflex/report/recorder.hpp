@@ -59,8 +59,8 @@ struct RecorderOptions {
   bool page = false;                   // keep what report.html draws
   bool percentiles = false;            // ErrorStats' p50, p95, p99
   // The cusp and, in a compensation, the sample as written of each row (the
-  // rows wait for them). false: the figures only (no cusp; points.csv's
-  // as-written and cusp columns stay empty).
+  // rows wait for them). false: the figures only (no cusp, no flank rows;
+  // points.csv's as-written and cusp columns stay empty).
   bool cusp = true;
   std::string spill_dir;               // where they are kept ("": the temporary folder)
   // The tool of a point's T number (null: unknown): cusp (ball ends) and contact points.
