@@ -90,7 +90,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     // In pieces of 1 to 4 lines (subprogram calls jump across pieces: such a
     // program is read whole).
-    if (!gcode::may_call_subprograms(text) && run(text, o, 1 + size % 4) != run(text, o, 0)) {
+    if (!gcode::may_need_whole_file(text) && run(text, o, 1 + size % 4) != run(text, o, 0)) {
       std::fprintf(stderr, "fuzz: read in pieces, the program reads differently\n");
       std::abort();
     }

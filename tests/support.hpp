@@ -28,7 +28,8 @@ struct Collect : interp::MotionSink {
 };
 
 inline Interpreted interpret_text(const std::string& text, const std::string& dialect = "fanuc",
-                                  const profile::MachineProfile* machine = nullptr, bool block_delete = false) {
+                                  const profile::MachineProfile* machine = nullptr, bool block_delete = false,
+                                  double cutter_radius_mm = 5.0) {
   gcode::Program prog(SourceText("t.nc", text));
   std::ostringstream err;
   Diagnostics d(&err, 0);
@@ -36,6 +37,7 @@ inline Interpreted interpret_text(const std::string& text, const std::string& di
   o.dialect = profile::load_dialect(dialect);
   o.machine = machine;
   o.block_delete_switch = block_delete;
+  o.cutter_radius_mm = [cutter_radius_mm](int) { return std::optional<double>(cutter_radius_mm); };  // every D register
   Interpreted r;
   Collect c;
   c.out = &r.motions;

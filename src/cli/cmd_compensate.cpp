@@ -165,7 +165,8 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
 // The moves of a reason deflex leaves as written, and whether that may change.
 std::string moves_of(interp::Fixed why) {
   switch (why) {
-    case interp::Fixed::cutter_comp: return "moves under cutter compensation (G41/G42), not compensated yet";
+    case interp::Fixed::cutter_comp:
+      return "cutter compensation start-up moves (G41/G42 entries), and moves under it in G91 or with G90.1 arcs";
     case interp::Fixed::incremental: return "incremental (G91) arcs with absolute centres (G90.1), not compensated";
     case interp::Fixed::subprogram: return "moves in subprograms, not compensated yet";
     case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";

@@ -18,16 +18,19 @@ namespace {
 
 class PathPrinter : public interp::MotionSink {
  public:
-  PathPrinter(std::ostream& o, bool lines) : out_(o), lines_(lines) {}
+  PathPrinter(std::ostream& o, bool lines, bool centre) : out_(o), lines_(lines), centre_(centre) {}
   void motion(const interp::Motion& m) override {
+    // Under G41/G42 the motion is the tool centre's; the program's own point
+    // is its contour end, and a corner piece has none.
+    if (!centre_ && m.corner) return;
     if (lines_) { out_.integer(m.line); out_ << ' '; }
     out_ << interp::to_string(m.kind);
-    for (double v : m.end_mm) { out_ << ' '; out_.fixed(v, 6); }
+    for (double v : centre_ || !m.comp ? m.end_mm : m.contour_end_mm) { out_ << ' '; out_.fixed(v, 6); }
     out_ << '\n';
   }
  private:
   report::TextOut out_;
-  bool lines_;
+  bool lines_, centre_;
 };
 
 const char* kPathHelp =
@@ -35,8 +38,11 @@ const char* kPathHelp =
     "X Y Z is the end point in mm (6 decimals) in the active work coordinate frame\n"
     "(G54..., as LinuxCNC's rs274 prints it). Canned cycles are expanded into their\n"
     "G0/G1 moves; G28/G30 print their intermediate and reference moves. Programs in\n"
-    "inch are converted to mm. Points under G41/G42 are the programmed contour, not the\n"
-    "offset one. Numbers without a decimal point follow the dialect's rule: fanuc reads\n"
+    "inch are converted to mm. Points under G41/G42 are the programmed contour; with\n"
+    "--centre they are the tool centre's path, as the control computes it from the D\n"
+    "register's radius (the machine profile's tool_offsets, else the tool library's\n"
+    "T<n> diameter / 2 for D<n>): a move's end where the offset elements meet, and the\n"
+    "arcs (linuxcnc) or points (fanuc) the control adds round outside corners. Numbers without a decimal point follow the dialect's rule: fanuc reads\n"
     "X1000 as 1.000 mm (least input increment), linuxcnc as 1000 mm. A program with\n"
     "an error (or more executed blocks than --max-blocks) prints no path, only the\n"
     "diagnostics on stderr, and exits 1.\n";
@@ -83,17 +89,21 @@ interp::Stats interpret_all(gcode::ProgramPasses& src, const interp::Options& op
 int cmd_path(const std::vector<std::string>& args, Io& io) {
   ReadOptions r;
   std::string file;
-  bool lines = false, help = false;
+  std::string tool_file;
+  bool lines = false, centre = false, help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
-                    ("lines", po::bool_switch(&lines), "put the source line number first");
+                    ("lines", po::bool_switch(&lines), "put the source line number first")
+                    ("centre", po::bool_switch(&centre), "under G41/G42, the tool centre's path (default: the programmed contour)")
+                    ("tool-file", po::value(&tool_file), "tool library for G41/G42 radii (default: config tool_file, else the installed samples/tools.yaml)");
   add_read_options(desc, r);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
   if (!files.empty()) file = files[0];
-  if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines]", kPathHelp, desc); return 0; }
+  if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines] [--centre]", kPathHelp, desc); return 0; }
   if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
+  s.tool_file = tool_file;
   gcode::ProgramPasses prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
   check_text(prog, s, diags);
@@ -106,7 +116,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   const interp::Options opt = s.interp();
   if (interpret_all(prog, opt, diags, none).stopped || diags.errors()) return finish(diags);
   Diagnostics quiet(nullptr, 0);
-  PathPrinter p(io.out, lines);
+  PathPrinter p(io.out, lines, centre);
   interpret_all(prog, opt, quiet, p);
   return finish(diags);
 }
@@ -124,7 +134,7 @@ class TravelCheck : public interp::MotionSink {
     ++count_;
     interp::check_travel(m, t_, *src_, d_);
     spindle_.motion(m);
-    if (m.fixed == interp::Fixed::cutter_comp && !cutter_comp_.first_line())
+    if (m.comp && !cutter_comp_.first_line())
       cutter_comp_ = SourceText(none_.name(), std::string(src_->line_text(m.line)), m.line);
   }
   // The line of the first motion under G41/G42 (its piece may be gone).
@@ -178,6 +188,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
   if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
+  s.tool_file = tool_file;
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
   // The gouge check keeps the motions and names lines of the whole file: it reads it whole.
   gcode::ProgramPasses prog(file, &io.in, part_file.empty() ? piece_lines() : 0);
@@ -205,7 +216,8 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   if (st.cutter_comp_motions)
     diags.report(Severity::note, tc.cutter_comp_line(), st.first_cutter_comp_line, 1,
                  std::to_string(st.cutter_comp_motions) +
-                     " motions run under G41/G42 cutter compensation (first here); deflex never compensates them");
+                     " motions run under G41/G42 cutter compensation (first here): deflex simulates the tool "
+                     "centre's path and compensates the programmed contour (not the start-up moves)");
   if (format == "json") {
     io.out << report::line({{"file", prog.name()}, {"lines", st.lines}, {"blocks", st.blocks},
                             {"motions", st.motions}, {"compensable_motions", st.compensable},

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
 #include <ostream>
 
 #include "deflex/force/material.hpp"
@@ -13,6 +14,7 @@
 #include "deflex/profile/yaml.hpp"
 #ifndef DEFLEX_PENDING_STIFFNESS
 #include "deflex/stiffness/machine.hpp"
+#include "deflex/stiffness/tool.hpp"
 #endif
 
 namespace deflex::cli {
@@ -59,6 +61,34 @@ Setup resolve(const ReadOptions& r) {
   if (r.max_blocks == 0) throw Error(Exit::usage, "--max-blocks must be at least 1");
   s.max_blocks = r.max_blocks;
   return s;
+}
+
+interp::Options Setup::interp() const {
+  interp::Options o;
+  o.dialect = dialect;
+  o.machine = machine ? &*machine : nullptr;
+  o.block_delete_switch = block_delete_switch;
+  o.max_blocks = max_blocks;
+  // Shared by the copies of the options (the safety check reads back on another thread).
+  struct Cache {
+    std::mutex mu;
+    std::optional<stiffness::ToolLibrary> lib;
+  };
+  auto lib = std::make_shared<Cache>();
+  const std::string file = tool_library_path(tool_file, config);
+  const profile::MachineProfile* m = o.machine;
+  o.cutter_radius_mm = [lib, file, m](int d) -> std::optional<double> {
+    if (m) {
+      auto it = m->tool_offsets.find(d);
+      if (it != m->tool_offsets.end()) return it->second.radius_mm + it->second.wear_mm;
+    }
+    std::lock_guard<std::mutex> hold(lib->mu);
+    if (!lib->lib) lib->lib = stiffness::load_tool_library(file);
+    auto t = lib->lib->tools.find("T" + std::to_string(d));
+    if (t == lib->lib->tools.end()) return std::nullopt;
+    return t->second.diameter_mm / 2;
+  };
+  return o;
 }
 
 po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,

@@ -45,15 +45,12 @@ struct Setup {
   bool block_delete_switch = false;
   bool strict = false;
   std::uint64_t max_blocks = 10'000'000;
-  // Interpreter options pointing into this Setup (do not outlive it).
-  interp::Options interp() const {
-    interp::Options o;
-    o.dialect = dialect;
-    o.machine = machine ? &*machine : nullptr;
-    o.block_delete_switch = block_delete_switch;
-    o.max_blocks = max_blocks;
-    return o;
-  }
+  std::string tool_file;  // --tool-file, if the command has it (else the config's)
+  // Interpreter options pointing into this Setup (do not outlive it). The
+  // radius of a G41/G42 D register: the machine profile's tool_offsets
+  // (radius + wear), else the tool library's T<n> diameter / 2 for D<n>
+  // (read the first time a program asks).
+  interp::Options interp() const;
 };
 Setup resolve(const ReadOptions& r);
 

@@ -371,6 +371,7 @@ void print_setup(const Job& j, const Args& a, Io& io) {
 
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
   Setup s = resolve_with_machine(a.read);
+  s.tool_file = a.tool_file;
   const std::string part = !a.part.part.empty() ? a.part.part : config_path(s.config, "part");
   std::unique_ptr<gcode::ProgramPasses> pieces;
   if (in_pieces && a.file != "-")

@@ -36,6 +36,63 @@ double written_mm(double value_mm, bool inch, const profile::Dialect& d) {
   return inch ? v * 25.4 : v;
 }
 
+// Under G41/G42: where each programmed point goes so that the control's
+// centre path runs through the compensated centre points (per motion of
+// `motions`; meaningful where m.comp and not m.corner). The control offsets
+// the contour: at a corner where it meets the offset lines (an inside
+// corner; on Fanuc also an outside one up to 90 deg, and every small kink of
+// a split line), the centre point is V = Q + r (nA + nB) / (1 + nA.nB), nA and
+// nB the unit normals towards the tool of the lines on both sides, parallel
+// to their centre lines; where it ends the line perpendicular (LinuxCNC at a
+// small kink and round an outside corner; before G40), V = Q + r nA. Both
+// are inverted on the compensated centre lines. Elsewhere (arcs, Fanuc's
+// acute corners) the point moves by the offset, the first order of the same.
+std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms, const std::vector<V3>& offsets,
+                                          const profile::Dialect& d) {
+  const std::size_t n = ms.size();
+  std::vector<interp::Vec3> t(n);
+  auto off = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
+  auto centre = [&](std::size_t i, bool end) {  // compensated centre point, XY
+    const interp::Vec3& p = end ? ms[i].end_mm : ms[i].start_mm;
+    const V3 o = end ? off(i) : i > 0 ? off(i - 1) : V3(V3::Zero());
+    return Eigen::Vector2d(p[0] + o[0], p[1] + o[1]);
+  };
+  auto line_xy = [&](std::size_t i) {
+    const interp::Motion& m = ms[i];
+    return m.comp && !m.corner && m.kind != interp::MotionKind::arc_cw && m.kind != interp::MotionKind::arc_ccw &&
+           (m.start_mm[0] != m.end_mm[0] || m.start_mm[1] != m.end_mm[1]);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const interp::Motion& m = ms[i];
+    const V3 o = off(i);
+    for (int a = 0; a < 3; ++a) t[i][a] = m.contour_end_mm[a] + o[a];
+    if (!line_xy(i) || !m.compensable()) continue;
+    const Eigen::Vector2d va = centre(i, true), da = (va - centre(i, false)).normalized();
+    const Eigen::Vector2d na = m.comp * Eigen::Vector2d(-da.y(), da.x());
+    const double r = m.comp_radius_mm;
+    std::size_t j = i + 1;  // the next motion with XY travel (Z moves at the corner stand between)
+    while (j < n && ms[j].comp && !ms[j].corner && ms[j].start_mm[0] == ms[j].end_mm[0] &&
+           ms[j].start_mm[1] == ms[j].end_mm[1])
+      ++j;
+    Eigen::Vector2d q = va - r * na;  // perpendicular end
+    if (j < n && line_xy(j) && !ms[j].corner) {
+      const Eigen::Vector2d db = (centre(j, true) - centre(j, false)).normalized();
+      const Eigen::Vector2d nb = m.comp * Eigen::Vector2d(-db.y(), db.x());
+      const double cross = da.x() * db.y() - da.y() * db.x(), turn = std::atan2(cross, da.dot(db));
+      const bool inside = m.comp * cross > 0;
+      const bool meet = d.comp_corner == profile::Dialect::CompCorner::arc ? inside && std::fabs(turn) > 0.05
+                                                                           : inside || std::fabs(turn) <= M_PI / 2;
+      if (meet) q = va - r * (na + nb) / (1 + na.dot(nb));
+    } else if (j < n && ms[j].comp && (ms[j].corner ? d.comp_corner != profile::Dialect::CompCorner::arc
+                                                     : !line_xy(j))) {
+      continue;  // Fanuc's pieces round an acute corner, or an arc next: first order
+    }
+    t[i][0] = q.x();
+    t[i][1] = q.y();
+  }
+  return t;
+}
+
 }  // namespace
 
 // A block deflex may split: words only N, G1/G01, G90/G91, X, Y, Z, F.
@@ -75,7 +132,11 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
   gcode::Block b;
   for (std::size_t i = 0; i < motions.size(); ++i) {
     const interp::Motion& m = motions[i];
-    if (!m.plain || !m.compensable() || m.kind == interp::MotionKind::rapid) continue;
+    // Under G41/G42 a line is split by points of its contour (the mirror
+    // pass sets them); an arc's chords would be chords of the centre's arc,
+    // and a corner piece has no block: neither is split.
+    if (!m.plain || !m.compensable() || m.kind == interp::MotionKind::rapid || m.corner) continue;
+    if (m.comp && m.kind != interp::MotionKind::linear) continue;
     prog.lex(m.line, b, quiet);
     ok[i] = m.kind == interp::MotionKind::linear ? split_form(b) : arc_split_form(b, m);
   }
@@ -159,6 +220,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
     }
     carried_feed = want;
   };
+  const std::vector<interp::Vec3> contour = contour_targets(motions, offsets, d);
   for (std::size_t i = 0; i < motions.size(); ++i) {
     const interp::Motion& m = motions[i];
     const V3 o = offsets.empty() ? V3(V3::Zero()) : offsets[i];
@@ -167,7 +229,7 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       // parent's F, so the split piece runs at the programmed feed).
       std::vector<std::pair<char, double>> words;
       for (int a = 0; a < 3; ++a) {
-        const double want = m.end_mm[a] + o[a];
+        const double want = m.comp ? contour[i][a] : m.end_mm[a] + o[a];
         if (m.incremental) {  // in G91: increments from where the written program stands
           const double step = step_to(carried, a, m, want, d);
           words.push_back({axes[a], m.inch ? step / 25.4 : step});
@@ -193,10 +255,15 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       ++st.blocks_inserted;
       continue;
     }
+    // Under G41/G42 the motion is the tool centre's; its block states the
+    // contour's point, which the writer moves (the centre moves with it), and
+    // a piece the control adds at a corner has no block.
+    if (m.corner) continue;
+    const interp::Vec3& end = m.comp ? m.contour_end_mm : m.end_mm;
     if (!m.plain) {
       // Cycles, G28/G30/G53, subprograms, G91: never moved, and never preceded
       // by a moved point (compensate::movable), so they end where they did.
-      for (int a = 0; a < 3; ++a) carried[a] = m.end_mm[a];
+      for (int a = 0; a < 3; ++a) carried[a] = end[a];
       feed_edit(i);
       continue;
     }
@@ -233,18 +300,18 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
       continue;
     }
     for (int a = 0; a < 3; ++a) {
-      const double want = m.end_mm[a] + o[a];
+      const double want = m.comp ? contour[i][a] : end[a] + o[a];
       if (!lexed) { prog.lex(m.line, b, quiet); lexed = true; }
       const gcode::Word* word = b.find(axes[a]);
       if (word) {
         // Splice only when the number written changes (an offset below the
         // last written digit leaves the programmer's text alone).
-        if (o[a] != 0.0 && written_mm(want, m.inch, d) != written_mm(m.end_mm[a], m.inch, d)) {
+        if (want != end[a] && written_mm(want, m.inch, d) != written_mm(end[a], m.inch, d)) {
           w.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
           carried[a] = written_mm(want, m.inch, d);
           ++st.numbers_changed;
         } else {
-          carried[a] = m.end_mm[a];
+          carried[a] = end[a];
         }
       } else if (!(std::fabs(carried[a] - want) <= 1e-9)) {
         // The block relies on the modal value, which the previous block moved
@@ -352,7 +419,11 @@ class MotionCheck : public interp::MotionSink {
       if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail_(x.line, "a feed rate went up");
     }
     const double r = (x.inch ? round_in_ : round_mm_) * std::sqrt(3.0);
-    const double allowed = movable_[i] || ins ? max_offset_mm_ + r : r;
+    // Under G41/G42 the control places every point of the centre path from
+    // the contour's elements on both sides of it: a start-up move's end turns
+    // with the direction of the move after it, which deflex may have moved.
+    const bool follows = x.comp != 0;
+    const double allowed = movable_[i] || ins || follows ? max_offset_mm_ + r : r;
     const double dist = displacement_mm(om_, inserted_, i, p, y);
     if (dist > allowed) {
       char buf[160];

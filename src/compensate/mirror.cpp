@@ -17,6 +17,14 @@ namespace {
 
 // The mirror method in one pass through the program. The stock a CL sample
 // meets depends only on the path before it (causality), so the fixed point of
+// Under G41/G42, the contour's point whose offset is `centre` on line m: the
+// centre line is the contour's shifted by the radius to the tool's side.
+interp::Vec3 contour_point(const interp::Motion& m, const interp::Vec3& centre) {
+  const double dx = m.end_mm[0] - m.start_mm[0], dy = m.end_mm[1] - m.start_mm[1], len = std::hypot(dx, dy);
+  const double nx = -m.comp * dy / len, ny = m.comp * dx / len;  // left of the travel for G41
+  return {centre[0] - m.comp_radius_mm * nx, centre[1] - m.comp_radius_mm * ny, centre[2]};
+}
+
 // P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
 // through it once, in order: at each motion end, with every earlier motion
 // already at its compensated position and cut into the stock, the offset along
@@ -55,6 +63,12 @@ class Stream {
         std::vector<Point> pts;
         if (m.kind != interp::MotionKind::rapid) pts = samples(m, prev_, V3::Zero(), 0);
         emit(m, V3::Zero(), false, false, std::move(pts), true);
+      } else if (m.corner || (m.comp && m.start_mm[0] == m.end_mm[0] && m.start_mm[1] == m.end_mm[1])) {
+        // Under G41/G42, a piece the control adds at a corner, or a Z move
+        // at one, has no point of its own in the program: the control puts it
+        // where the corner's programmed point went, so it moves with the
+        // motion before.
+        emit(m, prev_, false, true, samples(m, prev_, prev_, 0), true);
       } else if (m.kind != interp::MotionKind::linear) {
         // Arcs move whole: their end takes the offset of their start. Where
         // the error along one then leaves the tolerance, it is linearised if
@@ -170,6 +184,7 @@ class Stream {
         part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
         if (u1 != 1.0) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
       }
+      if (m.comp && u1 != 1.0) part.contour_end_mm = contour_point(m, part.end_mm);
       Point end;
       const V3 off = solve(part, end);
       std::vector<Point> pts = samples(part, prev_, off, end.count);

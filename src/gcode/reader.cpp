@@ -108,7 +108,7 @@ ProgramPasses::ProgramPasses(const std::string& path, std::istream* stdin_stream
   std::unique_ptr<Program> first = r.next();
   if (r.done()) {
     whole_ = std::move(first);  // one piece: held, read once
-  } else if (calls_subprograms(path_)) {
+  } else if (needs_whole_file(path_)) {
     max_lines_ = 0;  // a call jumps anywhere in the file: whole
     whole_ = ProgramReader(path_, stdin_, 0).next();
   }
@@ -132,46 +132,56 @@ namespace {
 
 bool blank(char c) { return c == ' ' || c == '\t'; }
 
-// Whether the M word at p (*p is M or m) reads 98, the lexer's way: leading
-// zeros and blanks allowed, blanks inside the number too (`M9 8` is M98).
-// 1 yes, 0 no, -1 the bytes end first (at the end of the file: taken for yes).
-int m98_at(const char* p, const char* end) {
+// Whether the word at p (*p is its letter) reads one of `codes` (two digits
+// each), the lexer's way: leading zeros and blanks allowed, blanks inside the
+// number too (`M9 8` is M98). 1 yes, 0 no, -1 the bytes end first (at the
+// end of the file: taken for yes).
+int code_at(const char* p, const char* end, const char* codes) {
   const char* q = p + 1;
   while (q < end && (*q == '0' || blank(*q))) ++q;
   if (q == end) return -1;
-  if (*q++ != '9') return 0;
+  const char first = *q++;
   while (q < end && blank(*q)) ++q;
   if (q == end) return -1;
-  if (*q++ != '8') return 0;
+  const char second = *q++;
+  bool named = false;  // `codes`: pairs of digits, "98" or "4142"
+  for (const char* c = codes; c[0] && c[1]; c += 2) named = named || (c[0] == first && c[1] == second);
+  if (!named) return 0;
   if (q == end) return -1;
   return *q >= '0' && *q <= '9' ? 0 : 1;
 }
 
-// Scans [b, e) for an M98, jumping from M to M with memchr (a G-code file
-// has few). Returns 1 found, 0 none, or -1 with `from` set to the M word the
-// bytes end inside of (the caller carries it into the next read).
-int scan_m98(const char* b, const char* e, const char*& from) {
-  for (char letter : {'M', 'm'})
-    for (const char* p = b; (p = static_cast<const char*>(std::memchr(p, letter, e - p))) != nullptr; ++p) {
-      const int r = m98_at(p, e);
+// Scans [b, e) for a word that makes the file be read whole: M98 (a call
+// jumps anywhere in the file) or G41/G42 (the tool-centre path holds one
+// element back, across any cut). Jumps from letter to letter with memchr (a
+// G-code file has few M words; G words are many, but the scan still runs at
+// memory speed). Returns 1 found, 0 none, or -1 with `from` set to the word
+// the bytes end inside of (the caller carries it into the next read).
+int scan_whole(const char* b, const char* e, const char*& from) {
+  struct Look { char letter; const char* codes; };
+  static const Look looks[] = {{'M', "98"}, {'m', "98"}, {'G', "4142"}, {'g', "4142"}};
+  const char* cut = nullptr;
+  for (const Look& l : looks)
+    for (const char* p = b; (p = static_cast<const char*>(std::memchr(p, l.letter, e - p))) != nullptr; ++p) {
+      const int r = code_at(p, e, l.codes);
       if (r == 1) return 1;
       if (r < 0) {
-        from = p;  // the last M word of the bytes: its rest comes with the next read
-        if (letter == 'M') break;
-        return -1;
+        if (!cut || p < cut) cut = p;  // the earliest word cut off: its rest comes with the next read
+        break;
       }
     }
-  return from ? -1 : 0;
+  from = cut;
+  return cut ? -1 : 0;
 }
 
 }  // namespace
 
-bool may_call_subprograms(std::string_view text) {
+bool may_need_whole_file(std::string_view text) {
   const char* from = nullptr;
-  return scan_m98(text.data(), text.data() + text.size(), from) != 0;  // cut off at the end: yes
+  return scan_whole(text.data(), text.data() + text.size(), from) != 0;  // cut off at the end: yes
 }
 
-bool calls_subprograms(const std::string& path) {
+bool needs_whole_file(const std::string& path) {
   if (path == "-") return true;
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return true;  // the reader says why
@@ -182,7 +192,7 @@ bool calls_subprograms(const std::string& path) {
     buf.resize(carry + (1u << 20));
     const std::size_t n = std::fread(buf.data() + carry, 1, buf.size() - carry, f);
     const char* from = nullptr;
-    found = scan_m98(buf.data(), buf.data() + carry + n, from);
+    found = scan_whole(buf.data(), buf.data() + carry + n, from);
     if (found == 1 || n == 0) break;  // at the end, a word cut off counts as a call
     carry = found < 0 ? static_cast<std::size_t>(buf.data() + carry + n - from) : 0;
     if (found < 0) std::memmove(buf.data(), from, carry);

@@ -14,7 +14,7 @@ const char* to_string(Fixed f) {
   switch (f) {
     case Fixed::no: return "compensable";
     case Fixed::rapid: return "rapid";
-    case Fixed::cutter_comp: return "under cutter compensation (G41/G42)";
+    case Fixed::cutter_comp: return "cutter compensation start-up, or under it in G91";
     case Fixed::canned_cycle: return "canned cycle";
     case Fixed::subprogram: return "in a subprogram";
     case Fixed::incremental: return "incremental (G91)";
@@ -109,10 +109,21 @@ bool Run::execute() {
   if (wT && !whole(wT, 0, 99999999, next_tool_, "tool number T")) return false;
   if (const Word* wS = blk_.find('S')) spindle_rpm_ = wS->value;
   if (m6) tool_ = next_tool_;
-  if (codes[g_plane] >= 0) plane_ = codes[g_plane] / 10;
+  if (codes[g_plane] >= 0) {
+    if (cc_.on() && codes[g_plane] != plane_ * 10)
+      return refuse(cw[g_plane], "a plane change under cutter compensation: cancel it with G40 first");
+    plane_ = codes[g_plane] / 10;
+  }
   if (codes[g_distance] >= 0) absolute_ = codes[g_distance] == 900;
   if (codes[g_arcdist] >= 0) ijk_absolute_ = codes[g_arcdist] == 901;
-  if (codes[g_cutcomp] >= 0) comp_ = codes[g_cutcomp];
+  if (const Word* wD = blk_.find('D')) {
+    if (!whole(wD, 0, 9999, d_reg_, "offset register D")) return false;
+    d_given_ = true;
+  }
+  if (codes[g_cutcomp] >= 0) {
+    comp_ = codes[g_cutcomp];
+    if (comp_ == 400 ? !comp_ok(cc_.stop()) : !start_comp(cw[g_cutcomp], blk_.find('D'))) return false;
+  }
   if (codes[g_length] >= 0) {
     length_ = codes[g_length];
     // H may stand anywhere in the block (REFERENCE §2.6); it names an offset register.
@@ -172,6 +183,28 @@ bool Run::execute() {
     }
   }
   return flow(m98, m99, end);
+}
+
+// G41/G42: the radius of the D register (LinuxCNC without any D: the tool's).
+bool Run::start_comp(const Word* g, const Word* wD) {
+  if (plane_ != 17 && !cc_.on())
+    return refuse(g, "cutter compensation in " + gname(plane_ * 10) + " is not interpreted (G17 only)");
+  int reg = d_reg_;
+  if (!d_given_ && d_.name == "linuxcnc") reg = tool_;
+  double r = 0;
+  if (reg == 0) {
+    if (!d_given_ && d_.name != "linuxcnc")
+      warn(g, gname(comp_) + " without a D word: D0, radius 0 (the control does not offset the path)");
+  } else {
+    std::optional<double> found = opt_.cutter_radius_mm ? opt_.cutter_radius_mm(reg) : std::nullopt;
+    if (!found)
+      return refuse(wD ? wD : g, "D" + std::to_string(reg) + ": no radius for cutter compensation (no tool_offsets "
+                                 "entry " + std::to_string(reg) + " in the machine profile and no tool T" +
+                                 std::to_string(reg) + " in the tool library)");
+    r = *found;
+  }
+  if (r < 0) return refuse(wD ? wD : g, "D" + std::to_string(reg) + ": negative radius (radius plus wear)");
+  return comp_ok(cc_.start(comp_ == 410 ? 1 : -1, r));
 }
 
 bool Run::axis_target(Vec3& t, bool& any) {
@@ -283,6 +316,7 @@ bool Run::do_arc(bool cw) {
 }
 
 bool Run::do_reference_return(bool g30) {
+  if (cc_.on()) return refuse(nullptr, "G28/G30 under cutter compensation: cancel it with G40 first");
   int refno = 1;
   const Word* wp = blk_.find('P');
   if (g30) {
@@ -312,6 +346,7 @@ bool Run::do_reference_return(bool g30) {
 }
 
 bool Run::do_machine_move() {
+  if (cc_.on()) return refuse(nullptr, "G53 under cutter compensation: cancel it with G40 first");
   if (!absolute_) return refuse(blk_.words.empty() ? nullptr : &blk_.words[0], "G53 in G91 (incremental) mode");
   if (motion_ != 0 && motion_ != 10) return refuse(nullptr, "G53 needs G0 or G1 as the motion mode");
   Vec3 t = pos_;

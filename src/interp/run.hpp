@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "cutter_comp.hpp"
 #include "deflex/interp/interpreter.hpp"
 
 namespace deflex::interp::detail {
@@ -87,7 +88,13 @@ inline PlaneAxes plane_axes(int plane) {
 
 class Run {
  public:
-  Run(const Options& o, Diagnostics& d, MotionSink& s) : opt_(o), d_(o.dialect), diags_(d), sink_(s) {
+  Run(const Options& o, Diagnostics& d, MotionSink& s)
+      : opt_(o), d_(o.dialect), diags_(d), sink_(s),
+        cc_(s, o.dialect.comp_corner == profile::Dialect::CompCorner::arc ? CutterComp::Corner::arc
+                                                                           : CutterComp::Corner::intersection,
+            o.dialect.comp_startup == profile::Dialect::CompStartup::offset_line
+                ? CutterComp::Startup::offset_line
+                : CutterComp::Startup::perpendicular_next) {
     if (o.machine) {
       for (auto& [k, v] : o.machine->reference_points_mm) ref_[k] = {v[0], v[1], v[2]};
     }
@@ -117,6 +124,8 @@ class Run {
       line = next_;
     }
     next_ = line;
+    // The element G41/G42 holds ends with the program.
+    if ((ended_ || last) && !stop_) comp_ok(cc_.flush());
     if (last) end_of_file();
     // Lines never executed (after M30, subprograms not called, after a stop)
     // are still read, so every lexical error in the file is reported.
@@ -194,7 +203,9 @@ class Run {
   // ---- motions -----------------------------------------------------------
   Fixed fixed_for(MotionKind k, Fixed forced = Fixed::no) const {
     if (k == MotionKind::rapid) return Fixed::rapid;
-    if (comp_ != 400) return Fixed::cutter_comp;
+    // Under G41/G42 the writer moves the programmed contour: a plain block in
+    // G90 (the start-up move stays as written).
+    if (comp_ != 400 && (!plain_ || !absolute_ || cc_.starting())) return Fixed::cutter_comp;
     if (forced != Fixed::no) return forced;
     if (blk_.block_delete) return Fixed::block_delete;
     if (!stack_.empty()) return Fixed::subprogram;
@@ -215,18 +226,22 @@ class Run {
     m.tool = tool_;
     m.spindle_rpm = spindle_rpm_;
     m.inch = inch_;
-    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && stack_.empty() && comp_ == 400 && !blk_.block_delete;
+    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && stack_.empty() && (comp_ == 400 || absolute_) &&
+              !blk_.block_delete;
     m.incremental = !absolute_;
     m.work_offset_mm = wofs_;
     ++stats_.motions;
     if (m.fixed == Fixed::no) ++stats_.compensable;
-    if (m.fixed == Fixed::cutter_comp) {
+    if (comp_ != 400) {
       if (!stats_.cutter_comp_motions) stats_.first_cutter_comp_line = blk_.line;
       ++stats_.cutter_comp_motions;
     }
-    sink_.motion(m);
     pos_ = end;
+    comp_ok(cc_.add(m));  // the tool-centre path under G41/G42, else m itself
   }
+  // A cutter-compensation message (empty: none) stops interpretation.
+  bool comp_ok(const std::string& err) { return err.empty() || refuse(nullptr, err); }
+  bool start_comp(const Word* g, const Word* wD);
 
   // ---- one line ----------------------------------------------------------
   void step(std::uint32_t line) {
@@ -275,6 +290,9 @@ class Run {
   const profile::Dialect& d_;
   Diagnostics& diags_;
   MotionSink& sink_;
+  CutterComp cc_;  // between emit() and sink_
+  int d_reg_ = 0;  // the last D word (G41/G42 radius register)
+  bool d_given_ = false;
   std::vector<std::uint8_t> seen_;  // per line of the piece: 0 never lexed, 1 once, 2 more (subprogram repeats)
   Diagnostics quiet_{nullptr, 0};   // lexes a line again without repeating its messages
   Block blk_;

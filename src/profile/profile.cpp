@@ -54,7 +54,8 @@ Dialect parse_dialect(const YAML::Node& node, const std::string& file) {
                "decimals_mm", "decimals_inch", "trailing_zeros", "leading_zero", "max_line_length",
                "n_numbers_for_inserted_blocks", "comment_style", "arc_radius_tolerance_mm",
                "cycle_repeat_word", "peck_retract_mm", "fine_boring_shift",
-               "cycle_positions_before_raise", "extended_work_offsets"});
+               "cycle_positions_before_raise", "extended_work_offsets", "cutter_comp_corner",
+               "cutter_comp_startup"});
   Dialect d;
   d.name = n.text("name");
   d.decimal_rule = get_enum<DecimalRule>(n, "decimal_point_rule",
@@ -82,6 +83,11 @@ Dialect parse_dialect(const YAML::Node& node, const std::string& file) {
   d.extended_offsets = get_enum<ExtendedOffsets>(n, "extended_work_offsets",
       {{"none", ExtendedOffsets::none}, {"g54_1", ExtendedOffsets::g54_1}, {"g154", ExtendedOffsets::g154},
        {"g59_x", ExtendedOffsets::g59_x}}, d.extended_offsets);
+  d.comp_corner = get_enum<Dialect::CompCorner>(n, "cutter_comp_corner",
+      {{"arc", Dialect::CompCorner::arc}, {"intersection", Dialect::CompCorner::intersection}}, d.comp_corner);
+  d.comp_startup = get_enum<Dialect::CompStartup>(n, "cutter_comp_startup",
+      {{"offset_line", Dialect::CompStartup::offset_line},
+       {"perpendicular_next", Dialect::CompStartup::perpendicular_next}}, d.comp_startup);
   return d;
 }
 
@@ -141,6 +147,24 @@ void read_reference_points(const Map& n, MachineProfile& m) {
   }
 }
 
+// tool_offsets: {D: {radius_mm: R, wear_mm: W}} or {D: R}.
+void read_tool_offsets(const Map& n, MachineProfile& m) {
+  const YAML::Node t = n.get("tool_offsets");
+  if (!t.IsMap()) n.fail(t, "tool_offsets must map D register numbers to {radius_mm: .., wear_mm: ..}");
+  for (auto it = t.begin(); it != t.end(); ++it) {
+    const int k = static_cast<int>(yaml::integer(it->first, "a D register number", n.file(), 1, 9999));
+    MachineProfile::ToolOffset o;
+    if (it->second.IsMap()) {
+      const Map e(it->second, "tool_offsets entry", n.file(), {"radius_mm", "wear_mm"});
+      o.radius_mm = e.number("radius_mm", Range::non_negative());
+      o.wear_mm = e.number("wear_mm", 0.0, Range{});
+    } else {
+      o.radius_mm = yaml::number(it->second, "tool_offsets radius", n.file(), Range::non_negative());
+    }
+    m.tool_offsets[k] = o;
+  }
+}
+
 }  // namespace
 
 MachineProfile load_machine(const std::string& name_or_path) {
@@ -158,7 +182,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
   // holder: and stiffness: are read (with their own key checks) by deflex::stiffness.
   const Map n(root, "machine profile", file, {"name", "dialect", "travel_mm", "work_offsets_mm",
                                               "reference_points_mm", "max_offset_mm", "axis_limits", "holder",
-                                              "stiffness"});
+                                              "stiffness", "tool_offsets"});
   MachineProfile m;
   m.file = file;
   m.root = root;
@@ -167,6 +191,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
   if (n.has("travel_mm")) read_travel(n.map("travel_mm", {"x", "y", "z"}), m.travel);
   if (n.has("work_offsets_mm")) read_work_offsets(n, m);
   if (n.has("reference_points_mm")) read_reference_points(n, m);
+  if (n.has("tool_offsets")) read_tool_offsets(n, m);
   m.max_offset_mm = n.number("max_offset_mm", m.max_offset_mm, Range::positive());
   if (n.has("axis_limits")) m.axis_limits = parse_axis_limits(n.get("axis_limits"), file);
   load_dialect(m.dialect);  // an unknown dialect is a profile error, found early

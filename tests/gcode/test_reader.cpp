@@ -89,18 +89,20 @@ TEST_SUITE("gcode") {
     CHECK(gcode::ProgramPasses("-", &in, 1).whole());
   }
 
-  TEST_CASE("calls_subprograms: M98 in any spelling, nothing else") {
-    for (const char* t : {"M98 P1\n", "m98P1", "N10 M098 P1\n", "G0 X1 M 98", "(M98)\n", "M9 8P3\n"}) {
+  TEST_CASE("needs_whole_file: M98, G41, G42 in any spelling, nothing else") {
+    for (const char* t : {"M98 P1\n", "m98P1", "N10 M098 P1\n", "G0 X1 M 98", "(M98)\n", "M9 8P3\n", "G41 D1\n",
+                          "g42d2", "N5 G041 X1\n", "G4 2\n", "G0 G41"}) {
       CAPTURE(t);
       TempFile f(t);
-      CHECK(gcode::calls_subprograms(f.p.string()));
+      CHECK(gcode::needs_whole_file(f.p.string()));
     }
-    for (const char* t : {"M9 P1\n", "M980\n", "M30\nM99\n", "G98 X1\n", "M198\n"}) {
+    for (const char* t : {"M9 P1\n", "M980\n", "M30\nM99\n", "G98 X1\n", "M198\n", "G40 G43 H1\n", "G410\n",
+                          "G141\n", "G4 X1\n"}) {
       CAPTURE(t);
       TempFile f(t);
-      CHECK_FALSE(gcode::calls_subprograms(f.p.string()));
+      CHECK_FALSE(gcode::needs_whole_file(f.p.string()));
     }
-    CHECK(gcode::calls_subprograms("-"));
+    CHECK(gcode::needs_whole_file("-"));
     // The file is read a MiB at a time: a word cut by a read still counts,
     // at every cut from before the M to after the 8.
     for (std::size_t at = (1u << 20) - 4; at <= (1u << 20); ++at) {
@@ -109,8 +111,8 @@ TEST_SUITE("gcode") {
       text[0] = '(';
       text[at - 1] = ')';
       TempFile call(text + "M 9 8P1\n"), none(text + "M 9 80\n");
-      CHECK(gcode::calls_subprograms(call.p.string()));
-      CHECK_FALSE(gcode::calls_subprograms(none.p.string()));
+      CHECK(gcode::needs_whole_file(call.p.string()));
+      CHECK_FALSE(gcode::needs_whole_file(none.p.string()));
     }
   }
 

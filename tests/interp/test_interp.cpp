@@ -111,12 +111,18 @@ TEST_CASE("trap 6: G43 H before or after Z; H is an offset number") {
   CHECK(near(b.motions[1].end_mm, a.motions[1].end_mm));
 }
 
-TEST_CASE("trap 7: cutter compensation is flagged; G68, G51, G52, G92, macro B, G65/G66 refused") {
+TEST_CASE("trap 7: cutter compensation gives the centre path; G68, G51, G52, G92, macro B, G65/G66 refused") {
+  // D1 of radius 5 (test::interpret_text): the start-up move stays as
+  // written, the contour after it is compensable, the tool runs offset.
   auto c = interpret_text("G21 G90 G0 X0 Y0 Z0\nG41 D1 G1 X10. F100\nX20.\nG40 X30.\n");
   REQUIRE(c.motions.size() == 4);
   CHECK(c.motions[1].fixed == Fixed::cutter_comp);
-  CHECK(c.motions[2].fixed == Fixed::cutter_comp);
+  CHECK(c.motions[2].fixed == Fixed::no);
+  CHECK(c.motions[2].comp == 1);
+  CHECK(near(c.motions[2].end_mm, {20, 5, 0}));
+  CHECK(near(c.motions[2].contour_end_mm, {20, 0, 0}));
   CHECK(c.motions[3].fixed == Fixed::no);
+  CHECK(near(c.motions[3].start_mm, {20, 5, 0}));
   CHECK(c.stats.cutter_comp_motions == 2);
   for (const char* code : {"G68 X0 Y0 R30.", "G51 X0 Y0 P2000", "G52 X10.", "G92 X0 Y0", "G65 P9010 A1.", "G66 P9010"}) {
     auto r = interpret_text(std::string("G21 G90 G0 X0 Y0 Z0\n") + code + "\nG1 X5. F100\n");

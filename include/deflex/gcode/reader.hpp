@@ -6,7 +6,7 @@
 // gives the same output and diagnostics as when it reads the whole file.
 // The interpreter carries its state from one piece to the next
 // (interp::Interpreter). Subprogram calls jump anywhere in the file: a file
-// that may call one (calls_subprograms) is read whole, as is standard input
+// that may call one (needs_whole_file), or that uses G41/G42, is read whole, as is standard input
 // where a command needs two passes.
 #pragma once
 #include <cstdint>
@@ -84,11 +84,13 @@ class ProgramPasses {
   std::unique_ptr<Program> whole_;
 };
 
-// Whether the file may call a subprogram or macro (an M98, M99 or G65 word,
-// comments not told apart): a cheap byte scan that errs towards yes. Such a
-// file is read whole. "-" (standard input) answers yes: it cannot be read twice.
-bool calls_subprograms(const std::string& path);
+// Whether the file must be read whole: it may call a subprogram (an M98
+// word: a call jumps anywhere in the file) or use cutter compensation (a G41
+// or G42 word: the tool-centre path holds a move back until the next one
+// comes, across any cut). A cheap byte scan that errs towards yes (comments
+// not told apart). "-" (standard input) answers yes: it cannot be read twice.
+bool needs_whole_file(const std::string& path);
 // The same scan of a text in memory.
-bool may_call_subprograms(std::string_view text);
+bool may_need_whole_file(std::string_view text);
 
 }  // namespace deflex::gcode

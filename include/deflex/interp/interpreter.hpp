@@ -6,7 +6,9 @@
 // G87/G88 ...) is refused with an error, and interpretation stops there: every
 // position after it would be a guess. Lexical errors elsewhere are still reported.
 #pragma once
+#include <functional>
 #include <memory>
+#include <optional>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +26,10 @@ struct Options {
   // Most blocks executed, and most motions generated, repeats included: a few
   // nested subprogram calls can otherwise ask for 9999^8 of them.
   std::uint64_t max_blocks = 10'000'000;
+  // G41/G42: the radius (wear included, mm) of D register n, or none (the
+  // caller reads the machine profile's tool_offsets, else the tool library's
+  // T<n>: cli::Setup). Empty: every D but D0 is an error.
+  std::function<std::optional<double>(int d)> cutter_radius_mm;
 };
 
 struct Stats {

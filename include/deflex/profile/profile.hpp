@@ -40,6 +40,12 @@ struct Dialect {
   std::string fine_boring_shift;  // "+X", "-Y", ... or empty: G76/G87 refused
   bool cycle_positions_before_raise = true;
   ExtendedOffsets extended_offsets = ExtendedOffsets::g54_1;
+  // G41/G42 (interp/cutter_comp.hpp): an outside corner goes round an arc of
+  // the tool radius (LinuxCNC) or to the intersection of the offset elements
+  // (Fanuc cutter compensation C); the start-up move offsets its own line
+  // (LinuxCNC) or ends perpendicular to the next move (Fanuc type A start-up).
+  enum class CompCorner { arc, intersection } comp_corner = CompCorner::intersection;
+  enum class CompStartup { offset_line, perpendicular_next } comp_startup = CompStartup::perpendicular_next;
 };
 
 // Names of the built-in dialects (postproc/*.yaml compiled in).
@@ -66,6 +72,10 @@ struct MachineProfile {
   // G28/G30 reference points in machine coordinates, mm; 1 = G28.
   std::map<int, std::array<double, 3>> reference_points_mm;
   double max_offset_mm = 0.1;  // largest compensation offset (issue 5)
+  // G41/G42 radius registers (tool_offsets: in the profile), by D number:
+  // the radius (geometry) and its wear, mm; the control offsets by their sum.
+  struct ToolOffset { double radius_mm = 0, wear_mm = 0; };
+  std::map<int, ToolOffset> tool_offsets;
   AxisLimits axis_limits;      // for the machining time (defaults when the section is absent)
   YAML::Node root;             // the whole document (stiffness, holder ... sections)
 };
