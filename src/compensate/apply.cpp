@@ -44,9 +44,10 @@ double written_mm(double value_mm, bool inch, const profile::Dialect& d) {
 // a split line), the centre point is V = Q + r (nA + nB) / (1 + nA.nB), nA and
 // nB the unit normals towards the tool of the lines on both sides, parallel
 // to their centre lines; where it ends the line perpendicular (LinuxCNC at a
-// small kink and round an outside corner; before G40), V = Q + r nA. Both
-// are inverted on the compensated centre lines. Elsewhere (arcs, Fanuc's
-// acute corners) the point moves by the offset, the first order of the same.
+// small kink; before G40), V = Q + r nA. Both are inverted on the
+// compensated centre lines. Elsewhere (next to an arc, or to the pieces
+// round an outside corner, which deflex moves with the corner) the point
+// moves by the offset, the first order of the same.
 std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms, const std::vector<V3>& offsets,
                                           const profile::Dialect& d) {
   const std::size_t n = ms.size();
@@ -78,14 +79,21 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
     if (j < n && line_xy(j) && !ms[j].corner) {
       const Eigen::Vector2d db = (centre(j, true) - centre(j, false)).normalized();
       const Eigen::Vector2d nb = m.comp * Eigen::Vector2d(-db.y(), db.x());
-      const double cross = da.x() * db.y() - da.y() * db.x(), turn = std::atan2(cross, da.dot(db));
-      const bool inside = m.comp * cross > 0;
-      const bool meet = d.comp_corner == profile::Dialect::CompCorner::arc ? inside && std::fabs(turn) > 0.05
-                                                                           : inside || std::fabs(turn) <= M_PI / 2;
+      // The corner as the interpreter classed it on the program as written
+      // (the path deflex simulated): a corner piece follows where it went round.
+      auto dir = [&](std::size_t k) {
+        return Eigen::Vector2d(ms[k].end_mm[0] - ms[k].start_mm[0], ms[k].end_mm[1] - ms[k].start_mm[1]).normalized();
+      };
+      const Eigen::Vector2d oa = dir(i), ob = dir(j);
+      const double cross = oa.x() * ob.y() - oa.y() * ob.x(), turn = std::atan2(cross, oa.dot(ob));
+      const bool meet = d.comp_corner == profile::Dialect::CompCorner::arc ? m.comp * cross > 0 && std::fabs(turn) > 0.05
+                                                                           : true;
       if (meet) q = va - r * (na + nb) / (1 + na.dot(nb));
-    } else if (j < n && ms[j].comp && (ms[j].corner ? d.comp_corner != profile::Dialect::CompCorner::arc
-                                                     : !line_xy(j))) {
-      continue;  // Fanuc's pieces round an acute corner, or an arc next: first order
+    } else if (j < n && ms[j].comp && (ms[j].corner || !line_xy(j))) {
+      // Pieces round the corner next (they move with this motion's offset:
+      // the corner point moves by it, so they are the control's to within
+      // the turn of this line), or an arc: first order.
+      continue;
     }
     t[i][0] = q.x();
     t[i][1] = q.y();
@@ -419,12 +427,19 @@ class MotionCheck : public interp::MotionSink {
       if (y.feed_mm_per_min > x.feed_mm_per_min * (1 + 1e-9)) fail_(x.line, "a feed rate went up");
     }
     const double r = (x.inch ? round_in_ : round_mm_) * std::sqrt(3.0);
-    // Under G41/G42 the control places every point of the centre path from
-    // the contour's elements on both sides of it: a start-up move's end turns
-    // with the direction of the move after it, which deflex may have moved.
-    const bool follows = x.comp != 0;
-    const double allowed = movable_[i] || ins || follows ? max_offset_mm_ + r : r;
-    const double dist = displacement_mm(om_, inserted_, i, p, y);
+    const double allowed = movable_[i] || ins || x.comp ? max_offset_mm_ + r : r;
+    double dist = displacement_mm(om_, inserted_, i, p, y);
+    // Under G41/G42 the control places each point of the centre path from
+    // the contour's elements on both sides of it: where deflex turned one a
+    // little, the point slides along the path (a start-up's end, the end of
+    // a corner arc, where two offset lines meet). What must hold is that it
+    // stays on the path deflex meant: its distance to this motion's or the
+    // next one's.
+    if (x.comp && !ins) {
+      const V3 e(y.end_mm[0], y.end_mm[1], y.end_mm[2]);
+      for (std::size_t k = i; k < std::min(i + 2, om_.size()); ++k)
+        dist = std::min(dist, (e - nearest_on(piece_of(om_[k]), y.end_mm)).norm());
+    }
     if (dist > allowed) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "a %s motion moved by %.6f mm (allowed %.6f mm)",

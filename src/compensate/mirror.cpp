@@ -25,6 +25,33 @@ interp::Vec3 contour_point(const interp::Motion& m, const interp::Vec3& centre) 
   return {centre[0] - m.comp_radius_mm * nx, centre[1] - m.comp_radius_mm * ny, centre[2]};
 }
 
+// Under G41/G42, whether the point at parameter u of centre line m offsets a
+// point of its programmed segment (0.01 mm inside it): where the control
+// extends the line round an outside corner (Fanuc), or trims it at an
+// inside one, a point put into the contour there would turn it back.
+bool on_contour(const interp::Motion& m, double u) {
+  const double dx = m.end_mm[0] - m.start_mm[0], dy = m.end_mm[1] - m.start_mm[1], len = std::hypot(dx, dy);
+  const double ux = dx / len, uy = dy / len;
+  const double at = (m.start_mm[0] + u * dx) * ux + (m.start_mm[1] + u * dy) * uy;
+  const double from = m.contour_start_mm[0] * ux + m.contour_start_mm[1] * uy;
+  const double to = m.contour_end_mm[0] * ux + m.contour_end_mm[1] * uy;
+  return at > from + 0.01 && at < to - 0.01;
+}
+
+// Whether a point may go into line m under G41/G42 at parameter u of its
+// part [u0, u1]: on its programmed segment, and both new parts at least
+// sqrt(10 r max_step) long. The control meets the offset lines of the
+// contour's parts; a kink phi between them (an offset change of up to
+// max_step over a part of length L: phi <= 2 max_step / L) moves where they
+// meet along the wall by about r phi, which must stay well inside the part
+// (r phi <= L / 5), or the control's path would run back (a gouge alarm).
+bool comp_split_ok(const interp::Motion& m, double u0, double u1, double u, double max_step_mm) {
+  if (!on_contour(m, u)) return false;
+  const double len = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
+  const double min_len = std::sqrt(10.0 * m.comp_radius_mm * max_step_mm);
+  return (u - u0) * len >= min_len && (u1 - u) * len >= min_len;
+}
+
 // P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
 // through it once, in order: at each motion end, with every earlier motion
 // already at its compensated position and cut into the stock, the offset along
@@ -193,6 +220,7 @@ class Stream {
         for (const Point& p : pts) {
           if (p.air || p.plunge) continue;
           const double u = static_cast<double>(p.index) / p.count;
+          if (m.comp && !comp_split_ok(m, u0, u1, u0 + u * (u1 - u0), s_.max_step_mm)) continue;
           const double res = std::fabs(landing_error(p, prev_ + u * (off - prev_)));
           if (res > worst) {
             worst = res;

@@ -11,6 +11,9 @@ PathPiece piece_of(const interp::Motion& m) { return {m.kind, m.plane, m.start_m
 
 void LineFactsSink::motion(const interp::Motion& m) {
   LineFacts& f = (*lines)[m.line];
+  // A piece the control adds round a corner (G41/G42) is not the block's
+  // move: the block's path and count are its own element's.
+  if (m.corner) return;
   const interp::Vec3 start = f.motions ? f.path.start_mm : m.start_mm;
   f.path = piece_of(m);
   f.path.start_mm = start;

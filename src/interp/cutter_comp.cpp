@@ -22,6 +22,13 @@ bool is_arc(const Motion& m) { return m.kind == MotionKind::arc_cw || m.kind == 
 // rs274: 2.86 deg gives no arc, 2.87 deg one).
 constexpr double kArcMinTurnRad = 0.05;
 
+// Fanuc meets the offsets at an outside corner turning up to 90 deg and goes
+// round by two points beyond; at 90 deg both give the same point. deflex
+// takes turns up to 95 deg as the first: a CAM program's right angles stay
+// one point when the compensation turns a side by a few hundredths of a
+// degree (the two differ by at most 0.07 r, in the air round the corner).
+constexpr double kObtuseMaxTurnRad = 95.0 * M_PI / 180.0;
+
 std::string fmt(const char* f, double a, double b = 0) {
   char buf[200];
   std::snprintf(buf, sizeof buf, f, a, b);
@@ -147,6 +154,9 @@ std::string CutterComp::corner(Element& a, const Motion& b, Vec3& b_start, std::
     m.end_mm = at(e, zb);
     m.center_mm = at(p, zb);
     m.corner = true;
+    // The line of the block that ends at the corner: the block after it may
+    // be split by blocks deflex inserts before it, this one always ends there.
+    m.line = a.m.line;
     pieces.push_back(m);
   };
   const MotionKind line = b.kind == MotionKind::rapid ? MotionKind::rapid : MotionKind::linear;
@@ -166,6 +176,12 @@ std::string CutterComp::corner(Element& a, const Motion& b, Vec3& b_start, std::
     // perpendicular point and the next starts there (rs274: G1 X20 Y0.01
     // after G1 X0 Y0 ends at X19.997 Y6.01 with r 6).
     b_start = at(pa, zb);
+  } else if (corner_ == Corner::intersection && side_ * c < 0 && (is_arc(a.m) || is_arc(b)) &&
+             std::fabs(turn) <= kArcMinTurnRad) {
+    // Fanuc, a small outside turn at an arc: the perpendicular points, as
+    // LinuxCNC (no connecting lines; they would be at most r 0.025 long). A
+    // tangent arc stays so when the compensation turns its neighbour a little.
+    b_start = at(pa, zb);
   } else if (side_ * c > 0) {
     // Inside corner: the offsets meet.
     Vec3 x;
@@ -178,7 +194,7 @@ std::string CutterComp::corner(Element& a, const Motion& b, Vec3& b_start, std::
     b_start = at(xy(x), zb);
   } else if (corner_ == Corner::arc) {
     piece(side_ > 0 ? MotionKind::arc_cw : MotionKind::arc_ccw, pa, pb);
-  } else if (std::fabs(turn) <= M_PI / 2 + 1e-12) {
+  } else if (std::fabs(turn) <= kObtuseMaxTurnRad) {
     // Fanuc, obtuse outside corner: the offset elements extended along their
     // tangents meet at v; an arc element ends at its perpendicular point and
     // a line joins it to v.
@@ -202,6 +218,7 @@ std::string CutterComp::emit_held(const Vec3& end, const std::vector<Motion>& pi
   Motion c = held_.m;
   c.start_mm = held_.centre_start;
   c.end_mm = end;
+  c.contour_start_mm = held_.m.start_mm;
   c.contour_end_mm = held_.m.end_mm;
   c.comp = static_cast<std::int8_t>(side_);
   c.comp_radius_mm = r_;
@@ -232,6 +249,7 @@ std::string CutterComp::emit_held(const Vec3& end, const std::vector<Motion>& pi
   for (Motion z : held_z_) {
     z.start_mm = centre_;
     z.end_mm = {end[0], end[1], z.end_mm[2]};
+    z.contour_start_mm = z.start_mm;
     z.contour_end_mm = z.end_mm;
     z.comp = static_cast<std::int8_t>(side_);
     z.comp_radius_mm = r_;
@@ -243,7 +261,7 @@ std::string CutterComp::emit_held(const Vec3& end, const std::vector<Motion>& pi
     m.start_mm = centre_;
     m.comp = static_cast<std::int8_t>(side_);
     m.comp_radius_mm = r_;
-    m.contour_end_mm = held_.m.end_mm;
+    m.contour_start_mm = m.contour_end_mm = held_.m.end_mm;
     out_.motion(m);
     centre_ = m.end_mm;
   }

@@ -15,7 +15,8 @@
 //       intersection: the intersection of the offset elements, extended along
 //            their tangents, for a turn up to 90 deg; a sharper turn goes
 //            round by two points, r beyond the corner along each tangent
-//            (Fanuc Series 0i/30i cutter compensation C).
+//            (Fanuc Series 0i/30i cutter compensation C; deflex draws the
+//            line at 95 deg, see kObtuseMaxTurnRad).
 // Start-up (the first move with XY travel after G41/G42, a G0/G1 from where
 // the tool stands): LinuxCNC offsets the start-up line itself and meets the
 // next element at a corner as above; Fanuc's type A start-up (parameter

@@ -51,10 +51,11 @@ struct Motion {
   Vec3 work_offset_mm{};
   // Under G41/G42 (comp: +1 left, -1 right; 0 off) the motion is the tool
   // centre's path, as the control computes it (interp/cutter_comp.hpp), and
-  // contour_end_mm the block's programmed end, the contour the control offsets.
+  // contour_start_mm / contour_end_mm the block's programmed points, the
+  // contour the control offsets.
   // corner: a piece the control adds at an outside corner (no block of its
-  // own; its line is the block after the corner).
-  Vec3 contour_end_mm{};
+  // own; its line is the block that ends at the corner).
+  Vec3 contour_start_mm{}, contour_end_mm{};
   double comp_radius_mm = 0;  // the radius the control offsets by (D register)
   std::int8_t comp = 0;
   bool corner = false;
