@@ -168,12 +168,30 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::cutter_comp:
       return "cutter compensation start-up moves (G41/G42 entries), and moves under it in G91 or with G90.1 arcs";
     case interp::Fixed::incremental: return "incremental (G91) arcs with absolute centres (G90.1), not compensated";
-    case interp::Fixed::subprogram: return "moves in subprograms, not compensated yet";
+    case interp::Fixed::subprogram: return "moves in subprograms that run more than once";
     case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";
     case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";
     case interp::Fixed::block_delete: return "block-delete '/' moves (run or not at the operator's switch)";
     default: return std::string("moves: ") + interp::to_string(why);
   }
+}
+
+// The subprogram of the first point left alone in one, its calls and the
+// largest error left: the same blocks run at each call, so deflex cannot
+// give each pass its own compensation in place.
+std::string subprogram_calls(const Job& j, const report::RunFigures::LeftAlone& l) {
+  const interp::CallStructure& c = *j.calls;
+  const std::uint32_t o_line = l.first_line < c.sub_of.size() ? c.sub_of[l.first_line] : 0;
+  std::string calls;
+  auto it = c.calls.find(o_line);
+  if (it != c.calls.end())
+    for (std::uint32_t line : it->second) calls += (calls.empty() ? "" : ", ") + std::to_string(line);
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "; the largest error left %.4f mm", l.largest_mm);
+  return (o_line ? " (the first here, in " + c.name_of(o_line, j.prog) + ", called at line" +
+                       (it != c.calls.end() && it->second.size() > 1 ? "s " : " ") + calls + ")"
+                 : std::string(" (the first here)")) +
+         buf + "; --expand-subprograms writes each call inline and compensates each pass";
 }
 
 void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
@@ -189,15 +207,17 @@ void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%zu points outside +-%.4f mm are left as programmed on ", l.points,
                   j.settings.tolerance_mm);
-    diags.report(Severity::warning, text.at(l.first_line), l.first_line, 1,
-                 buf + moves_of(why) + " (the first here) [left_alone]");
+    std::string more = " (the first here)";
+    if (why == interp::Fixed::subprogram && j.calls) more = subprogram_calls(j, l);
+    diags.report(Severity::warning, text.at(l.first_line), l.first_line, 1, buf + moves_of(why) + more + " [left_alone]");
   }
 }
 
 report::Json left_alone_json(const report::RunFigures& f) {
   report::Json a = report::Json::array();
   for (const auto& [why, l] : f.left_alone)
-    a.push_back({{"reason", interp::to_string(why)}, {"points", l.points}, {"first_line", l.first_line}});
+    a.push_back({{"reason", interp::to_string(why)}, {"points", l.points}, {"first_line", l.first_line},
+                 {"largest_error_mm", l.largest_mm}});
   return a;
 }
 

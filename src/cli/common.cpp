@@ -69,6 +69,7 @@ interp::Options Setup::interp() const {
   o.machine = machine ? &*machine : nullptr;
   o.block_delete_switch = block_delete_switch;
   o.max_blocks = max_blocks;
+  o.repeated_lines = repeated_lines.get();
   // Shared by the copies of the options (the safety check reads back on another thread).
   struct Cache {
     std::mutex mu;

@@ -46,6 +46,9 @@ struct Setup {
   bool strict = false;
   std::uint64_t max_blocks = 10'000'000;
   std::string tool_file;  // --tool-file, if the command has it (else the config's)
+  // Lines that run more than once (interp::CallStructure::repeated), once the
+  // program is known; null: every move inside a subprogram stays.
+  std::shared_ptr<const std::vector<std::uint8_t>> repeated_lines;
   // Interpreter options pointing into this Setup (do not outlive it). The
   // radius of a G41/G42 D register: the machine profile's tool_offsets
   // (radius + wear), else the tool library's T<n> diameter / 2 for D<n>

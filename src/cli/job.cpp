@@ -24,6 +24,7 @@
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/version.hpp"
+#include "deflex/writer/expand.hpp"
 
 namespace deflex::cli {
 namespace fs = std::filesystem;
@@ -33,7 +34,10 @@ void describe(po::options_description& d, Args& a, bool compensating) {
   d.add_options()("help,h", po::bool_switch(&a.help), "show this help");
   if (compensating)
     d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout")
-        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N");
+        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N")
+        ("expand-subprograms", po::bool_switch(&a.expand_subprograms),
+         "write each subprogram call (M98) inline, with a comment naming it, so each pass gets its own compensation "
+         "(messages then name lines of the expanded program); without it a subprogram that runs more than once stays as written");
   else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
   d.add_options()
       ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else the installed samples/tools.yaml)")
@@ -369,6 +373,25 @@ void print_setup(const Job& j, const Args& a, Io& io) {
 
 }  // namespace
 
+// A whole program's subprograms: --expand-subprograms writes each call
+// inline (the job then runs on that program); which lines run more than once
+// (a move on a line that runs once is compensable inside a subprogram), and
+// the calls, for the warning on what stays.
+void subprograms(Job& j, const Args& a, Io& io) {
+  if (a.expand_subprograms) {
+    Diagnostics diags(&io.err, j.setup.max_errors);
+    std::string text = writer::expand_subprograms(j.prog, j.setup.interp(), diags);
+    if (diags.errors())
+      throw Error(Exit::input, j.prog.source().name() + ": error: not written: the subprograms cannot be written inline");
+    if (text != j.prog.bytes())
+      j.prog = gcode::Program(SourceText(j.prog.source().name() + " (subprograms expanded)", std::move(text)));
+  }
+  Diagnostics quiet(nullptr, 0);  // the check pass reports
+  auto calls = std::make_shared<const interp::CallStructure>(interp::call_structure(j.prog, j.setup.interp(), quiet));
+  j.setup.repeated_lines = std::shared_ptr<const std::vector<std::uint8_t>>(calls, &calls->repeated);
+  j.calls = std::move(calls);
+}
+
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
   Setup s = resolve_with_machine(a.read);
   s.tool_file = a.tool_file;
@@ -391,6 +414,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     j.prog = gcode::Program(gcode::read_source(a.file, &io.in));
     j.pieces.reset();
   }
+  if (!j.pieces) subprograms(j, a, io);
   const std::string stock = stock_spec(a.stock, cfg);
   j.stock_spec = stock;
   j.physics.tools = stiffness::load_tool_library(tool_library_path(a.tool_file, cfg));

@@ -35,6 +35,7 @@ struct Args {
   double cell_mm = 0.05, cl_spacing_mm = 0.5;
   int max_iterations = 8, threads = 0;
   bool tool_only = false, help = false;
+  bool expand_subprograms = false;  // compensate --expand-subprograms
 };
 
 struct Job {
@@ -51,6 +52,8 @@ struct Job {
   // text and `motions` stay empty; the checks' pass built what needs the whole
   // program. Null: read whole.
   std::unique_ptr<gcode::ProgramPasses> pieces;
+  // A whole program's subprogram calls (null in pieces: such a file is read whole).
+  std::shared_ptr<const interp::CallStructure> calls;
   process::MachiningTime time_as_written;
   std::size_t motion_count = 0;
   // The cutting moves deflex leaves as written, per reason: blocks and the first line.

@@ -147,6 +147,10 @@ bool Run::flow(bool m98, bool m99, bool end) {
     if (it == subs_.end()) return refuse(wp, "subprogram O" + std::to_string(p) + " is not in this file");
     if (stack_.size() >= 8) return refuse(wp, "subprograms nested deeper than 8 (recursion?)");
     stack_.push_back({next_, it->second, repeats});
+    if (calls_out_) {
+      auto& c = calls_out_->calls[it->second];
+      if (std::find(c.begin(), c.end(), blk_.line) == c.end()) c.push_back(blk_.line);
+    }
     next_ = it->second + 1;
     return true;
   }

@@ -366,6 +366,32 @@ Stats interpret(const gcode::Program& prog, const Options& opt, Diagnostics& dia
   return r.stats();
 }
 
+namespace {
+struct NoMotions : MotionSink {
+  void motion(const Motion&) override {}
+};
+}  // namespace
+
+CallStructure call_structure(const gcode::Program& whole, const Options& opt, Diagnostics& diags) {
+  CallStructure c;
+  NoMotions none;
+  detail::Run r(opt, diags, none);
+  r.record_calls(&c);
+  r.feed(whole, true);
+  c.repeated.assign(whole.last_line() + 1, 0);
+  for (std::uint32_t l = whole.first_line(); l <= whole.last_line(); ++l) c.repeated[l] = r.runs(l) > 1;
+  c.sub_of.resize(whole.last_line() + 1, 0);
+  return c;
+}
+
+std::string CallStructure::name_of(std::uint32_t o_line, const gcode::Program& prog) const {
+  const std::string_view t = prog.source().line_text(o_line);
+  const std::size_t b = t.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return "O?";
+  const std::size_t e = t.find_first_of(" \t(;", b);
+  return std::string(t.substr(b, e == std::string_view::npos ? e : e - b));
+}
+
 Interpreter::Interpreter(const Options& opt, Diagnostics& diags, MotionSink& sink)
     : run_(std::make_unique<detail::Run>(opt, diags, sink)) {}
 Interpreter::~Interpreter() = default;

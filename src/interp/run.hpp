@@ -145,6 +145,10 @@ class Run {
                     "end of file inside a subprogram (no M99)");
   }
   const Stats& stats() const { return stats_; }
+  // Records the call structure of the run (call_structure()).
+  void record_calls(CallStructure* c) { calls_out_ = c; }
+  // Per line of the piece run last: how often it ran (0, 1, 2: more).
+  std::uint8_t runs(std::uint32_t line) { return seen(line); }
   bool over() const { return stop_ || ended_; }
 
  private:
@@ -208,7 +212,7 @@ class Run {
     if (comp_ != 400 && (!plain_ || !absolute_ || cc_.starting())) return Fixed::cutter_comp;
     if (forced != Fixed::no) return forced;
     if (blk_.block_delete) return Fixed::block_delete;
-    if (!stack_.empty()) return Fixed::subprogram;
+    if (!stack_.empty() && !runs_once()) return Fixed::subprogram;
     if (!absolute_ && !plain_) return Fixed::incremental;
     return Fixed::no;
   }
@@ -226,8 +230,8 @@ class Run {
     m.tool = tool_;
     m.spindle_rpm = spindle_rpm_;
     m.inch = inch_;
-    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && stack_.empty() && (comp_ == 400 || absolute_) &&
-              !blk_.block_delete;
+    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && (stack_.empty() || runs_once()) &&
+              (comp_ == 400 || absolute_) && !blk_.block_delete;
     m.incremental = !absolute_;
     m.work_offset_mm = wofs_;
     ++stats_.motions;
@@ -239,12 +243,24 @@ class Run {
     pos_ = end;
     comp_ok(cc_.add(m));  // the tool-centre path under G41/G42, else m itself
   }
+  // Whether the block being run is on a line that runs once in the whole
+  // program (Options::repeated_lines).
+  bool runs_once() const {
+    const auto* r = opt_.repeated_lines;
+    return r && blk_.line < r->size() && !(*r)[blk_.line];
+  }
   // A cutter-compensation message (empty: none) stops interpretation.
   bool comp_ok(const std::string& err) { return err.empty() || refuse(nullptr, err); }
   bool start_comp(const Word* g, const Word* wD);
 
   // ---- one line ----------------------------------------------------------
   void step(std::uint32_t line) {
+    if (opt_.on_line) opt_.on_line(line);
+    if (!stack_.empty() && calls_out_) {
+      auto& sub_of = calls_out_->sub_of;
+      if (sub_of.size() <= line) sub_of.resize(line + 1, 0);
+      sub_of[line] = stack_.back().start_line;
+    }
     bool first_time = seen(line) == 0;
     if (seen(line) < 2) ++seen(line);
     bool ok = prog_->lex(line, blk_, first_time ? diags_ : quiet_);
@@ -293,6 +309,7 @@ class Run {
   CutterComp cc_;  // between emit() and sink_
   int d_reg_ = 0;  // the last D word (G41/G42 radius register)
   bool d_given_ = false;
+  CallStructure* calls_out_ = nullptr;
   std::vector<std::uint8_t> seen_;  // per line of the piece: 0 never lexed, 1 once, 2 more (subprogram repeats)
   Diagnostics quiet_{nullptr, 0};   // lexes a line again without repeating its messages
   Block blk_;

@@ -183,6 +183,7 @@ struct Recorder::Impl {
     if (p.fixed != interp::Fixed::no && std::fabs(error) > opt.tolerance_mm) {
       RunFigures::LeftAlone& l = left_alone[p.fixed];
       if (!l.points++) l.first_line = p.line;
+      l.largest_mm = std::max(l.largest_mm, std::fabs(error));
     }
     cusp_stats.add(c.height_mm);
     ++cutting;

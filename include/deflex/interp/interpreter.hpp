@@ -7,6 +7,8 @@
 // position after it would be a guess. Lexical errors elsewhere are still reported.
 #pragma once
 #include <functional>
+#include <map>
+#include <string>
 #include <memory>
 #include <optional>
 #include <cstdint>
@@ -30,6 +32,13 @@ struct Options {
   // caller reads the machine profile's tool_offsets, else the tool library's
   // T<n>: cli::Setup). Empty: every D but D0 is an error.
   std::function<std::optional<double>(int d)> cutter_radius_mm;
+  // Per line number of the whole file, whether the line runs more than once
+  // (a subprogram called twice or repeated: CallStructure::repeated). A move
+  // inside a subprogram on a line that runs once is compensable; null: none
+  // inside a subprogram is.
+  const std::vector<std::uint8_t>* repeated_lines = nullptr;
+  // Called with each line as the interpreter steps onto it, in execution order.
+  std::function<void(std::uint32_t line)> on_line;
 };
 
 struct Stats {
@@ -46,6 +55,16 @@ struct Stats {
 
 // Runs the whole program; returns statistics. Errors and warnings go to diags.
 Stats interpret(const gcode::Program& prog, const Options& opt, Diagnostics& diags, MotionSink& sink);
+
+// How a whole program runs its subprograms (M98/M99), from one run of it.
+struct CallStructure {
+  std::vector<std::uint8_t> repeated;  // per line (index = line number): 1 if it runs more than once
+  std::vector<std::uint32_t> sub_of;   // per line: the O line of the subprogram it runs in (0: the main program)
+  std::map<std::uint32_t, std::vector<std::uint32_t>> calls;  // O line -> the lines of the M98 blocks calling it
+  std::string name_of(std::uint32_t o_line, const gcode::Program& prog) const;  // "O2000"
+};
+// Messages of the run go to `diags` (it may be quiet).
+CallStructure call_structure(const gcode::Program& whole, const Options& opt, Diagnostics& diags);
 
 namespace detail {
 class Run;

@@ -81,6 +81,7 @@ struct RunFigures {
   struct LeftAlone {
     std::size_t points = 0;
     std::uint32_t first_line = 0;
+    double largest_mm = 0;  // the largest |error| among them
   };
   std::map<interp::Fixed, LeftAlone> left_alone;
 };
