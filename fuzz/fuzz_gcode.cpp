@@ -13,6 +13,7 @@
 #include "deflex/gcode/reader.hpp"
 #include "deflex/interp/interpreter.hpp"
 #include "deflex/profile/profile.hpp"
+#include "deflex/writer/expand.hpp"
 #include "deflex/writer/writer.hpp"
 #include "fuzz_support.hpp"
 
@@ -81,8 +82,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     interp::Options o;
     o.dialect = d;
     o.max_blocks = 10000;  // the budget is under test too; small keeps runs fast
+    // G41/G42: every D register has a radius (D n: n / 4 mm), so the
+    // tool-centre path is computed for whatever contour the input holds.
+    o.cutter_radius_mm = [](int reg) { return std::optional<double>(reg / 4.0); };
     Null sink;
     interp::interpret(prog, o, diags, sink);
+    // Subprograms written inline read as a program of their own.
+    {
+      Diagnostics quiet(nullptr, 20);
+      const std::string inline_text = writer::expand_subprograms(prog, o, quiet);
+      if (!inline_text.empty()) {
+        gcode::Program expanded(SourceText("expanded.nc", inline_text));
+        Diagnostics again(nullptr, 20);
+        interp::interpret(expanded, o, again, sink);
+      }
+    }
     writer::Rewriter w(prog, d);
     if (w.str() != text) {
       std::fprintf(stderr, "fuzz: rewrite is not byte-identical\n");

@@ -172,6 +172,9 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";
     case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";
     case interp::Fixed::block_delete: return "block-delete '/' moves (run or not at the operator's switch)";
+    case interp::Fixed::held:
+      return "moves ending where a block deflex cannot re-target starts (a canned cycle, G28/G30/G53, a subprogram "
+             "that runs more than once, a change of work offset, an arc that stays)";
     default: return std::string("moves: ") + interp::to_string(why);
   }
 }

@@ -89,6 +89,10 @@ class Stream {
       } else if (m.kind == interp::MotionKind::rapid || !(*can_)[i]) {
         std::vector<Point> pts;
         if (m.kind != interp::MotionKind::rapid) pts = samples(m, prev_, V3::Zero(), 0);
+        // A compensable move whose end cannot move: its points say why (the
+        // run's [left_alone] accounting).
+        if (m.fixed == interp::Fixed::no)
+          for (Point& p : pts) p.fixed = interp::Fixed::held;
         emit(m, V3::Zero(), false, false, std::move(pts), true);
       } else if (m.corner || (m.comp && m.start_mm[0] == m.end_mm[0] && m.start_mm[1] == m.end_mm[1])) {
         // Under G41/G42, a piece the control adds at a corner, or a Z move

@@ -230,7 +230,7 @@ class Run {
     m.tool = tool_;
     m.spindle_rpm = spindle_rpm_;
     m.inch = inch_;
-    m.plain = plain_ && (absolute_ || k != MotionKind::rapid) && (stack_.empty() || runs_once()) &&
+    m.plain = plain_ && (stack_.empty() || runs_once()) &&
               (comp_ == 400 || absolute_) && !blk_.block_delete;
     m.incremental = !absolute_;
     m.work_offset_mm = wofs_;

@@ -135,6 +135,37 @@ TEST_SUITE("cli") {
     fs::remove_all(dir);
   }
 
+  TEST_CASE("G91 sample: the side wall written in increments compensates as the side wall sample") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-g91s-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string g90 = "samples/programs/side_wall.nc", g91 = "samples/programs/side_wall_g91.nc";
+    REQUIRE(test::run_cli({"path", g91}).out == test::run_cli({"path", g90}).out);
+    const std::string out90 = (dir / "a.nc").string(), out91 = (dir / "b.nc").string();
+    const test::CliResult a = compensate_wall(g90, out90), b = compensate_wall(g91, out91);
+    REQUIRE(a.rc == 0);
+    REQUIRE(b.rc == 0);
+    // Both passes, each followed by a rapid in G91 (whose increment takes the
+    // tool back to where the original goes): the same compensated path.
+    CHECK(a.err.substr(a.err.find("predicted error")) == b.err.substr(b.err.find("predicted error")));
+    CHECK(b.err.find("[left_alone]") == std::string::npos);
+    CHECK(test::run_cli({"path", out91}).out == test::run_cli({"path", out90}).out);
+    CHECK(test::read_file(out91).find("N24 G00 Y0.08 Z17.\n") != std::string::npos);
+    fs::remove_all(dir);
+  }
+
+  TEST_CASE("left alone: a compensable pass whose end starts a block deflex cannot move is named, not silent") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-held-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    // The first pass ends where a drilling cycle starts: its end stays, and
+    // so does the pass (nothing to ramp to).
+    const std::string in = wall_with(dir, "held.nc", "N22 X110. F2546.4\nN23 G99 G81 X110. Y3.5 Z-12.5 R-11. F200.\nN23 G80\n");
+    const test::CliResult r = compensate_wall(in, (dir / "out.nc").string());
+    REQUIRE(r.rc == 0);
+    CHECK(r.err.find("held.nc:16:1: warning: 207 points outside +-0.0100 mm are left as programmed on moves ending where "
+                     "a block deflex cannot re-target starts") != std::string::npos);
+    fs::remove_all(dir);
+  }
+
   TEST_CASE("left alone: a pass deflex does not move is named with its count, on stderr and in summary.json") {
     const fs::path dir = fs::temp_directory_path() / ("deflex-left-" + std::to_string(::getpid()));
     fs::create_directories(dir);

@@ -21,6 +21,9 @@ enum class Fixed : std::uint8_t {
   incremental,       // G91: changing one block would shift all that follow
   machine_frame,     // G53 / G28 / G30 move in machine coordinates
   block_delete,      // `/` block: executed or not at the operator's switch
+  // Set by compensation, never by the interpreter: a compensable move whose
+  // end starts a block the writer cannot re-target (compensate::movable).
+  held,
 };
 const char* to_string(Fixed f);
 const char* to_string(MotionKind k);  // "G0", "G1", "G2", "G3"
@@ -37,10 +40,12 @@ struct Motion {
   int tool = 0;                     // active T number
   double spindle_rpm = 0.0;         // last S word (0: none yet)
   bool inch = false;                // the block was read in G20
-  // A plain G0/G1/G2/G3 block in G90 (or a G1 in G91), outside subprograms,
-  // cutter compensation and block delete: one motion whose end is exactly its
-  // X/Y/Z words (or the modal values; in G91 their sum with the position), so
-  // the writer may re-target it by setting or adding words.
+  // A plain G0/G1/G2/G3 block (G90 or G91; under G41/G42 only in G90), on a
+  // line that runs once, not block-deleted: one motion whose end is exactly
+  // its X/Y/Z words (or the modal values; in G91 their sum with the
+  // position), so the writer may re-target it by setting or adding words (a
+  // G91 rapid after a compensated point takes the increment back to where
+  // the original goes).
   bool plain = false;
   // G91: the block's X/Y/Z words are increments from where the control stands
   // (a plain G1 in G91 is compensable: the writer turns its ends into
