@@ -357,7 +357,7 @@ TEST_SUITE("cli") {
 }
 
 TEST_SUITE("cli") {
-  TEST_CASE("G41 round a boss with outside corners and an arc: what deflex compensated is what the control runs") {
+  TEST_CASE("G41/G42 round a boss with outside corners and an arc: what deflex compensated is what the control runs") {
     // Chords of the centre path only where the compensated contour is a
     // line: the arc's points lie on the control's arc, the corner pieces on
     // the control's corners (arcs on LinuxCNC, the offsets' intersection on
@@ -369,9 +369,17 @@ TEST_SUITE("cli") {
                            "N14 G00 G54 X-20. Y-20. S6366 M03\nN16 G43 H6 Z5. M08\nN18 G01 Z-5. F1000.\n"
                            "N20 G41 D6 X0. Y-5.\nN22 Y40. F2546.4\nN24 X50.\nN26 G02 X60. Y30. R10.\nN28 G01 Y0.\n"
                            "N30 X-5.\nN32 G40 X-20. Y-20. F1000.\nN34 G00 Z50.\nN36 M30\n%\n");
-    for (const std::string dialect : {"fanuc", "linuxcnc"}) {
-      CAPTURE(dialect);
-      const OnPath on = compensated_on_path(dir, boss, "box:-2,-2,-10,62,42,0", dialect);
+    // The same boss the other way round under G42 (up-milling).
+    const std::string boss42 = (dir / "boss42.nc").string();
+    test::write_file(boss42, "%\nO7002 (BOSS 60 X 40 - G42 OUTSIDE CONTOUR)\nN10 G21 G90 G17 G40 G49 G80\nN12 T6 M06\n"
+                             "N14 G00 G54 X-20. Y-20. S6366 M03\nN16 G43 H6 Z5. M08\nN18 G01 Z-5. F1000.\n"
+                             "N20 G42 D6 X-5. Y0.\nN22 X60. F2546.4\nN24 Y30.\nN26 G03 X50. Y40. R10.\nN28 G01 X0.\n"
+                             "N30 Y-5.\nN32 G40 X-20. Y-20. F1000.\nN34 G00 Z50.\nN36 M30\n%\n");
+    for (const auto& [program, dialect] : {std::pair{boss, "fanuc"}, std::pair{boss, "linuxcnc"},
+                                            std::pair{boss42, "fanuc"}, std::pair{boss42, "linuxcnc"}}) {
+      const std::string what = program + " " + dialect;
+      CAPTURE(what);
+      const OnPath on = compensated_on_path(dir, program, "box:-2,-2,-10,62,42,0", dialect);
       CHECK(on.rows > 400);
       CHECK(on.err.find("blocks inserted") != std::string::npos);
       // Exact on the lines and the arc; at a corner, or where a move deflex
@@ -382,7 +390,7 @@ TEST_SUITE("cli") {
       // The start-up's end slides along the first move the same way: within
       // the offset cap.
       CHECK(on.startup_mm <= 0.1);
-      MESSAGE(dialect << ": " << on.rows << " points, the farthest " << on.worst_mm
+      MESSAGE(what << ": " << on.rows << " points, the farthest " << on.worst_mm
                       << " mm from the control's path (the start-up's " << on.startup_mm << " mm)");
     }
     fs::remove_all(dir);

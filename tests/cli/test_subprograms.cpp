@@ -26,9 +26,9 @@ test::CliResult compensate(const std::string& in, const std::string& out, std::v
 }
 
 std::string replaced(std::string text, const std::vector<std::pair<std::string, std::string>>& edits) {
-  for (const auto& [from, to] : edits) {
-    REQUIRE_MESSAGE(text.find(from) != std::string::npos, from);
-    text.replace(text.find(from), from.size(), to);
+  for (const auto& e : edits) {
+    REQUIRE_MESSAGE(text.find(e.first) != std::string::npos, e.first);
+    text.replace(text.find(e.first), e.first.size(), e.second);
   }
   return text;
 }
