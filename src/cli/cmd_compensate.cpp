@@ -395,7 +395,9 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     std::vector<interp::Motion> rm;
     Collect c;
     c.out = &rm;
-    interp::interpret(ref, j.setup.interp(), diags, c);
+    interp::Options ro = j.setup.interp();
+    ro.repeated_lines = nullptr;  // another program's lines
+    interp::interpret(ref, ro, diags, c);
     if (diags.errors()) throw Error(Exit::input, a.reference + ": error: the reference program has errors");
     // Paired by the program structure (compensate/pairing.hpp): a motion the
     // compensation left alone has an intent offset of exactly zero; a block

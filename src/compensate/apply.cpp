@@ -67,6 +67,14 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
     const interp::Motion& m = ms[i];
     const V3 o = off(i);
     for (int a = 0; a < 3; ++a) t[i][a] = m.contour_end_mm[a] + o[a];
+    // A Z move at a corner: its block has only Z; the XY is where the block
+    // before it put the corner.
+    if (m.comp && !m.corner && i > 0 && ms[i - 1].comp && m.start_mm[0] == m.end_mm[0] &&
+        m.start_mm[1] == m.end_mm[1]) {
+      t[i][0] = t[i - 1][0];
+      t[i][1] = t[i - 1][1];
+      continue;
+    }
     if (!line_xy(i) || !m.compensable()) continue;
     const Eigen::Vector2d va = centre(i, true), da = (va - centre(i, false)).normalized();
     const Eigen::Vector2d na = m.comp * Eigen::Vector2d(-da.y(), da.x());
@@ -89,10 +97,18 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
       const bool meet = d.comp_corner == profile::Dialect::CompCorner::arc ? m.comp * cross > 0 && std::fabs(turn) > 0.05
                                                                            : true;
       if (meet) q = va - r * (na + nb) / (1 + na.dot(nb));
+    } else if (j < n && ms[j].comp && ms[j].corner && d.comp_corner == profile::Dialect::CompCorner::intersection) {
+      // Fanuc's points round an outside corner next: this line ends `ext`
+      // past the corner along itself (r past an acute one, where the pieces
+      // start), so the control's end of the compensated line is where deflex
+      // simulated it; the pieces (in the air) follow within r times the turn.
+      const Eigen::Vector2d oa = Eigen::Vector2d(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]).normalized();
+      const double ext = (m.end_mm[0] - m.contour_end_mm[0]) * oa.x() + (m.end_mm[1] - m.contour_end_mm[1]) * oa.y();
+      q = va - r * na - ext * da;
     } else if (j < n && ms[j].comp && (ms[j].corner || !line_xy(j))) {
-      // Pieces round the corner next (they move with this motion's offset:
-      // the corner point moves by it, so they are the control's to within
-      // the turn of this line), or an arc: first order.
+      // LinuxCNC's arc round the corner next: it moves with this motion's
+      // offset, centred on the corner point moved by it (this line's end
+      // slides along it by r times its turn); or an arc next: first order.
       continue;
     }
     t[i][0] = q.x();
@@ -406,6 +422,20 @@ class MotionCheck : public interp::MotionSink {
         round_in_(0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001) {}
 
   void motion(const interp::Motion& y) override {
+    // Pieces the control adds round a G41/G42 corner (in the air) pair with
+    // nothing: a corner whose turn deflex moved across a threshold of the
+    // control's rule (an arc from 0.05 rad on LinuxCNC) has one more or one
+    // fewer. Such a piece stays near the corner's moves.
+    if (y.corner) {
+      const V3 e(y.end_mm[0], y.end_mm[1], y.end_mm[2]);
+      double dist = 1e300;
+      for (std::size_t k = i_ ? i_ - 1 : 0; k < std::min(i_ + 3, om_.size()); ++k)
+        dist = std::min(dist, (e - nearest_on(piece_of(om_[k]), y.end_mm)).norm());
+      if (dist > max_offset_mm_ + y.comp_radius_mm * 0.1)
+        fail_(y.line, "a piece round a corner under cutter compensation is off the path");
+      return;
+    }
+    while (i_ < om_.size() && om_[i_].corner) ++i_;
     const std::size_t i = i_++;
     if (i >= om_.size()) fail_(1, "the written program has more motions than the original");
     const interp::Motion& x = om_[i];
@@ -448,6 +478,7 @@ class MotionCheck : public interp::MotionSink {
     }
   }
   void finish() {
+    while (i_ < om_.size() && om_[i_].corner) ++i_;
     if (!pairer_.complete() || i_ != om_.size()) fail_(1, "the written program has a different number of motions");
   }
 

@@ -47,9 +47,18 @@ bool on_contour(const interp::Motion& m, double u) {
 // (r phi <= L / 5), or the control's path would run back (a gouge alarm).
 bool comp_split_ok(const interp::Motion& m, double u0, double u1, double u, double max_step_mm) {
   if (!on_contour(m, u)) return false;
-  const double len = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
+  // The parts as the contour has them: the centre line runs on past the
+  // programmed segment round a Fanuc outside corner.
+  const double dx = m.end_mm[0] - m.start_mm[0], dy = m.end_mm[1] - m.start_mm[1], len = std::hypot(dx, dy);
+  const double ux = dx / len, uy = dy / len;
+  const double from = m.contour_start_mm[0] * ux + m.contour_start_mm[1] * uy;
+  const double to = m.contour_end_mm[0] * ux + m.contour_end_mm[1] * uy;
+  auto along = [&](double v) {  // the contour's point at centre parameter v, along the line
+    const double a = (m.start_mm[0] + v * dx) * ux + (m.start_mm[1] + v * dy) * uy;
+    return std::clamp(a, from, to);
+  };
   const double min_len = std::sqrt(10.0 * m.comp_radius_mm * max_step_mm);
-  return (u - u0) * len >= min_len && (u1 - u) * len >= min_len;
+  return along(u) - along(u0) >= min_len && along(u1) - along(u) >= min_len;
 }
 
 // P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going

@@ -311,8 +311,10 @@ MotionPairer::MotionPairer(const LinePairing& lines, const std::vector<interp::M
                            const std::vector<bool>* passed_over)
     : lines_(lines), a_(a), passed_over_(passed_over) {}
 
+// Pieces the control adds round a G41/G42 corner have no block: they pair
+// with nothing (MotionCheck, intent_offsets).
 void MotionPairer::skip_passed_over() {
-  while (passed_over_ && k_ < a_.size() && (*passed_over_)[k_]) ++k_;
+  while (k_ < a_.size() && ((passed_over_ && (*passed_over_)[k_]) || a_[k_].corner)) ++k_;
 }
 
 MotionPair MotionPairer::next(const interp::Motion& b) {
@@ -339,6 +341,10 @@ std::vector<V3> intent_offsets(const LinePairing& lines, const std::vector<inter
   std::vector<V3> off(b.size(), V3::Zero());
   MotionPairer pairer(lines, a);
   for (std::size_t i = 0; i < b.size(); ++i) {
+    if (b[i].corner) {  // moves with the corner: the offset of the move before it
+      off[i] = i ? off[i - 1] : V3(V3::Zero());
+      continue;
+    }
     const MotionPair p = pairer.next(b[i]);
     if (p.original == MotionPair::none)
       throw Error(Exit::input, name_b + ":" + std::to_string(b[i].line) +

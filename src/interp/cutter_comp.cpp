@@ -27,6 +27,11 @@ constexpr double kArcMinTurnRad = 0.05;
 // takes turns up to 95 deg as the first: a CAM program's right angles stay
 // one point when the compensation turns a side by a few hundredths of a
 // degree (the two differ by at most 0.07 r, in the air round the corner).
+// Turns below this are tangents: the perpendicular points are within
+// 6e-7 mm for r = 6 mm, where the offsets of two nearly concentric arcs cross
+// far from the corner (or not at all).
+constexpr double kTangentRad = 1e-7;
+
 constexpr double kObtuseMaxTurnRad = 95.0 * M_PI / 180.0;
 
 std::string fmt(const char* f, double a, double b = 0) {
@@ -162,8 +167,8 @@ std::string CutterComp::corner(Element& a, const Motion& b, Vec3& b_start, std::
   const MotionKind line = b.kind == MotionKind::rapid ? MotionKind::rapid : MotionKind::linear;
   if (a.entry && startup_ == Startup::perpendicular_next) {
     a_end = at(pb, za);  // Fanuc type A: perpendicular to the next move's start
-  } else if (std::fabs(c) < 1e-12 && d > 0) {
-    // Tangent: the perpendicular points coincide.
+  } else if (std::fabs(turn) < kTangentRad) {
+    // Tangent: the perpendicular points coincide (to r kTangentRad).
   } else if (std::fabs(c) < 1e-12) {
     // The contour turns back on itself: where an arc curls away the offsets
     // still meet (rs274 takes that point too); two lines never do.
@@ -249,8 +254,10 @@ std::string CutterComp::emit_held(const Vec3& end, const std::vector<Motion>& pi
   for (Motion z : held_z_) {
     z.start_mm = centre_;
     z.end_mm = {end[0], end[1], z.end_mm[2]};
-    z.contour_start_mm = z.start_mm;
-    z.contour_end_mm = z.end_mm;
+    // The program's point is the corner's (the block has only Z), the tool's
+    // the centre's.
+    z.contour_start_mm = {held_.m.end_mm[0], held_.m.end_mm[1], z.start_mm[2]};
+    z.contour_end_mm = {held_.m.end_mm[0], held_.m.end_mm[1], z.end_mm[2]};
     z.comp = static_cast<std::int8_t>(side_);
     z.comp_radius_mm = r_;
     out_.motion(z);

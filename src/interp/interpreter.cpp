@@ -118,7 +118,12 @@ bool Run::execute() {
   if (codes[g_distance] >= 0) absolute_ = codes[g_distance] == 900;
   if (codes[g_arcdist] >= 0) ijk_absolute_ = codes[g_arcdist] == 901;
   if (const Word* wD = blk_.find('D')) {
+    const int before = d_reg_;
     if (!whole(wD, 0, 9999, d_reg_, "offset register D")) return false;
+    // A new radius under compensation needs its own start-up (LinuxCNC
+    // refuses it; Fanuc changes the offset vector at the block's end).
+    if (cc_.on() && d_given_ && d_reg_ != before && codes[g_cutcomp] < 0)
+      return refuse(wD, "a change of D under cutter compensation is not interpreted: cancel it with G40 first");
     d_given_ = true;
   }
   if (codes[g_cutcomp] >= 0) {

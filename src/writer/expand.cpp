@@ -49,6 +49,12 @@ std::string expand_subprograms(const gcode::Program& prog, const interp::Options
       if (out.back() != '\n') out += eol;  // a last line without a line end, run inside
       continue;
     }
+    if (b.block_delete) {
+      // Whether it runs is the operator's switch; inline it would run always.
+      diags.report(Severity::error, src, l, 1,
+                   std::string(code == 980 ? "M98" : "M99") + " in a block-delete '/' block cannot be written inline");
+      return {};
+    }
     std::string words;
     for (const gcode::Word& w : b.words) {
       const bool ok = w.letter == 'N' || w.letter == 'P' || w.letter == 'L' || (w.letter == 'M' && w.code10() == code);
@@ -65,8 +71,9 @@ std::string expand_subprograms(const gcode::Program& prog, const interp::Options
       for (const auto& [sub, lines] : calls.calls)
         for (std::uint32_t c : lines)
           if (c == l) o_line = sub;
-      out += format_comment(words + " AT LINE " + std::to_string(l) + ": " + calls.name_of(o_line, prog) +
-                                " WRITTEN INLINE BY DEFLEX",
+      // No subprogram behind the call: it repeats no time (L0).
+      out += format_comment(words + " AT LINE " + std::to_string(l) + ": " +
+                                (o_line ? calls.name_of(o_line, prog) + " WRITTEN INLINE BY DEFLEX" : "RUNS NO TIME"),
                             opt.dialect) +
              eol;
     } else if (!in_sub) {

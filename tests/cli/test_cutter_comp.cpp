@@ -396,3 +396,78 @@ TEST_SUITE("cli") {
     fs::remove_all(dir);
   }
 }
+
+TEST_SUITE("cli") {
+  TEST_CASE("G41 in practice: a Z move at a corner, a retract before G40, a hexagon, a corner near the arc threshold") {
+    const fs::path dir = fs::temp_directory_path() / ("deflex-ccz-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string sample = test::read_file("samples/programs/side_wall_g41.nc");
+    auto edited = [&](const std::string& name, const std::string& from, const std::string& to) {
+      std::string t = sample;
+      REQUIRE(t.find(from) != std::string::npos);
+      t.replace(t.find(from), from.size(), to);
+      const std::string path = (dir / name).string();
+      test::write_file(path, t);
+      return path;
+    };
+    // A Z move at a corner keeps the corner's programmed point: the block
+    // stays Z only, `path` prints the contour's point, `--centre` the tool's.
+    const std::string z = edited("z.nc", "N24 X110. F2546.4\n", "N24 X50. F2546.4\nN25 Z-11.\nN27 X110.\n");
+    CHECK(test::run_cli({"path", "--lines", z}).out.find("15 G1 50.000000 -2.500000 -11.000000\n") != std::string::npos);
+    CHECK(test::run_cli({"path", "--lines", "--centre", z}).out.find("15 G1 50.000000 3.500000 -11.000000\n") !=
+          std::string::npos);
+    const std::string zo = (dir / "z_out.nc").string();
+    const test::CliResult zr = test::run_cli({"compensate", z, "--stock", "box:0,-40,-30,100,0,0", "-o", zo});
+    REQUIRE_MESSAGE(zr.rc == 0, zr.err);
+    CHECK(test::read_file(zo).find("\nN25 Z-11.\n") != std::string::npos);
+    // A retract under compensation before G40 comes alone.
+    const std::string rt = edited("rt.nc", "N26 G40 X120. Y10. F1000.\nN28 G00 Z5.\n",
+                                  "N26 X120. Y10. F1000.\nN28 G00 Z5.\nN29 G40\n");
+    const test::CliResult rr =
+        test::run_cli({"compensate", rt, "--stock", "box:0,-40,-30,100,0,0", "-o", (dir / "rt_out.nc").string()});
+    CHECK_MESSAGE(rr.rc == 0, rr.err);
+    // A corner turning 0.0498 rad: LinuxCNC's arc threshold is 0.05 rad,
+    // and compensation may turn it across: the read-back pairs all the same.
+    const std::string k = edited("k.nc", "N24 X110. F2546.4\n", "N24 X50. F2546.4\nN25 X110. Y-5.4905\n");
+    const test::CliResult kr = test::run_cli(
+        {"compensate", k, "--dialect", "linuxcnc", "--stock", "box:0,-40,-30,100,0,0", "-o", (dir / "k_out.nc").string()});
+    CHECK_MESSAGE(kr.rc == 0, kr.err);
+    // A hexagon boss (120 deg corners): the compensated points on the control's path.
+    const std::string hex = (dir / "hex.nc").string();
+    test::write_file(hex, "%\nN10 G21 G90 G17 G40 G49 G80\nN12 T6 M06\nN14 G00 G54 X-20. Y0. S6366 M03\n"
+                          "N16 G43 H6 Z5. M08\nN18 G01 Z-5. F1000.\nN20 G41 D6 X4.999 Y15.000\nG1 X5.000 Y25.000 F2546.4\n"
+                          "G1 X17.500 Y46.651\nG1 X42.500 Y46.651\nG1 X55.000 Y25.000\nG1 X42.500 Y3.349\n"
+                          "G1 X17.500 Y3.349\nG1 X5.000 Y25.000\nG1 X17.500 Y46.651\nG40 X-20. Y60. F1000.\nG00 Z50.\n"
+                          "M30\n%\n");
+    for (const std::string dialect : {"fanuc", "linuxcnc"}) {
+      CAPTURE(dialect);
+      const OnPath on = compensated_on_path(dir, hex, "box:4,2,-10,56,48,0", dialect);
+      CHECK(on.worst_mm <= 0.01);  // as round the boss: 2 um on Fanuc, 9 um on LinuxCNC next to its corner arcs
+      MESSAGE("hexagon " << dialect << ": " << on.rows << " points, the farthest " << on.worst_mm << " mm");
+    }
+    fs::remove_all(dir);
+  }
+
+  TEST_CASE("G41: a D change under compensation, nearly concentric arcs") {
+    const test::Interpreted d = test::interpret_text(
+        std::string(kHead) + "G0 X-20 Y0 Z-5\nG41 D6 G1 X0 Y0 F500\nG1 X50\nG1 Y30 D1\nG40 G1 X0 Y50\nM2\n",
+        "linuxcnc", nullptr, false, 6.0);
+    CHECK(d.diagnostics.find("t.nc:6:8: error: a change of D under cutter compensation is not interpreted") !=
+          std::string::npos);
+    // A bore of quarter arcs, one written 1 um off its neighbour's circle:
+    // the offsets of two nearly concentric arcs cross far away; the corner
+    // is a tangent, and the centre path the exact bore's within 1 um.
+    auto bore = [&](const char* j) {
+      return test::interpret_text(std::string(kHead) + "G0 X50 Y50 Z-5\nG41 G1 X50 Y30 F500\nG3 X70 Y50 I0 J20\n"
+                                                       "G3 X50 Y70 I-20 J0\nG3 X30 Y50 I0 " + j + "\nG3 X50 Y30 I20 J0\n"
+                                                       "G40 G1 X50 Y50\nM2\n",
+                                  "linuxcnc", nullptr, false, 6.0);
+    };
+    const test::Interpreted a = bore("J-20"), b = bore("J-20.001");
+    REQUIRE(a.errors == 0);
+    REQUIRE(b.errors == 0);
+    REQUIRE(a.motions.size() == b.motions.size());
+    for (std::size_t i = 0; i < a.motions.size(); ++i)
+      for (int k = 0; k < 3; ++k) CHECK(std::fabs(a.motions[i].end_mm[k] - b.motions[i].end_mm[k]) < 2e-3);
+  }
+}

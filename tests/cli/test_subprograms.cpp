@@ -135,5 +135,10 @@ TEST_SUITE("cli") {
     CHECK(bad.rc == 1);
     CHECK(bad.err.find("bad.nc:7:1: error: M98 block with other words: it cannot be written inline") != std::string::npos);
     CHECK_FALSE(fs::exists(dir / "bad_out.nc"));
+    // A block-delete call runs at the operator's switch; inline it would always run.
+    test::write_file(dir / "bd.nc", replaced(nested, {{"M98 P2 L2\n", "/M98 P2 L2\n"}}));
+    const test::CliResult bd = compensate(dir / "bd.nc", dir / "bd_out.nc", {"--expand-subprograms"});
+    CHECK(bd.rc == 1);
+    CHECK(bd.err.find("bd.nc:7:1: error: M98 in a block-delete '/' block cannot be written inline") != std::string::npos);
   }
 }
