@@ -133,11 +133,13 @@ namespace {
 bool blank(char c) { return c == ' ' || c == '\t'; }
 
 // Whether the word at p (*p is its letter) reads one of `codes` (two digits
-// each), the lexer's way: leading zeros and blanks allowed, blanks inside the
-// number too (`M9 8` is M98). 1 yes, 0 no, -1 the bytes end first (at the
+// each), the lexer's way: a plus sign, leading zeros and blanks allowed,
+// blanks inside the number too (`M9 8` and `M+098` are M98). 1 yes, 0 no, -1 the bytes end first (at the
 // end of the file: taken for yes).
 int code_at(const char* p, const char* end, const char* codes) {
   const char* q = p + 1;
+  while (q < end && blank(*q)) ++q;
+  if (q < end && *q == '+') ++q;  // the lexer reads `M+98` as M98 (fuzz finding)
   while (q < end && (*q == '0' || blank(*q))) ++q;
   if (q == end) return -1;
   const char first = *q++;

@@ -91,7 +91,7 @@ TEST_SUITE("gcode") {
 
   TEST_CASE("needs_whole_file: M98, G41, G42 in any spelling, nothing else") {
     for (const char* t : {"M98 P1\n", "m98P1", "N10 M098 P1\n", "G0 X1 M 98", "(M98)\n", "M9 8P3\n", "G41 D1\n",
-                          "g42d2", "N5 G041 X1\n", "G4 2\n", "G0 G41"}) {
+                          "g42d2", "N5 G041 X1\n", "G4 2\n", "G0 G41", "M49 P1M+98\n", "G + 42\n"}) {
       CAPTURE(t);
       TempFile f(t);
       CHECK(gcode::needs_whole_file(f.p.string()));
