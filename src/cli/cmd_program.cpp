@@ -192,6 +192,14 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
   // The gouge check keeps the motions and names lines of the whole file: it reads it whole.
   gcode::ProgramPasses prog(file, &io.in, part_file.empty() ? piece_lines() : 0);
+  // A whole program: which lines run more than once, so that the count of
+  // compensable motions is compensate's (a subprogram run once is).
+  const gcode::Program* whole = prog.whole_program();
+  if (whole && gcode::may_need_whole_file(whole->bytes())) {
+    Diagnostics quiet(nullptr, 0);
+    auto calls = std::make_shared<const interp::CallStructure>(interp::call_structure(*whole, s.interp(), quiet));
+    s.repeated_lines = std::shared_ptr<const std::vector<std::uint8_t>>(calls, &calls->repeated);
+  }
   Diagnostics diags(&io.err, s.max_errors);
   diags.set_keep(format == "json");  // only JSON lists them again; a text run may report millions
   profile::Travel none;

@@ -110,6 +110,10 @@ TEST_SUITE("cli") {
     CHECK(out.find("G91 G1 X0.476 Y0.006 Z0. F2546.4\nN100 G91 G01 X110. Y0.02 F2546.4\nN110 G90\nN120 M99\n") !=
           std::string::npos);
     CHECK(test::run_cli({"path", dir / "once_out.nc"}).out == test::run_cli({"path", dir / "inline_out.nc"}).out);
+    // `check` counts it compensable as compensate does: 2 plunges and 2 passes;
+    // the sample's two calls leave only the plunges.
+    CHECK(test::run_cli({"check", dir / "once.nc"}).out.find("12 motions (4 compensable)") != std::string::npos);
+    CHECK(test::run_cli({"check", kSample}).out.find("12 motions (2 compensable)") != std::string::npos);
   }
 
   TEST_CASE("--expand-subprograms: nested calls and repeats, the path unchanged; a call it cannot write inline") {
