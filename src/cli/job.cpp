@@ -386,6 +386,7 @@ void subprograms(Job& j, const Args& a, Io& io) {
     if (text != j.prog.bytes())
       j.prog = gcode::Program(SourceText(j.prog.source().name() + " (subprograms expanded)", std::move(text)));
   }
+  if (!gcode::may_need_whole_file(j.prog.bytes())) return;  // no M98 (nor G41/G42): no call to know of
   Diagnostics quiet(nullptr, 0);  // the check pass reports
   auto calls = std::make_shared<const interp::CallStructure>(interp::call_structure(j.prog, j.setup.interp(), quiet));
   j.setup.repeated_lines = std::shared_ptr<const std::vector<std::uint8_t>>(calls, &calls->repeated);

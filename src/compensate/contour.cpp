@@ -1,5 +1,6 @@
 #include "contour.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace deflex::compensate::detail {
@@ -19,6 +20,7 @@ namespace deflex::compensate::detail {
 std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms, const std::vector<V3>& offsets,
                                           const profile::Dialect& d) {
   const std::size_t n = ms.size();
+  if (std::none_of(ms.begin(), ms.end(), [](const interp::Motion& m) { return m.comp != 0; })) return {};
   std::vector<interp::Vec3> t(n);
   auto off = [&](std::size_t i) { return offsets.empty() ? V3(V3::Zero()) : offsets[i]; };
   auto centre = [&](std::size_t i, bool end) {  // compensated centre point, XY
@@ -29,7 +31,7 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
   auto line_xy = [&](std::size_t i) {
     const interp::Motion& m = ms[i];
     return m.comp && !m.corner && m.kind != interp::MotionKind::arc_cw && m.kind != interp::MotionKind::arc_ccw &&
-           (m.start_mm[0] != m.end_mm[0] || m.start_mm[1] != m.end_mm[1]);
+           m.moves_xy();
   };
   for (std::size_t i = 0; i < n; ++i) {
     const interp::Motion& m = ms[i];
@@ -37,8 +39,7 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
     for (int a = 0; a < 3; ++a) t[i][a] = m.contour_end_mm[a] + o[a];
     // A Z move at a corner: its block has only Z; the XY is where the block
     // before it put the corner.
-    if (m.comp && !m.corner && i > 0 && ms[i - 1].comp && m.start_mm[0] == m.end_mm[0] &&
-        m.start_mm[1] == m.end_mm[1]) {
+    if (m.comp && !m.corner && i > 0 && ms[i - 1].comp && !m.moves_xy()) {
       t[i][0] = t[i - 1][0];
       t[i][1] = t[i - 1][1];
       continue;
@@ -48,9 +49,7 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
     const Eigen::Vector2d na = m.comp * Eigen::Vector2d(-da.y(), da.x());
     const double r = m.comp_radius_mm;
     std::size_t j = i + 1;  // the next motion with XY travel (Z moves at the corner stand between)
-    while (j < n && ms[j].comp && !ms[j].corner && ms[j].start_mm[0] == ms[j].end_mm[0] &&
-           ms[j].start_mm[1] == ms[j].end_mm[1])
-      ++j;
+    while (j < n && ms[j].comp && !ms[j].corner && !ms[j].moves_xy()) ++j;
     Eigen::Vector2d q = va - r * na;  // perpendicular end
     if (j < n && line_xy(j) && !ms[j].corner) {
       const Eigen::Vector2d db = (centre(j, true) - centre(j, false)).normalized();
@@ -71,8 +70,8 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
       // start), so the control's end of the compensated line is where deflex
       // simulated it; the pieces (in the air) follow within r times the turn.
       const Eigen::Vector2d oa = Eigen::Vector2d(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]).normalized();
-      const double ext = (m.end_mm[0] - m.contour_end_mm[0]) * oa.x() + (m.end_mm[1] - m.contour_end_mm[1]) * oa.y();
-      q = va - r * na - ext * da;
+      const double ext_mm = (m.end_mm[0] - m.contour_end_mm[0]) * oa.x() + (m.end_mm[1] - m.contour_end_mm[1]) * oa.y();
+      q = va - r * na - ext_mm * da;
     } else if (j < n && ms[j].comp && (ms[j].corner || !line_xy(j))) {
       // LinuxCNC's arc round the corner next: it moves with this motion's
       // offset, centred on the corner point moved by it (this line's end

@@ -57,8 +57,8 @@ bool comp_split_ok(const interp::Motion& m, double u0, double u1, double u, doub
     const double a = (m.start_mm[0] + v * dx) * ux + (m.start_mm[1] + v * dy) * uy;
     return std::clamp(a, from, to);
   };
-  const double min_len = std::sqrt(10.0 * m.comp_radius_mm * max_step_mm);
-  return along(u) - along(u0) >= min_len && along(u1) - along(u) >= min_len;
+  const double min_len_mm = std::sqrt(10.0 * m.comp_radius_mm * max_step_mm);
+  return along(u) - along(u0) >= min_len_mm && along(u1) - along(u) >= min_len_mm;
 }
 
 // P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
@@ -103,7 +103,7 @@ class Stream {
         if (m.fixed == interp::Fixed::no)
           for (Point& p : pts) p.fixed = interp::Fixed::held;
         emit(m, V3::Zero(), false, false, std::move(pts), true);
-      } else if (m.corner || (m.comp && m.start_mm[0] == m.end_mm[0] && m.start_mm[1] == m.end_mm[1])) {
+      } else if (m.corner || (m.comp && !m.moves_xy())) {
         // Under G41/G42, a piece the control adds at a corner, or a Z move
         // at one, has no point of its own in the program: the control puts it
         // where the corner's programmed point went, so it moves with the

@@ -288,6 +288,11 @@ std::string CutterComp::stop() {
 }
 
 std::string CutterComp::add(const Motion& m) {
+  if (state_ == State::off && !displaced_) {  // every motion of a program without G41/G42: no copy
+    out_.motion(m);
+    centre_ = m.end_mm;
+    return {};
+  }
   const bool arc = is_arc(m);
   const bool travel = arc || std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]) > 1e-9;
   if (state_ == State::off || (state_ == State::starting && !travel)) {

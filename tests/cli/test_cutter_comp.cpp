@@ -210,17 +210,6 @@ TEST_SUITE("cli") {
 
 namespace {
 
-// One motion of `deflex path` output: KIND X Y Z.
-std::vector<std::array<double, 3>> points_of(const std::string& path_out) {
-  std::vector<std::array<double, 3>> v;
-  std::istringstream in(path_out);
-  for (std::string kind; in >> kind;) {
-    std::array<double, 3> p{};
-    in >> p[0] >> p[1] >> p[2];
-    v.push_back(p);
-  }
-  return v;
-}
 
 // The distance from q to motion m (a segment, or an arc of its XY circle
 // whose Z runs linearly with the angle), mm.

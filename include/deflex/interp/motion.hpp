@@ -65,6 +65,7 @@ struct Motion {
   std::int8_t comp = 0;
   bool corner = false;
   bool compensable() const { return fixed == Fixed::no; }
+  bool moves_xy() const { return start_mm[0] != end_mm[0] || start_mm[1] != end_mm[1]; }
 };
 
 class MotionSink {
