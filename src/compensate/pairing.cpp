@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "deflex/gcode/skeleton.hpp"
 
@@ -229,19 +230,66 @@ class Aligner {
     return d <= o_.near_mm ? d : -1;
   }
 
-  // B's line lb is inserted before A's la rather than la's own block when a
-  // line a little further on, reached through lines that could all be
-  // inserted, pairs with la more closely (deflex splits a move 8 times at most;
-  // arc chords never pair with the arc, so they need no look-ahead).
-  bool inserted_before(Line la, Line lb, Line slack) const {
+  // Whether B's line lb is a block inserted before A's line la rather than
+  // la's own block. Both readings are possible when lb has the form of an
+  // inserted block, lies on la's move and has la's skeleton: a raster without
+  // N numbers whose moves are no longer than the offsets (a 0.125 mm step-over
+  // under a 0.1 mm cap), where the compensated end of one move lies nearer the
+  // end of the next than its own. No single line tells them apart, so the
+  // reading is the first step of the cheapest alignment of the lines ahead
+  // (window_cost): a wrong reading shifts every pairing after it onto a
+  // neighbour's end, far off the path. Cheap cases first: no later line that
+  // could be la's own block within reach, then no question.
+  bool inserted_before(Line la, Line lb, Line a_end, Line b_end) const {
     if (!insertable(lb, la)) return false;
     if (!pairable(la, lb)) return true;
-    const double here = end_distance(la, lb);
-    for (Line t = 1; t <= std::min<Line>(slack, 16); ++t) {
-      if (pairable(la, lb + t) && end_distance(la, lb + t) < here) return true;
-      if (!insertable(lb + t, la)) return false;
+    const Line slack = (b_end - lb) - (a_end - la);
+    bool other = false;
+    for (Line t = 1; t <= std::min<Line>(slack, kMaxInserts) && !other; ++t) {
+      if (pairable(la, lb + t)) other = true;
+      else if (!insertable(lb + t, la)) break;
     }
-    return false;
+    return other && window_cost(la, lb, a_end, b_end, true) < window_cost(la, lb, a_end, b_end, false);
+  }
+
+  // Blocks inserted before one move that the look-ahead considers: twice
+  // what deflex writes (Settings::max_splits_per_move, 8); arc chords never
+  // pair with the arc, so they raise no question.
+  static constexpr Line kMaxInserts = 16;
+  static constexpr Line kWindowA = 8;  // A lines the alignment looks ahead
+  // The cost of a line only in A or only in B (not on the next move): more
+  // than any pairing or split within reach, so the alignment makes one only
+  // where nothing else fits.
+  double lone_cost() const { return 4 * o_.near_mm; }
+
+  // The least cost of aligning the next kWindowA lines of A from la with B's
+  // lines from lb, lb taken as inserted before la (insert) or as la's own
+  // block: each paired line costs its end distance, each inserted line its
+  // distance to the move it splits, a line only in A or B lone_cost().
+  double window_cost(Line la, Line lb, Line a_end, Line b_end, bool insert) const {
+    const Line rows = std::min<Line>(kWindowA, a_end - la);
+    const Line cols = std::min<Line>(b_end - lb, rows + std::min<Line>((b_end - lb) - (a_end - la), kMaxInserts));
+    const double inf = std::numeric_limits<double>::infinity();
+    // dp[r][c]: A lines la..la+r-1 aligned with B lines lb..lb+c-1.
+    std::vector<double> dp((rows + 1) * (cols + 1), inf);
+    auto at = [&](Line r, Line c) -> double& { return dp[r * (cols + 1) + c]; };
+    if (insert) at(0, 1) = split_distance(lb, la);
+    else at(1, 1) = end_distance(la, lb);
+    for (Line r = insert ? 0 : 1; r <= rows; ++r)
+      for (Line c = 1; c <= cols; ++c) {
+        const double here = at(r, c);
+        if (here == inf) continue;
+        if (r < rows && c < cols && pairable(la + r, lb + c))
+          at(r + 1, c + 1) = std::min(at(r + 1, c + 1), here + end_distance(la + r, lb + c));
+        if (r < rows) at(r + 1, c) = std::min(at(r + 1, c), here + lone_cost());
+        if (c < cols) {
+          const double d = r < rows ? split_distance(lb + c, la + r) : -1;
+          at(r, c + 1) = std::min(at(r, c + 1), here + (d >= 0 ? d : lone_cost()));
+        }
+      }
+    double best = inf;
+    for (Line c = 1; c <= cols; ++c) best = std::min(best, at(rows, c));
+    return best;
   }
 
   // What no anchor decides: in order; B has (b1-b0)-(a1-a0) extra lines.
@@ -249,7 +297,7 @@ class Aligner {
     Line i = g.a0, j = g.b0;
     while (i < g.a1 && j < g.b1) {
       const std::int64_t slack = static_cast<std::int64_t>(g.b1 - j) - static_cast<std::int64_t>(g.a1 - i);
-      if (slack > 0 && inserted_before(i, j, static_cast<Line>(slack))) {
+      if (slack > 0 && inserted_before(i, j, g.a1, g.b1)) {
         ++j;
       } else if (pairable(i, j)) {
         pair(i++, j++);

@@ -5,7 +5,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
 #include <string>
+#include <unistd.h>
 
 #include "../support.hpp"
 #include "deflex/compensate/pairing.hpp"
@@ -169,6 +173,82 @@ TEST_CASE("pairing: two 200,000-line programs align in memory linear in their si
 }  // TEST_SUITE
 
 TEST_SUITE("compensate") {
+
+TEST_CASE("pairing: a full-width slot of a raster without blanks, whose step-over is shorter than the offsets") {
+  // The first lines of a CAM raster (CAMotics' bear.nc): no blanks, modal
+  // axis words, a 17 mm plunge with a D10 flat end, so the cap bites; the
+  // Y steps (0.125 and 0.375 mm) are about as long as the offsets, and the
+  // compensated end of `X79.999` lies nearer the end of `Y0.126` than its own.
+  const std::string prog =
+      "T1M6\nG21\nG17\nG0Z20.000\nG0X0.000Y0.000S15000M3\nG0X0.001Y0.001Z10.000\nG1Z-17.368F6000.0\n"
+      "G1X0.161\nX79.999\nY0.126\nY0.501\nX79.839\nX0.001\nY0.626\nM30\n";
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("deflex-slot-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string in = (dir / "bear15.nc").string(), out = (dir / "comp.nc").string();
+  std::ofstream(in) << prog;
+  const auto r = test::run_cli({"compensate", in, "--stock", "box:0,0,-25,80,80,0", "--threads", "1", "-o", out});
+  INFO(r.err);
+  REQUIRE(r.rc == 0);
+  // The cap bites and moves are split, so the case is the one meant.
+  CHECK(r.err.find("[offset_cap]") != std::string::npos);
+  CHECK(r.err.find("blocks inserted to split moves") != std::string::npos);
+  // diff and the judge read the written program as the safety check did.
+  const auto d = test::run_cli({"diff", in, out});
+  INFO(d.out << d.err);
+  CHECK(d.rc == 0);
+  const auto j = test::run_cli({"simulate", out, "--reference", in, "--stock", "box:0,0,-25,80,80,0", "--threads", "1"});
+  INFO(j.err);
+  CHECK(j.rc == 0);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("pairing property: generated rasters in the style of CAM output never fail the safety check") {
+  // Programs as a CAM post writes them without N numbers (bear.nc's style):
+  // no blanks, modal axis words, plunges to 18 mm with a D10 flat end (the
+  // offset cap bites), long passes that deflex splits, a short first piece,
+  // step-overs of 0.125, 0.375 or 0.05-0.6 mm, some no longer than the
+  // offsets. Every one must compensate: the written program pairs with the
+  // original block by block, or deflex stops with exit 70.
+  std::mt19937 rng(20261126);
+  std::uniform_real_distribution<double> u(0, 1);
+  auto pick = [&](double a, double b) { return u(rng) < 0.5 ? a : b; };
+  int split = 0;
+  for (int k = 0; k < 32; ++k) {
+    const double depth = pick(17.368, 2 + 16 * u(rng)), width = pick(80, 20 + 60 * u(rng));
+    std::string p = "T1M6\nG21\nG17\nG0Z20.000\nG0X0.000Y0.000S15000M3\nG0X0.001Y0.001Z10.000\n";
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "G1Z%.3fF%.1f\n", -depth, pick(6000, 2000 + 4000 * u(rng)));
+    p += buf;
+    double x = 0.001, y = 0.001;
+    const char* g1 = "G1";
+    for (int pass = 0, passes = 3 + static_cast<int>(5 * u(rng)); pass < passes; ++pass) {
+      const double x_end = pass % 2 ? 0.001 : width - 0.001;
+      if (u(rng) < 0.5) {  // a short first piece, as G1X0.161
+        std::snprintf(buf, sizeof buf, "%sX%.3f\n", g1, x + (x_end - x) * (0.001 + 0.05 * u(rng)));
+        p += buf;
+        g1 = "";
+      }
+      std::snprintf(buf, sizeof buf, "%sX%.3f\n", g1, x_end);
+      p += buf;
+      g1 = "";
+      x = x_end;
+      for (int s = 0, n = 1 + (u(rng) < 0.5); s < n; ++s) {
+        const double r = u(rng);
+        y += r < 1.0 / 3 ? 0.125 : r < 2.0 / 3 ? 0.375 : 0.05 + 0.55 * u(rng);
+        std::snprintf(buf, sizeof buf, "Y%.3f\n", y);
+        p += buf;
+      }
+    }
+    p += "G0Z20.000\nM30\n";
+    std::snprintf(buf, sizeof buf, "box:0,0,-25,%.3f,%.3f,0", width, pick(80, y + 10));
+    const auto r = test::run_cli({"compensate", "-", "--stock", buf, "--threads", "1", "--quiet"}, p);
+    INFO("program " << k << " (stock " << buf << "):\n" << p << r.err);
+    CHECK(r.rc == 0);
+    split += r.out.find("G1 X") != std::string::npos;
+  }
+  CHECK(split > 16);  // most programs had moves split (blocks inserted)
+}
 
 TEST_CASE("simulate --reference: a program judged against itself gives exactly its as-written error") {
   // Every intent offset is zero, so the judge runs the same simulation.
