@@ -19,6 +19,7 @@
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "deflex/writer/writer.hpp"
 #include "deflex/report/html.hpp"
 #include "deflex/report/summary.hpp"
 #include "deflex/stiffness/machine.hpp"
@@ -409,6 +410,8 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   const profile::Config& cfg = j.setup.config;
   compensate::Settings& st = j.settings;
   st = settings_of(a, cfg, *j.setup.machine);
+  st.rounding_mm = writer::rounding_mm(false, j.setup.dialect);
+  st.rounding_inch_mm = writer::rounding_mm(true, j.setup.dialect);
   if (j.pieces && st.feed_limit_N > 0 && st.gain == 0.0) {
     // Gain 0 with a feed limit simulates the program twice over (as written,
     // then at the lowered feeds): read whole, as before.

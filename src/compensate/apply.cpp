@@ -257,9 +257,10 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
         } else {
           carried[a] = end[a];
         }
-      } else if (!(std::fabs(carried[a] - want) <= 1e-9)) {
+      } else if (!(std::fabs(carried[a] - written_mm(want, m.inch, d)) <= 1e-9)) {
         // The block relies on the modal value, which the previous block moved
-        // (or which is unknown): say what this block means.
+        // (or which is unknown): say what this block means, unless the
+        // number written would be the one the control holds.
         if (std::isnan(carried[a]) && o[a] == 0.0) continue;
         w.insert_word(insert_position(b, axes[a]), axes[a], m.inch ? want / 25.4 : want, m.inch);
         carried[a] = written_mm(want, m.inch, d);
@@ -338,8 +339,8 @@ class MotionCheck : public interp::MotionSink {
       : om_(om), pairer_(pairing, om, inserted), movable_(movable), max_offset_mm_(max_offset_mm),
         inserted_(inserted), feeds_(feeds), fail_(fail),
         // Numbers are written with the dialect's decimals: allow their rounding.
-        round_mm_(0.5 * std::pow(10.0, -opt.dialect.decimals_mm) * 1.001),
-        round_in_(0.5 * std::pow(10.0, -opt.dialect.decimals_inch) * 25.4 * 1.001) {}
+        round_mm_(writer::rounding_mm(false, opt.dialect) * 1.001),
+        round_in_(writer::rounding_mm(true, opt.dialect) * 1.001) {}
 
   void motion(const interp::Motion& y) override {
     // Pieces the control adds round a G41/G42 corner (in the air) pair with

@@ -262,7 +262,10 @@ class Stream {
     Point at = p0;  // the sample at `off`
     if (!p0.air && !p0.plunge && std::fabs(p0.error_mm) > s_.tolerance_mm) {
       const V3 n = p0.normal;
-      const double g = s_.gain, cap = s_.max_offset_mm;
+      // Each written coordinate may round away by half its last decimal: the
+      // displacement as written stays within max_offset_mm (sqrt(3) axes).
+      const double rounding = m.inch ? s_.rounding_inch_mm : s_.rounding_mm;
+      const double g = s_.gain, cap = std::max(0.0, s_.max_offset_mm - std::sqrt(3.0) * rounding);
       // Root of h(s) = s + g e(s) by secant steps from s0 = 0 and a first step
       // that uses the slope de/ds of the previous point (neighbours cut alike).
       // The force model is piecewise smooth (a slice entering the cut adds its

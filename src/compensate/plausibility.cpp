@@ -270,10 +270,19 @@ Plausibility PlausibilityScan::finish(bool compensated) {
     emit(force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
                     num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
   }
-  if (cap.any)
-    emit(cap, "the deflection along the surface normal reaches " + num(cap.f.worst, 4) +
-                  " mm, over the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) +
-                  " mm: these points are compensated only up to the cap");
+  if (cap.any) {
+    const std::string limit = "the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) + " mm";
+    // On a compensated line the error as programmed may lie under the cap
+    // while the offset needed does not: moving the tool into the material
+    // deepens the cut and the deflection grows with it.
+    const std::string what =
+        cap.f.worst > s.max_offset_mm
+            ? "the deflection along the surface normal reaches " + num(cap.f.worst, 4) + " mm, over " + limit
+            : "the offset these points need exceeds " + limit + " (their deflection along the normal, " +
+                  num(cap.f.worst, 4) + " mm as programmed, grows as the offset deepens the cut)";
+    emit(cap, what + (compensated ? ": these points are compensated only up to the cap"
+                                  : ": compensate would correct these points only up to the cap"));
+  }
   if (centre.any)
     emit(centre, "plunge into the material with " + centre.f.tool +
                      ", which does not cut at its centre (centre_cutting: false): ramp or helix in, or pre-drill");

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -18,7 +19,83 @@
 namespace deflex::writer {
 namespace fs = std::filesystem;
 
-std::string format_number(double value, bool inch, const profile::Dialect& d) {
+namespace {
+
+bool coordinate_letter(char l) { return std::strchr("XYZIJKR", l) != nullptr; }
+
+// Evidence of one letter's style, counted over the words of the lines read.
+struct LetterCount {
+  std::array<std::uint32_t, 10> decimals{};  // words with a point, by their number of decimals
+  std::uint32_t with_point = 0, trailing_zero = 0, leading_zero = 0, bare_point = 0;
+  void add(std::string_view written) {
+    std::string num;  // the number without the blanks a word may hold (X 10 . 0)
+    for (char c : written)
+      if (c != ' ' && c != '\t') num += c;
+    const std::size_t dot = num.find('.');
+    if (dot == std::string_view::npos) return;
+    ++with_point;
+    const std::size_t k = num.size() - dot - 1;
+    ++decimals[std::min<std::size_t>(k, 9)];
+    if (k > 0 && num.back() == '0') ++trailing_zero;
+    const std::string_view mag = std::string_view(num).substr(num.starts_with('-') || num.starts_with('+') ? 1 : 0);
+    if (mag.starts_with("0.")) ++leading_zero;
+    else if (mag.starts_with('.')) ++bare_point;
+  }
+  void merge(const LetterCount& o) {
+    for (std::size_t k = 0; k < decimals.size(); ++k) decimals[k] += o.decimals[k];
+    with_point += o.with_point;
+    trailing_zero += o.trailing_zero;
+    leading_zero += o.leading_zero;
+    bare_point += o.bare_point;
+  }
+  // Fixed width: trailing zeros are written, and 95 % of the numbers have the
+  // same decimals (a trimming post writes 12.5 and 12.125 side by side).
+  int fixed() const {
+    if (!trailing_zero) return NumberStyle::kUnknown;
+    const auto mode = std::max_element(decimals.begin(), decimals.end());
+    return *mode >= 0.95 * with_point ? static_cast<int>(mode - decimals.begin()) : NumberStyle::kUnknown;
+  }
+  int leading() const {
+    if (leading_zero) return 1;
+    return bare_point ? 0 : NumberStyle::kUnknown;
+  }
+};
+
+}  // namespace
+
+NumberStyle learn_style(const gcode::Program& p, std::uint32_t max_lines) {
+  std::array<LetterCount, 26> count{};
+  std::uint32_t multi_word = 0, with_blank = 0;
+  Diagnostics quiet(nullptr, 0);
+  gcode::Block b;
+  const std::string& bytes = p.bytes();
+  for (std::uint32_t l = p.first_line(); l <= p.last_line() && l < p.first_line() + max_lines; ++l) {
+    if (!p.lex(l, b, quiet) || b.kind != gcode::LineKind::block || b.macro) continue;
+    for (std::size_t k = 0; k < b.words.size(); ++k) {
+      const gcode::Word& w = b.words[k];
+      if (w.letter >= 'A' && w.letter <= 'Z')
+        count[w.letter - 'A'].add(std::string_view(bytes).substr(w.num_begin, w.end - w.num_begin));
+      if (k) with_blank += w.begin > b.words[k - 1].end;
+    }
+    multi_word += b.words.size() > 1;
+  }
+  NumberStyle s;
+  s.blanks = !multi_word || with_blank > 0;
+  LetterCount coords;
+  for (char l : std::string_view("XYZIJKR")) coords.merge(count[l - 'A']);
+  for (int k = 0; k < 26; ++k) {
+    const LetterCount& own = count[k];
+    // A post writes all its axes and centre words alike.
+    const LetterCount& c = coordinate_letter(static_cast<char>('A' + k)) ? coords : own;
+    s.fixed_decimals[k] = c.fixed();
+    s.leading_zero[k] = c.leading();
+  }
+  return s;
+}
+
+namespace {
+
+int written_decimals(bool inch, const profile::Dialect& d) {
   int decimals = inch ? d.decimals_inch : d.decimals_mm;
   // A control that counts least input increments refuses (Fanuc: "too many
   // digits") or drops digits finer than its increment: never write them.
@@ -26,15 +103,35 @@ std::string format_number(double value, bool inch, const profile::Dialect& d) {
     const double lii = inch ? d.lii_inch : d.lii_mm;
     if (lii > 0) decimals = std::min(decimals, static_cast<int>(std::lround(-std::log10(lii))));
   }
+  return decimals;
+}
+
+}  // namespace
+
+double rounding_mm(bool inch, const profile::Dialect& d) {
+  return 0.5 * std::pow(10.0, -written_decimals(inch, d)) * (inch ? 25.4 : 1.0);
+}
+
+std::string format_number(double value, bool inch, const profile::Dialect& d, const NumberStyle* style, char letter) {
+  const int decimals = written_decimals(inch, d);
+  const int k = letter >= 'A' && letter <= 'Z' ? letter - 'A' : -1;
+  const int fixed = style && k >= 0 ? style->fixed_decimals[k] : NumberStyle::kUnknown;
+  const int lead = style && k >= 0 ? style->leading_zero[k] : NumberStyle::kUnknown;
   char buf[64];
   auto r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
   std::string s(buf, r.ptr);
   if (decimals == 0) s += '.';
-  if (!d.trailing_zeros && s.find('.') != std::string::npos) {
+  if (fixed != NumberStyle::kUnknown || !d.trailing_zeros) {
     while (s.back() == '0') s.pop_back();  // "12.500" -> "12.5", "12.000" -> "12."
   }
+  if (fixed != NumberStyle::kUnknown) {
+    // Padded to the program's width with zeros only: the value read back is
+    // the one rounded above.
+    const std::size_t have = s.size() - s.find('.') - 1;
+    if (have < static_cast<std::size_t>(fixed)) s.append(static_cast<std::size_t>(fixed) - have, '0');
+  }
   if (s.starts_with('-') && s.find_first_not_of("-0.") == std::string::npos) s.erase(0, 1);  // no negative zero
-  if (!d.leading_zero) {
+  if (lead == 0 || (lead == NumberStyle::kUnknown && !d.leading_zero)) {
     if (s.starts_with("0.") && s.size() > 2) s.erase(0, 1);
     else if (s.starts_with("-0.")) s.erase(1, 1);
   }
@@ -83,23 +180,33 @@ std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<s
                                    " requires N on every block): renumber the program with a larger step");
     }
   }
-  if (!lead.empty()) s += (s.empty() ? "" : " ") + lead;
+  const std::string blank = style().blanks ? " " : "";
+  if (!lead.empty()) s += (s.empty() ? "" : blank) + lead;
   for (auto& [letter, value] : words) {
-    if (!s.empty()) s += ' ';
+    if (!s.empty()) s += blank;
     s += letter;
-    s += format_number(value, inch, d_);
+    s += number(letter, value, inch);
   }
   if (!comment.empty()) s += (s.empty() ? "" : " ") + format_comment(comment, d_);
   return s;
 }
 
+const NumberStyle& Rewriter::style() {
+  if (!style_) style_ = learn_style(prog_);
+  return *style_;
+}
+
+std::string Rewriter::number(char letter, double value, bool inch) {
+  return format_number(value, inch, d_, &style(), letter);
+}
+
 void Rewriter::set_number(const gcode::Word& w, double value, bool inch) {
-  edits_.push_back({w.num_begin, w.end, static_cast<std::uint32_t>(edits_.size()), format_number(value, inch, d_)});
+  edits_.push_back({w.num_begin, w.end, static_cast<std::uint32_t>(edits_.size()), number(w.letter, value, inch)});
 }
 
 void Rewriter::insert_word(std::uint32_t at, char letter, double value, bool inch) {
   edits_.push_back({at, at, static_cast<std::uint32_t>(edits_.size()),
-                    std::string(" ") + letter + format_number(value, inch, d_)});
+                    (style().blanks ? " " : "") + std::string(1, letter) + number(letter, value, inch)});
 }
 
 void Rewriter::insert_block_after(std::uint32_t line, const std::string& text) {

@@ -333,14 +333,14 @@ TEST_SUITE("cli") {
     MESSAGE("G41 sample: " << on.rows << " compensated points, the farthest " << on.worst_mm
                            << " mm from the control's centre path");
     // The D words and the G41 blocks stay as written; the face moved into
-    // the material (-Y) in down-milling, as the centre path did (Y3.42 at
+    // the material (-Y) in down-milling, as the centre path did (Y3.421 at
     // its end); the end's X so that the control's perpendicular to the last
     // part (turned by 0.02 mm over 14.9 mm) lands on X110.
     const std::string written = test::read_file(out41);
     CHECK(written.find("N22 G41 D6 X-10. Y-2.5\n") != std::string::npos);
     CHECK(written.find("N34 G41 D6 X-10. Y-5.\n") != std::string::npos);
-    CHECK(written.find("N24 X110.008 Y-2.58 F2546.4\n") != std::string::npos);
-    CHECK(test::read_file(outc).find("N24 X110. Y3.42 F2546.4\n") != std::string::npos);
+    CHECK(written.find("N24 X110.008 Y-2.579 F2546.4\n") != std::string::npos);
+    CHECK(test::read_file(outc).find("N24 X110. Y3.421 F2546.4\n") != std::string::npos);
     fs::remove_all(dir);
   }
 }

@@ -149,7 +149,7 @@ TEST_SUITE("cli") {
     CHECK(a.err.substr(a.err.find("predicted error")) == b.err.substr(b.err.find("predicted error")));
     CHECK(b.err.find("[left_alone]") == std::string::npos);
     CHECK(test::run_cli({"path", out91}).out == test::run_cli({"path", out90}).out);
-    CHECK(test::read_file(out91).find("N24 G00 Y0.08 Z17.\n") != std::string::npos);
+    CHECK(test::read_file(out91).find("N24 G00 Y0.079 Z17.\n") != std::string::npos);
     fs::remove_all(dir);
   }
 

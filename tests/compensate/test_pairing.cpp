@@ -7,7 +7,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <random>
+#include <set>
+#include <sstream>
 #include <string>
 #include <unistd.h>
 
@@ -203,51 +206,105 @@ TEST_CASE("pairing: a full-width slot of a raster without blanks, whose step-ove
   fs::remove_all(dir);
 }
 
-TEST_CASE("pairing property: generated rasters in the style of CAM output never fail the safety check") {
-  // Programs as a CAM post writes them without N numbers (bear.nc's style):
-  // no blanks, modal axis words, plunges to 18 mm with a D10 flat end (the
-  // offset cap bites), long passes that deflex splits, a short first piece,
-  // step-overs of 0.125, 0.375 or 0.05-0.6 mm, some no longer than the
-  // offsets. Every one must compensate: the written program pairs with the
-  // original block by block, or deflex stops with exit 70.
-  std::mt19937 rng(20261126);
+namespace {
+
+// A raster as a CAM post writes it without N numbers (bear.nc's style): no
+// blanks, modal axis words, fixed 3 decimals (1 for F), a plunge of up to
+// 18 mm with a D10 flat end (the offset cap bites), long passes that deflex
+// splits, a short first piece, step-overs of 0.125, 0.375 or 0.05-0.6 mm,
+// some no longer than the offsets. In inch (G20, 4 decimals) when asked.
+struct Raster {
+  std::string text, stock;
+};
+Raster cam_raster(std::mt19937& rng, bool inch) {
   std::uniform_real_distribution<double> u(0, 1);
   auto pick = [&](double a, double b) { return u(rng) < 0.5 ? a : b; };
-  int split = 0;
-  for (int k = 0; k < 32; ++k) {
-    const double depth = pick(17.368, 2 + 16 * u(rng)), width = pick(80, 20 + 60 * u(rng));
-    std::string p = "T1M6\nG21\nG17\nG0Z20.000\nG0X0.000Y0.000S15000M3\nG0X0.001Y0.001Z10.000\n";
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "G1Z%.3fF%.1f\n", -depth, pick(6000, 2000 + 4000 * u(rng)));
-    p += buf;
-    double x = 0.001, y = 0.001;
-    const char* g1 = "G1";
-    for (int pass = 0, passes = 3 + static_cast<int>(5 * u(rng)); pass < passes; ++pass) {
-      const double x_end = pass % 2 ? 0.001 : width - 0.001;
-      if (u(rng) < 0.5) {  // a short first piece, as G1X0.161
-        std::snprintf(buf, sizeof buf, "%sX%.3f\n", g1, x + (x_end - x) * (0.001 + 0.05 * u(rng)));
-        p += buf;
-        g1 = "";
-      }
-      std::snprintf(buf, sizeof buf, "%sX%.3f\n", g1, x_end);
-      p += buf;
+  const double scale = inch ? 1 / 25.4 : 1;
+  const char* xyz = inch ? "%s%c%.4f\n" : "%s%c%.3f\n";
+  char buf[96];
+  auto word = [&](const char* lead, char letter, double mm) {
+    std::snprintf(buf, sizeof buf, xyz, lead, letter, mm * scale);
+    return std::string(buf);
+  };
+  const double depth = pick(17.368, 2 + 16 * u(rng)), width = pick(80, 20 + 60 * u(rng));
+  std::string p = std::string("T1M6\n") + (inch ? "G20" : "G21") + "\nG17\n" + word("G0", 'Z', 20);
+  const char* start = inch ? "G0X0.0000Y0.0000S15000M3\nG0X0.0000Y0.0000Z%.4f\nG1Z%.4fF%.1f\n"
+                           : "G0X0.000Y0.000S15000M3\nG0X0.001Y0.001Z%.3f\nG1Z%.3fF%.1f\n";
+  std::snprintf(buf, sizeof buf, start, 10 * scale, -depth * scale, pick(6000, 2000 + 4000 * u(rng)) * scale);
+  p += buf;
+  double x = 0.001, y = 0.001;
+  const char* g1 = "G1";
+  for (int pass = 0, passes = 3 + static_cast<int>(5 * u(rng)); pass < passes; ++pass) {
+    const double x_end = pass % 2 ? 0.001 : width - 0.001;
+    if (u(rng) < 0.5) {  // a short first piece, as G1X0.161
+      p += word(g1, 'X', x + (x_end - x) * (0.001 + 0.05 * u(rng)));
       g1 = "";
-      x = x_end;
-      for (int s = 0, n = 1 + (u(rng) < 0.5); s < n; ++s) {
-        const double r = u(rng);
-        y += r < 1.0 / 3 ? 0.125 : r < 2.0 / 3 ? 0.375 : 0.05 + 0.55 * u(rng);
-        std::snprintf(buf, sizeof buf, "Y%.3f\n", y);
-        p += buf;
-      }
     }
-    p += "G0Z20.000\nM30\n";
-    std::snprintf(buf, sizeof buf, "box:0,0,-25,%.3f,%.3f,0", width, pick(80, y + 10));
-    const auto r = test::run_cli({"compensate", "-", "--stock", buf, "--threads", "1", "--quiet"}, p);
-    INFO("program " << k << " (stock " << buf << "):\n" << p << r.err);
-    CHECK(r.rc == 0);
-    split += r.out.find("G1 X") != std::string::npos;
+    p += word(g1, 'X', x_end);
+    g1 = "";
+    x = x_end;
+    for (int s = 0, n = 1 + (u(rng) < 0.5); s < n; ++s) {
+      const double r = u(rng);
+      y += r < 1.0 / 3 ? 0.125 : r < 2.0 / 3 ? 0.375 : 0.05 + 0.55 * u(rng);
+      p += word("", 'Y', y);
+    }
   }
-  CHECK(split > 16);  // most programs had moves split (blocks inserted)
+  p += word("G0", 'Z', 20) + "M30\n";
+  std::snprintf(buf, sizeof buf, "box:0,0,-25,%.3f,%.3f,0", width, pick(80, y + 10));
+  return {p, buf};
+}
+
+// Whether each line of `out` that is not a line of `in` writes its numbers as
+// `in` does: no blanks, and X Y Z with `decimals` decimals.
+std::string style_break(const std::string& in, const std::string& out, int decimals) {
+  std::set<std::string> original;
+  std::istringstream a(in), b(out);
+  for (std::string l; std::getline(a, l);) original.insert(l);
+  for (std::string l; std::getline(b, l);) {
+    if (original.count(l)) continue;
+    if (l.find(' ') != std::string::npos) return l;
+    for (std::size_t k = 0; k < l.size(); ++k) {
+      if (l[k] != 'X' && l[k] != 'Y' && l[k] != 'Z') continue;
+      const std::size_t dot = l.find('.', k), next = l.find_first_of("XYZFGM", k + 1);
+      const std::size_t end = next == std::string::npos ? l.size() : next;
+      if (dot == std::string::npos || dot > end || end - dot - 1 != static_cast<std::size_t>(decimals)) return l;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("pairing property: generated CAM rasters compensate, within the cap as written, in the program's style") {
+  // Every one must compensate: the written program pairs with the original
+  // block by block, or deflex stops with exit 70. The offset cap holds on
+  // the coordinates as written (diff measures them), and what deflex changes
+  // or inserts is written as the rest of the program is.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("deflex-raster-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string in = (dir / "raster.nc").string();
+  std::mt19937 rng(20261126);
+  int split = 0, capped = 0;
+  for (int k = 0; k < 32; ++k) {
+    const bool inch = k % 4 == 3;
+    const Raster r = cam_raster(rng, inch);
+    std::ofstream(in) << r.text;
+    const auto c = test::run_cli({"compensate", in, "--stock", r.stock, "--threads", "1"});
+    INFO("program " << k << " (stock " << r.stock << "):\n" << r.text << c.err);
+    CHECK(c.rc == 0);
+    if (c.rc != 0) continue;
+    split += c.err.find("blocks inserted to split moves") != std::string::npos;
+    capped += c.err.find("[offset_cap]") != std::string::npos;
+    const auto d = test::run_cli({"diff", in, "-", "--format", "json"}, c.out);
+    REQUIRE(d.rc == 0);
+    const double moved_mm = nlohmann::json::parse(d.out).at("max_displacement_mm").get<double>();
+    CHECK(moved_mm <= 0.1);  // mill3's max_offset_mm
+    CHECK(style_break(r.text, c.out, inch ? 4 : 3) == "");
+  }
+  CHECK(split > 16);   // most programs had moves split (blocks inserted)
+  CHECK(capped > 8);   // and the cap bit in many
+  fs::remove_all(dir);
 }
 
 TEST_CASE("simulate --reference: a program judged against itself gives exactly its as-written error") {
@@ -263,6 +320,59 @@ TEST_CASE("simulate --reference: a program judged against itself gives exactly i
   std::string want = p.out;
   want.replace(want.find(" CL points:"), 11, " CL points against the reference:");
   CHECK(j.out == want);
+}
+
+}  // TEST_SUITE
+
+TEST_SUITE("compensate") {
+
+TEST_CASE("the offset cap holds on the coordinates as written, and its warning says what bit") {
+  // A D6 ball end down a 27 deg slope, 3 to 6 mm deep, in inch; the dialect
+  // writes 3 inch decimals (0.0254 mm steps), so rounding alone moves a
+  // written point 0.022 mm in 3D. The cap (mill3: 0.1 mm) must hold on the
+  // written numbers, which diff measures.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("deflex-capw-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  std::string prog = "T3M6\nG20\nG17\nG0Z0.8000\nG0X0.0000Y0.0000S12000M3\n";
+  char buf[80];
+  for (int k = 0; k < 12; ++k) {
+    const double y = 0.02 * k, z = -0.12 - 0.5 * y;
+    for (int i = 0; i <= 20; ++i) {
+      const double x = 0.1 * (k % 2 ? 20 - i : i);
+      if (k == 0 && i == 0) std::snprintf(buf, sizeof buf, "G0X%.4fY%.4f\nG1Z%.4fF40.0\n", x, y, z);
+      else if (i == 0) std::snprintf(buf, sizeof buf, "G1X%.4fY%.4fZ%.4f\n", x, y, z);
+      else std::snprintf(buf, sizeof buf, "X%.4f\n", x);
+      prog += buf;
+    }
+  }
+  prog += "G0Z0.8000\nM30\n";
+  std::string dialect = test::read_file(std::string(DEFLEX_SOURCE_DIR) + "/postproc/fanuc.yaml");
+  dialect.replace(dialect.find("decimals_inch: 4"), 16, "decimals_inch: 3");
+  const std::string in = (dir / "slope.nc").string(), dia = (dir / "fanuc3.yaml").string();
+  std::ofstream(in) << prog;
+  std::ofstream(dia) << dialect;
+  const auto c = test::run_cli({"compensate", in, "--stock", "box:-5,-5,-20,60,15,0", "--dialect", dia, "--threads", "1"});
+  INFO(c.err);
+  REQUIRE(c.rc == 0);
+  REQUIRE(c.err.find("[offset_cap]") != std::string::npos);
+  const auto d = test::run_cli({"diff", in, "-", "--format", "json"}, c.out);
+  REQUIRE(d.rc == 0);
+  const double moved_mm = nlohmann::json::parse(d.out).at("max_displacement_mm").get<double>();
+  CHECK(moved_mm <= 0.1);
+  CHECK(moved_mm > 0.05);  // the cap still lets the points move
+  // The warning's figure and its words agree: over the cap it says so; under
+  // it, that the offset needed (not the error as programmed) is over it.
+  const std::size_t at = c.err.find("[offset_cap]");
+  const std::string line = c.err.substr(c.err.rfind('\n', at) + 1, at - c.err.rfind('\n', at));
+  const bool over = line.find("reaches") != std::string::npos;
+  CHECK((over || line.find("the offset these points need exceeds") != std::string::npos));
+  if (over) CHECK(std::stod(line.substr(line.find("reaches") + 8)) > 0.1);
+  // simulate compensates nothing, and says so of the cap.
+  const auto s = test::run_cli({"simulate", in, "--stock", "box:-5,-5,-20,60,15,0", "--threads", "1"});
+  CHECK(s.err.find("compensate would correct these points only up to the cap") != std::string::npos);
+  CHECK(s.err.find("these points are compensated") == std::string::npos);
+  fs::remove_all(dir);
 }
 
 }  // TEST_SUITE

@@ -30,6 +30,48 @@ TEST_CASE("numbers are formatted per dialect, always with a decimal point") {
   CHECK(writer::format_number(-0.5, false, nolead) == "-.5");
 }
 
+TEST_CASE("numbers deflex writes follow the program's own style: decimals, trailing and leading zeros, blanks") {
+  auto fanuc = profile::load_dialect("fanuc");
+  auto style_of = [](const std::string& text) {
+    gcode::Program p(SourceText("t.nc", text));
+    return writer::learn_style(p);
+  };
+  // FreeCAD's posts: fixed 3 decimals on coordinates and feeds.
+  const writer::NumberStyle fixed = style_of("G0 Z27.000\nG1 X10.000 Y18.125 F800.000\nX12.500\n");
+  CHECK(fixed.blanks);
+  CHECK(writer::format_number(26.99, false, fanuc, &fixed, 'Z') == "26.990");
+  CHECK(writer::format_number(18, false, fanuc, &fixed, 'Y') == "18.000");
+  CHECK(writer::format_number(612.5, false, fanuc, &fixed, 'F') == "612.500");
+  CHECK(writer::format_number(1.25, false, fanuc, &fixed, 'I') == "1.250");  // I shares the coordinates' style
+  // bear.nc: no blanks, 3 decimals on axes, 1 on F.
+  const writer::NumberStyle bear = style_of("G0Z20.000\nG0X0.000Y0.000S15000M3\nG1Z-17.368F6000.0\nG1X0.161\nX79.999\n");
+  CHECK_FALSE(bear.blanks);
+  CHECK(writer::format_number(80.01, false, fanuc, &bear, 'X') == "80.010");
+  CHECK(writer::format_number(612.5, false, fanuc, &bear, 'F') == "612.5");
+  // cameo.nc trims: X-75., Y12.5; the dialect's rule stays.
+  const writer::NumberStyle trimmed = style_of("N1 G0 X-75. Y12.5\nN2 G1 X3.125 Z-1.\n");
+  CHECK(writer::format_number(18, false, fanuc, &trimmed, 'Y') == "18.");
+  CHECK(writer::format_number(12.49, false, fanuc, &trimmed, 'X') == "12.49");
+  // Mixed widths with a trailing zero here and there are no fixed style.
+  const writer::NumberStyle mixed = style_of("G1 X1.50 Y2.125\nX3.1 Y4.25\nX5.375 Y6.5\n");
+  CHECK(writer::format_number(2.5, false, fanuc, &mixed, 'X') == "2.5");
+  // Leading zero as the program writes it.
+  const writer::NumberStyle bare = style_of("G1 X.5 Y-.25\n");
+  CHECK(writer::format_number(0.75, false, fanuc, &bare, 'X') == ".75");
+  CHECK(writer::format_number(-0.75, false, fanuc, &bare, 'Y') == "-.75");
+  // The value read back is the one rounded to the dialect: only zeros differ.
+  CHECK(std::stod(writer::format_number(0.12345, false, fanuc, &fixed, 'X')) == std::stod("0.123"));
+  // A rewriter inserts words and blocks without blanks into such a program.
+  gcode::Program p(SourceText("t.nc", "G1X1.000\nX2.000\n"));
+  gcode::Block b;
+  Diagnostics diags(nullptr, 0);
+  p.lex(2, b, diags);
+  writer::Rewriter w(p, fanuc);
+  w.insert_word(b.find('X')->end, 'Y', 0.5, false);
+  w.insert_block_before(2, w.format_block(1, {{'X', 1.5}, {'Y', 0.25}, {'Z', 0}}, false, "", "G1"));
+  CHECK(w.str() == "G1X1.000\nG1X1.500Y0.250Z0.000\nX2.000Y0.500\n");
+}
+
 TEST_CASE("no edit: output equals input, whatever its line ends") {
   for (std::string text : {std::string("%\r\nG0 X1\r\n%\r\n"), std::string("G0 X1\nG1 X2"), std::string(""),
                            std::string("(only a comment)\n\n\n"), std::string("G0 X1\n%\ntail without newline")}) {

@@ -60,6 +60,11 @@ struct Settings {
   double gain = 1.0;            // mirror gain
   int max_iterations = 8;       // mirror updates per point at most
   double max_offset_mm = 0.1;   // cap of |offset| (machine profile)
+  // The written numbers' rounding, mm (per axis, half the dialect's last
+  // decimal; inch programs round coarser): the mirror caps the offset this
+  // much below max_offset_mm per axis, so the cap holds on the coordinates
+  // as written (writer::rounding_mm).
+  double rounding_mm = 0, rounding_inch_mm = 0;
   double max_step_mm = 0.02;    // largest change of offset from one point to the next
   double cl_spacing_mm = 0.5;   // CL samples along long moves and arcs
   double slice_mm = 0.2;        // axial slice height of the force model

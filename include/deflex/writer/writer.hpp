@@ -2,11 +2,13 @@
 // numbers are spliced into their words, new words and blocks are formatted for
 // the target control's dialect. With no edit the output equals the input.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <fstream>
 #include <functional>
 #include <ostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,9 +17,40 @@
 
 namespace deflex::writer {
 
+// The largest rounding of a coordinate written per the dialect, mm: half its
+// last decimal (inch: in mm).
+double rounding_mm(bool inch, const profile::Dialect& d);
+
+// How a program writes its numbers, learnt from its own words, so that what
+// deflex changes or adds reads like the rest of the program (a post that
+// writes `Z27.000 F800.000` gets `Z26.990`, not `Z26.99`).
+struct NumberStyle {
+  static constexpr int kUnknown = -1;
+  // Per letter (index letter - 'A'): the decimals every number of that letter
+  // is padded to (a fixed-width style: the program's words of it show
+  // trailing zeros and almost all have that many decimals), else kUnknown
+  // (the dialect's trailing_zeros decides).
+  std::array<int, 26> fixed_decimals;
+  // Per letter: 1 "0.5", 0 ".5", kUnknown (the dialect's leading_zero decides).
+  std::array<int, 26> leading_zero;
+  bool blanks = true;  // blanks between words (no block of the program has one: false)
+  NumberStyle() {
+    fixed_decimals.fill(kUnknown);
+    leading_zero.fill(kUnknown);
+  }
+};
+// The style of the first `max_lines` lines of `p` (the rest of a CAM program
+// is written alike). Coordinate letters (X Y Z I J K R) share their evidence
+// where one letter has none of its own.
+NumberStyle learn_style(const gcode::Program& p, std::uint32_t max_lines = 2000);
+
 // `value` in program units (mm in G21, inch in G20), formatted per the dialect:
-// always with a decimal point, so no control reads it as least input increments.
-std::string format_number(double value, bool inch, const profile::Dialect& d);
+// always with a decimal point, so no control reads it as least input
+// increments, rounded to the dialect's decimals. With a style, the word of
+// `letter` is padded and led as the program writes that letter (the value
+// read back is the same: only zeros are added or left out).
+std::string format_number(double value, bool inch, const profile::Dialect& d, const NumberStyle* style = nullptr,
+                          char letter = 0);
 
 // A comment in the dialect's style: `(text)` or `; text`. Parentheses inside a
 // paren comment would end it early (Fanuc comments do not nest): they become [ ].
@@ -66,6 +99,9 @@ class Rewriter {
     bool new_block = false;
   };
   void check_line_lengths() const;
+  // The program's style, learnt at the first number written.
+  const NumberStyle& style();
+  std::string number(char letter, double value, bool inch);
   const gcode::Program& prog_;
   const profile::Dialect& d_;
   std::vector<Edit> edits_;
@@ -73,6 +109,7 @@ class Rewriter {
   // blocks took (gaps with unnumbered blocks between them share one).
   std::map<long, long>* numbers_taken_;
   std::map<long, long> own_numbers_;
+  std::optional<NumberStyle> style_;
 };
 
 // Checks, before any work, that `path` can be written as an output:
