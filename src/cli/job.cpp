@@ -106,8 +106,9 @@ compensate::Settings settings_of(const Args& a, const profile::Config& cfg, cons
 // no longer holds it then).
 class CuttingCheck {
  public:
-  CuttingCheck(const Args& a, const compensate::Settings& st, const stiffness::ToolLibrary& lib)
-      : a_(a), st_(st), lib_(lib) {
+  CuttingCheck(const Args& a, const compensate::Settings& st, const stiffness::ToolLibrary& lib,
+               Job::CutExtent& extent)
+      : a_(a), st_(st), lib_(lib), extent_(extent) {
     // A tool named on the command line that the library lacks is a usage error
     // (exit 2, with the library's tools).
     if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);
@@ -136,6 +137,7 @@ class CuttingCheck {
       no_f_ = true;
       error(src, m.line, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
     }
+    extent_.add(m, 0.5 * lib_.tools.at(id).diameter_mm);
   }
   // The errors in the order found; throws where one ends the run.
   void report(Diagnostics& diags) const {
@@ -150,10 +152,62 @@ class CuttingCheck {
   const Args& a_;
   const compensate::Settings& st_;
   const stiffness::ToolLibrary& lib_;
+  Job::CutExtent& extent_;
   bool no_s_ = false, no_f_ = false;
   std::optional<Error> fatal_;
   std::vector<std::tuple<SourceText, std::uint32_t, std::string>> found_;
 };
+
+// Settings that pass the range checks but leave the run meaningless, said
+// before anything is read further (an error under --strict).
+void warn_meaningless(const compensate::Settings& st, bool strict, Io& io) {
+  std::vector<std::string> why;
+  char buf[400];
+  if (st.tolerance_mm >= st.max_offset_mm) {
+    std::snprintf(buf, sizeof buf,
+                  "--tolerance %g mm is not below the offset cap max_offset_mm = %g mm: only points whose predicted "
+                  "error exceeds %g mm are moved, and by %g mm at most; finishing tolerances are a few um (0.01 mm)",
+                  st.tolerance_mm, st.max_offset_mm, st.tolerance_mm, st.max_offset_mm);
+    why.push_back(buf);
+  }
+  if (st.gain > 1) {
+    // Smaoui 2011 §4: at the mirror's fixed point the tool lands (1 - gain) e
+    // off the surface; gain 1 lands it on the surface.
+    std::snprintf(buf, sizeof buf,
+                  "--gain %g over-corrects: at the mirror's fixed point the surface error becomes %g times the "
+                  "deflection along the normal (gain 2 mirrors it to the other side of the surface); 1 lands the "
+                  "tool on the surface",
+                  st.gain, 1 - st.gain);
+    why.push_back(buf);
+  }
+  for (const std::string& w : why) io.err << "deflex: " << (strict ? "error: " : "warning: ") << w << "\n";
+  if (strict && !why.empty()) throw Error(Exit::usage, "deflex: error: settings that make the run meaningless (--strict)");
+}
+
+// A stock no cutting move reaches (a box typed in inch for a metric
+// program, another part's blank) makes the whole run meaningless: every
+// point in air, "0 points outside", the output equal to the input. Said
+// before anything is simulated, with both extents; an error under --strict.
+void check_stock_reached(const Job& j, const Args& a, Diagnostics& diags) {
+  const Job::CutExtent& e = j.cut_extent;
+  if (!e.any || !j.stock) return;
+  const double r = e.radius_mm;
+  const float top = j.stock->max_height_in(e.lo_mm.x() - r, e.lo_mm.y() - r, e.hi_mm.x() + r, e.hi_mm.y() + r);
+  if (top != stock::no_material && top > e.lo_mm.z()) return;
+  const stock::GridSpec& g = j.stock->grid();
+  char top_text[64] = "out of their reach", buf[512];
+  if (top != stock::no_material) std::snprintf(top_text, sizeof top_text, "at Z %.3f mm", top);
+  std::snprintf(buf, sizeof buf,
+                "no cutting move reaches the stock: the cutting moves' tips span X %.3f..%.3f Y %.3f..%.3f "
+                "Z %.3f..%.3f mm (tools up to R %.3f mm), the stock X %.3f..%.3f Y %.3f..%.3f mm with its top %s; "
+                "check --stock%s (in mm, in the program's work frame)",
+                e.lo_mm.x(), e.hi_mm.x(), e.lo_mm.y(), e.hi_mm.y(), e.lo_mm.z(), e.hi_mm.z(), r, g.x0_mm,
+                g.x0_mm + g.nx * g.cell_mm, g.y0_mm, g.y0_mm + g.ny * g.cell_mm, top_text,
+                a.stock_from.empty() ? "" : " and --stock-from");
+  diags.report(j.setup.strict ? Severity::error : Severity::warning, j.prog.source().name(), buf);
+  if (j.setup.strict)
+    throw Error(Exit::input, j.prog.source().name() + ": error: the stock is out of reach (--strict); nothing done");
+}
 
 }  // namespace
 
@@ -303,7 +357,7 @@ void check_in_pieces(Job& j, const Args& a, Diagnostics& diags) {
   j.motion_count = count.n;
   const compensate::Settings& st = j.settings;
   process::MachiningClock clock(j.setup.machine->axis_limits);
-  CuttingCheck cut(a, st, j.physics.tools);
+  CuttingCheck cut(a, st, j.physics.tools, j.cut_extent);
   Collect c;
   std::vector<interp::Motion> piece;
   c.out = &piece;
@@ -394,6 +448,23 @@ void subprograms(Job& j, const Args& a, Io& io) {
   j.calls = std::move(calls);
 }
 
+void Job::CutExtent::add(const interp::Motion& m, double r_mm) {
+  // An arc bulges past its ends by at most its radius about its centre.
+  const bool arc = m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw;
+  const compensate::V3 a(m.start_mm[0], m.start_mm[1], m.start_mm[2]), b(m.end_mm[0], m.end_mm[1], m.end_mm[2]);
+  compensate::V3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
+  if (arc) {
+    const compensate::V3 c(m.center_mm[0], m.center_mm[1], m.center_mm[2]);
+    const double rho = (a - c).norm();
+    lo = lo.cwiseMin(c - compensate::V3::Constant(rho));
+    hi = hi.cwiseMax(c + compensate::V3::Constant(rho));
+  }
+  lo_mm = any ? lo_mm.cwiseMin(lo) : lo;
+  hi_mm = any ? hi_mm.cwiseMax(hi) : hi;
+  radius_mm = std::max(radius_mm, r_mm);
+  any = true;
+}
+
 Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_pieces) {
   Setup s = resolve_with_machine(a.read);
   s.tool_file = a.tool_file;
@@ -412,6 +483,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   st = settings_of(a, cfg, *j.setup.machine);
   st.rounding_mm = writer::rounding_mm(false, j.setup.dialect);
   st.rounding_inch_mm = writer::rounding_mm(true, j.setup.dialect);
+  if (compensating) warn_meaningless(st, j.setup.strict, io);
   if (j.pieces && st.feed_limit_N > 0 && st.gain == 0.0) {
     // Gain 0 with a feed limit simulates the program twice over (as written,
     // then at the lowered feeds): read whole, as before.
@@ -445,7 +517,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     // crash on the machine and unbounded work here.
     for (const interp::Motion& m : j.motions) interp::check_travel(m, j.setup.machine->travel, j.prog.source(), diags);
     if (!diags.errors()) {
-      CuttingCheck cut(a, st, j.physics.tools);
+      CuttingCheck cut(a, st, j.physics.tools, j.cut_extent);
       for (interp::Motion& m : j.motions) cut.check(m, j.prog.source());
       cut.report(diags);
     }
@@ -472,6 +544,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     j.physics.stock = j.stock.get();
     for (const auto& m : earlier) sweep_earlier(m, *j.stock, j.physics.tools, st.cl_spacing_mm);
   }
+  check_stock_reached(j, a, diags);
   if (j.physics.part && a.reference.empty()) {
     // The gouge check runs before the simulation: it needs no stock and no
     // forces. Not on a program judged against a reference: a compensated

@@ -72,6 +72,14 @@ struct Job {
   // For the provenance, in pieces: the program's SHA-256 and its cutting tools.
   std::string sha256;
   std::set<std::string> cutting_tools;
+  // The box the cutting moves' tips span (work frame, mm) and the largest
+  // radius of their tools: whether they can reach the stock at all.
+  struct CutExtent {
+    bool any = false;
+    compensate::V3 lo_mm = compensate::V3::Zero(), hi_mm = compensate::V3::Zero();
+    double radius_mm = 0;
+    void add(const interp::Motion& m, double radius_mm);
+  } cut_extent;
 };
 
 struct Collect : interp::MotionSink {

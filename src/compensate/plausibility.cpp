@@ -74,6 +74,12 @@ struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough;
+  // Cutting points in air or plunging (counted: a set of their lines would
+  // grow with the program), the first one's line, and whether any was in material.
+  std::size_t air_points = 0;
+  std::uint32_t first_air_line = 0;
+  std::string first_air_tool;
+  bool material = false;
   std::map<std::string, ForceLimit> limits;
   double force_peak = 0, force_lim = 0;  // peak_force: the worst by F / limit
   // Full-width deep slot runs (flat and bull ends): points and path length.
@@ -152,6 +158,12 @@ void PlausibilityScan::State::add(const Point& p) {
   if (it == tools.tools.end()) return;
   const stiffness::Tool& t = it->second;
   const double D = t.diameter_mm, R = 0.5 * D;
+  if (!(p.air || p.plunge)) {
+    material = true;
+  } else if (!air_points++) {
+    first_air_line = p.line;
+    first_air_tool = id;
+  }
   // 1. Above the flutes: the engaged edge reaches their top and the stock stands higher.
   if (!p.air && p.ap_mm >= t.flute_length_mm - s.slice_mm && p.stock_depth_mm > t.flute_length_mm + 0.01) {
     flute.add(p.line, p.stock_depth_mm, id);
@@ -294,6 +306,17 @@ Plausibility PlausibilityScan::finish(bool compensated) {
                     (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"
                           : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
                     "): the stock looks like a raw blank that needs roughing first");
+  }
+  if (!z.material && z.air_points) {
+    Finding f;
+    f.kind = "no_material";
+    f.count = z.air_points;
+    f.line = z.first_air_line;
+    f.tool = z.first_air_tool;
+    f.message = "none of the " + std::to_string(f.count) +
+                " cutting points is in the stock: each cuts air or plunges, so nothing is compensated and the "
+                "error figures say nothing; check --stock (and --stock-from)";
+    out.findings.push_back(f);
   }
   return out;
 }

@@ -25,7 +25,7 @@
 namespace deflex::compensate {
 
 struct Finding {
-  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing
+  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material
   std::size_t count = 0;             // CL points
   double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
   std::uint32_t line = 0;            // line of the worst point

@@ -1,0 +1,76 @@
+// Runs that pass every range check but mean nothing: a stock no cutting move
+// reaches, a tolerance that moves nothing, a gain that over-corrects. Each is
+// said before the simulation (an error under --strict), never a silent
+// "0 points outside".
+#include <doctest/doctest.h>
+
+#include <string>
+
+#include "../support.hpp"
+
+using namespace deflex;
+
+namespace {
+
+// bear.nc's first 14 lines: a D10 flat end slotting 80 mm along X at Z-17.368.
+const std::string kSlot =
+    "T1M6\nG21\nG17\nG0Z20.000\nG0X0.000Y0.000S15000M3\nG0X0.001Y0.001Z10.000\nG1Z-17.368F6000.0\n"
+    "G1X0.161\nX79.999\nY0.126\nY0.501\nX79.839\nX0.001\nY0.626\nM30\n";
+
+bool has(const std::string& text, const std::string& what) { return text.find(what) != std::string::npos; }
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("a stock no cutting move reaches is said, with both extents, before anything is simulated") {
+  for (const char* stock : {"box:500,500,-10,600,600,0",  // another part's blank
+                            "box:0,0,-30,80,80,-20"}) {    // below every cut
+    INFO(stock);
+    const auto r = test::run_cli({"compensate", "-", "--stock", stock, "--threads", "1"}, kSlot);
+    CHECK(r.rc == 0);
+    CHECK(has(r.err, "warning: no cutting move reaches the stock: the cutting moves' tips span X 0.001..79.999 "
+                     "Y 0.001..0.626 Z -17.368..10.000 mm (tools up to R 5.000 mm)"));
+    CHECK(r.out == kSlot);  // nothing to move: the program as written
+    // --strict: an error, nothing written, no simulation run.
+    const auto s = test::run_cli({"compensate", "-", "--stock", stock, "--strict", "--threads", "1"}, kSlot);
+    CHECK(s.rc == 1);
+    CHECK(s.out.empty());
+    CHECK(has(s.err, "error: no cutting move reaches the stock"));
+    CHECK_FALSE(has(s.err, "predicted error"));
+  }
+  // A stock the plunge alone removes (an 80 mm part's blank typed in inch):
+  // the moves reach it, but no point is in material after the plunge.
+  const auto r = test::run_cli({"simulate", "-", "--stock", "box:0,0,-25,3.15,3.15,0", "--threads", "1"}, kSlot);
+  CHECK(r.rc == 0);
+  CHECK(has(r.err, "none of the 380 cutting points is in the stock"));
+  CHECK(has(r.err, "[no_material]"));
+  // The stock the program cuts: neither.
+  const auto ok = test::run_cli({"simulate", "-", "--stock", "box:0,0,-25,80,80,0", "--threads", "1"}, kSlot);
+  CHECK_FALSE(has(ok.err, "reaches the stock"));
+  CHECK_FALSE(has(ok.err, "[no_material]"));
+}
+
+TEST_CASE("a tolerance at or over the offset cap and a gain over 1 are warned (errors under --strict)") {
+  const std::vector<std::string> base = {"compensate", "-", "--stock", "box:0,0,-25,80,80,0", "--threads", "1"};
+  auto run = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = base;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::run_cli(args, kSlot);
+  };
+  const auto t = run({"--tolerance", "1000"});
+  CHECK(t.rc == 0);
+  CHECK(has(t.err, "warning: --tolerance 1000 mm is not below the offset cap max_offset_mm = 0.1 mm"));
+  CHECK(t.out == kSlot);  // indeed nothing moved
+  const auto g = run({"--gain", "2"});
+  CHECK(g.rc == 0);
+  CHECK(has(g.err, "warning: --gain 2 over-corrects: at the mirror's fixed point the surface error becomes -1 times"));
+  CHECK(run({"--gain", "2", "--strict"}).rc == 2);
+  CHECK(run({"--tolerance", "0.1", "--strict"}).rc == 2);
+  // What is usual says nothing.
+  const auto ok = run({"--tolerance", "0.01", "--gain", "0.8"});
+  CHECK_FALSE(has(ok.err, "--tolerance"));
+  CHECK_FALSE(has(ok.err, "--gain"));
+}
+
+}  // TEST_SUITE
