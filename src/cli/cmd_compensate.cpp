@@ -340,6 +340,8 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   const compensate::Plausibility pl = scan.finish(true);
   print_left_alone(j, f, io);
   print_run(j, r, o.ws, pl, f.error_as_written, f.error, o.t0, o.t1, io);
+  const Used u = used(j);
+  io.info() << "  " << u.text << "\n";
   if (a.report.empty()) return 0;
   const double tol = j.settings.tolerance_mm;
   report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(f.error)},
@@ -352,6 +354,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   js["machining_time"] = {{"as_written", report::to_json(o.t0)}, {"compensated", report::to_json(o.t1)}};
   js["warnings"] = warnings_json(pl);
   js["left_alone"] = left_alone_json(f);
+  js["used"] = u.json;
   std::vector<std::vector<std::string>> facts = {
       {"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(f.error.points), "compensated_points"},
       {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},
@@ -455,6 +458,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime tm =
       j.pieces ? j.time_as_written : process::machining_time(j.motions, j.setup.machine->axis_limits);
   time_line(io, tm, tm);
+  const Used u = used(j);
+  io.info() << "  " << u.text << "\n";
   if (a.report.empty()) return 0;
   report::Json js{{"file", j.prog.source().name()}, {"surface_error_mm", report::to_json(st)},
                   {"cl_points", st.points}, {"tolerance_mm", report::fixed(tol, 6)},
@@ -462,6 +467,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   js["cusp_height_mm"] = report::cusp_json(f.cusp);
   js["machining_time"] = report::to_json(tm);
   js["warnings"] = warnings_json(pl);
+  js["used"] = u.json;
   std::vector<std::vector<std::string>> facts = {
       {"CL points in material", std::to_string(st.points), "cl_points"},
       {"machining time", report::clock(tm.program.total_s), "machining_time"}};

@@ -45,7 +45,9 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
-      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, or auto[:MARGIN] "
+                                     "(a blank box round the cutting moves and the tool, MARGIN mm beyond them, default 1; "
+                                     "its top at the highest cutting point) (default: config stock)")
       ("job", po::value(&a.job), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it")
       ("stock-from", po::value(&a.stock_from)->composing(),
        "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; repeat for several, in order")
@@ -157,6 +159,32 @@ class CuttingCheck {
   std::optional<Error> fatal_;
   std::vector<std::tuple<SourceText, std::uint32_t, std::string>> found_;
 };
+
+// --stock auto[:MARGIN]: the box round the cutting moves' tips and their
+// tools' radius, MARGIN mm beyond them in X, Y and below, its top at the
+// highest cutting tip: a blank, which a finishing program seldom starts
+// from (the note says so). The box spec it stands for.
+std::string auto_stock(const std::string& spec, const Job& j, Io& io) {
+  double margin_mm = 1.0;
+  if (spec != "auto") {
+    const std::string m = spec.starts_with("auto:") ? spec.substr(5) : "";
+    char* end = nullptr;
+    margin_mm = std::strtod(m.c_str(), &end);
+    if (m.empty() || *end || !(margin_mm >= 0 && margin_mm <= 1000))
+      throw Error(Exit::usage, "--stock " + spec + ": give auto or auto:MARGIN, MARGIN in mm (0 to 1000)");
+  }
+  const Job::CutExtent& e = j.cut_extent;
+  if (!e.any) throw Error(Exit::usage, "--stock auto: the program has no cutting move to put a stock round");
+  const double side = e.radius_mm + margin_mm;
+  char box[200];
+  std::snprintf(box, sizeof box, "box:%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", e.lo_mm.x() - side, e.lo_mm.y() - side,
+                e.lo_mm.z() - margin_mm, e.hi_mm.x() + side, e.hi_mm.y() + side, e.hi_mm.z());
+  io.info() << j.prog.source().name() << ": note: --stock " << spec << " is the blank " << box
+            << " (round the cutting moves and the tool, " << margin_mm
+            << " mm beyond them, its top at the highest cutting point): the stock a finishing program starts from "
+               "is usually less (--stock-from the earlier programs, or deflex rough)\n";
+  return box;
+}
 
 // Settings that pass the range checks but leave the run meaningless, said
 // before anything is read further (an error under --strict).
@@ -540,7 +568,8 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
   } else {
     stock::SolidOptions so;
     so.cell_mm = a.cell_mm;
-    j.stock = std::make_unique<stock::ZMap>(stock::make_stock(stock, so));
+    if (stock.starts_with("auto")) j.stock_spec = auto_stock(stock, j, io);
+    j.stock = std::make_unique<stock::ZMap>(stock::make_stock(j.stock_spec, so));
     j.physics.stock = j.stock.get();
     for (const auto& m : earlier) sweep_earlier(m, *j.stock, j.physics.tools, st.cl_spacing_mm);
   }
@@ -631,6 +660,52 @@ void end_progress(const compensate::Progress& p) {
   if (p) p("", 1.0);
 }
 
+namespace {
+
+// The tools the cutting moves use, by id.
+std::set<std::string> cutting_tools(const Job& j) {
+  std::set<std::string> tools = j.cutting_tools;  // in pieces; else:
+  for (const interp::Motion& m : j.motions)
+    if (m.kind != interp::MotionKind::rapid) tools.insert(compensate::tool_id(m, j.settings));
+  return tools;
+}
+
+// "T1: flat D10 mm", "T2: bull nose D12 mm r1".
+std::string tool_text(const std::string& id, const stiffness::Tool& t) {
+  const bool bull = t.type == stiffness::ToolType::bull;
+  return id + ": " + (t.type == stiffness::ToolType::ball ? "ball" : bull ? "bull nose" : "flat") + " D" +
+         report_number(t.diameter_mm) + " mm" + (bull ? " r" + report_number(t.corner_radius_mm) : "");
+}
+
+// The material's name and library, without the source that Job::material
+// adds after a ';' ("C35 (samples/materials.yaml; source: ...)").
+std::string material_text(const Job& j) {
+  const std::size_t cut = j.material.find(';');
+  return cut == std::string::npos ? j.material : j.material.substr(0, cut) + ")";
+}
+
+}  // namespace
+
+Used used(const Job& j) {
+  Used u;
+  const profile::MachineProfile& m = *j.setup.machine;
+  u.json = {{"config", j.setup.config.file.empty() ? report::Json() : report::Json(j.setup.config.file)},
+            {"machine", m.name}, {"machine_file", m.file}, {"dialect", j.setup.dialect.name},
+            {"tool_file", j.physics.tools.file}, {"material", material_text(j)}};
+  report::Json tools = report::Json::array();
+  std::string t_text;
+  for (const std::string& id : cutting_tools(j)) {
+    const std::string t = tool_text(id, j.physics.tools.tools.at(id));
+    tools.push_back(t);
+    t_text += (t_text.empty() ? "" : ", ") + t;
+  }
+  u.json["tools"] = tools;
+  u.text = "used: machine " + m.name + " (" + m.file + ", dialect " + j.setup.dialect.name + "); " +
+           (t_text.empty() ? "no cutting tool" : t_text) + " (" + j.physics.tools.file + "); material " +
+           material_text(j) + "; config " + (j.setup.config.file.empty() ? "none" : j.setup.config.file);
+  return u;
+}
+
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference) {
   std::vector<std::pair<std::string, std::string>> p;
@@ -638,16 +713,11 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   p.emplace_back("program SHA-256", j.pieces ? j.sha256 : report::sha256_hex(j.prog.source().bytes()));
   if (!reference.empty()) p.emplace_back("judged against", reference);
   p.emplace_back("machine", j.setup.machine->name + " (" + j.setup.machine->file + "), dialect " + j.setup.dialect.name);
-  std::set<std::string> tools = j.cutting_tools;  // in pieces; else:
-  for (const interp::Motion& m : j.motions)
-    if (m.kind != interp::MotionKind::rapid) tools.insert(compensate::tool_id(m, j.settings));
-  for (const std::string& id : tools) {
+  for (const std::string& id : cutting_tools(j)) {
     const stiffness::Tool& t = j.physics.tools.tools.at(id);
     char buf[200];
-    std::snprintf(buf, sizeof buf, "%s: %s D%g mm%s, %d flutes, helix %g deg, stick-out %g mm, flutes %g mm long",
-                  id.c_str(), t.type == stiffness::ToolType::ball ? "ball" : t.type == stiffness::ToolType::bull ? "bull nose" : "flat",
-                  t.diameter_mm, t.type == stiffness::ToolType::bull ? (" r" + report_number(t.corner_radius_mm)).c_str() : "",
-                  t.flutes, t.helix_deg, t.stickout_mm, t.flute_length_mm);
+    std::snprintf(buf, sizeof buf, "%s, %d flutes, helix %g deg, stick-out %g mm, flutes %g mm long",
+                  tool_text(id, t).c_str(), t.flutes, t.helix_deg, t.stickout_mm, t.flute_length_mm);
     p.emplace_back("tool", buf);
   }
   p.emplace_back("tool library", j.physics.tools.file);

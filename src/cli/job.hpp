@@ -130,6 +130,14 @@ std::function<const stiffness::Tool*(int)> tool_of(const Job& j);
 compensate::Progress progress_for(Io& io);
 // After the last stage: the line cleared, the last stage's time (--verbose).
 void end_progress(const compensate::Progress& p);
+// What a run used (machine, dialect, tools, material, config), found where
+// the defaults led: one line for the summary, the same for summary.json.
+struct Used {
+  std::string text;  // "used: machine mill3 (...); T1: flat D10 mm (samples/tools.yaml); material ...; config ..."
+  report::Json json;
+};
+Used used(const Job& j);
+
 // The run's provenance for report.html: what a reader needs to trust or redo it.
 std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const std::string& command,
                                                             const std::string& reference);

@@ -4,7 +4,10 @@
 // "0 points outside".
 #include <doctest/doctest.h>
 
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <unistd.h>
 
 #include "../support.hpp"
 
@@ -71,6 +74,39 @@ TEST_CASE("a tolerance at or over the offset cap and a gain over 1 are warned (e
   const auto ok = run({"--tolerance", "0.01", "--gain", "0.8"});
   CHECK_FALSE(has(ok.err, "--tolerance"));
   CHECK_FALSE(has(ok.err, "--gain"));
+}
+
+TEST_CASE("a run names what it used, in the summary and in summary.json") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("deflex-used-" + std::to_string(::getpid()));
+  const auto r = test::run_cli({"simulate", "-", "--stock", "box:0,0,-25,80,80,0", "--threads", "1", "--report",
+                                dir.string()}, kSlot);
+  REQUIRE(r.rc == 0);
+  CHECK(has(r.err, "  used: machine mill3 (samples/machines/mill3.yaml, dialect fanuc); T1: flat D10 mm "
+                   "(samples/tools.yaml); material C35 (samples/materials.yaml); config config.yaml\n"));
+  const auto js = nlohmann::json::parse(test::read_file((dir / "summary.json").string())).at("used");
+  CHECK(js.at("machine") == "mill3");
+  CHECK(js.at("dialect") == "fanuc");
+  CHECK(js.at("tools") == nlohmann::json::array({"T1: flat D10 mm"}));
+  CHECK(js.at("material") == "C35 (samples/materials.yaml)");
+  const auto c = test::run_cli({"compensate", "-", "--stock", "box:0,0,-25,80,80,0", "--threads", "1", "--tool", "T7"},
+                               kSlot);
+  CHECK(has(c.err, "; T7: ball D10 mm (samples/tools.yaml);"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("--stock auto[:MARGIN] is the blank round the cutting moves and the tool, and says so") {
+  const auto r = test::run_cli({"simulate", "-", "--stock", "auto:2", "--threads", "1"}, kSlot);
+  REQUIRE(r.rc == 0);
+  // Tips X 0.001..79.999, Y 0.001..0.626, Z -17.368..10 (the plunge starts at
+  // Z10); R 5 + 2 beyond them, 2 below, the top at the highest tip.
+  CHECK(has(r.err, "note: --stock auto:2 is the blank box:-6.999,-6.999,-19.368,86.999,7.626,10.000 (round the "
+                   "cutting moves and the tool, 2 mm beyond them"));
+  const auto same = test::run_cli({"simulate", "-", "--stock", "box:-6.999,-6.999,-19.368,86.999,7.626,10.000",
+                                   "--threads", "1"}, kSlot);
+  CHECK(same.out == r.out);
+  CHECK(test::run_cli({"simulate", "-", "--stock", "auto:-1"}, kSlot).rc == 2);
+  CHECK(test::run_cli({"simulate", "-", "--stock", "automatic"}, kSlot).rc == 2);
 }
 
 }  // TEST_SUITE
