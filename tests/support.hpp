@@ -1,9 +1,12 @@
 // Helpers shared by the tests: interpret a program given as text, run the CLI
 // in-process, read files.
 #pragma once
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deflex/cli/command.hpp"
@@ -57,6 +60,17 @@ inline interp::Motion linear_motion(interp::Vec3 a, interp::Vec3 b, double feed_
   m.end_mm = b;
   m.feed_mm_per_min = feed_mm_per_min;
   return m;
+}
+
+// Entry and exit immersion angles (rad) of a flat end mill of diameter D at
+// radial depth a_e, feed along +X, angles from +Y' (the up-milling side) in the
+// cutting sense: up milling [0, acos(1 - 2 a_e / D)], down milling
+// [pi - acos(1 - 2 a_e / D), pi] (Altintas, Manufacturing Automation, 2nd ed.
+// 2012, Sec. 2.3; Morelli 2021 Eq. 1); a_e >= D is a slot, [0, pi].
+inline std::pair<double, double> textbook_immersion(double D_mm, double ae_mm, bool up_milling) {
+  const double pi = std::numbers::pi;
+  const double swept = ae_mm >= D_mm ? pi : std::acos(1 - 2 * ae_mm / D_mm);
+  return up_milling ? std::pair{0.0, swept} : std::pair{pi - swept, pi};
 }
 
 struct CliResult {
