@@ -3,7 +3,8 @@
 # Idempotent: packages already present are skipped; apt-get runs only when
 # something is missing. Must run as root (or with sudo available).
 #   scripts/install-deps.sh          build + run dependencies
-#   scripts/install-deps.sh --test   also what the test suite needs (LinuxCNC's rs274)
+#   scripts/install-deps.sh --test   also what the test suite needs: LinuxCNC's rs274, Chromium and
+#                                    libpng (report_browser), bash-completion (cli_completion)
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
 #   scripts/install-deps.sh --fuzz   also clang 14 and its runtimes (ASan, UBSan, libFuzzer)
 #   scripts/install-deps.sh --package  also what CPack's .deb needs (file, dpkg-shlibdeps)

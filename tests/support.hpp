@@ -1,9 +1,13 @@
 // Helpers shared by the tests: interpret a program given as text, run the CLI
 // in-process, read files.
 #pragma once
+#include <cmath>
 #include <fstream>
+#include <numbers>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deflex/cli/command.hpp"
@@ -59,6 +63,17 @@ inline interp::Motion linear_motion(interp::Vec3 a, interp::Vec3 b, double feed_
   return m;
 }
 
+// Entry and exit immersion angles (rad) of a flat end mill of diameter D at
+// radial depth a_e, feed along +X, angles from +Y' (the up-milling side) in the
+// cutting sense: up milling [0, acos(1 - 2 a_e / D)], down milling
+// [pi - acos(1 - 2 a_e / D), pi] (Altintas, Manufacturing Automation, 2nd ed.
+// 2012, Sec. 2.3; Morelli 2021 Eq. 1); a_e >= D is a slot, [0, pi].
+inline std::pair<double, double> textbook_immersion(double D_mm, double ae_mm, bool up_milling) {
+  const double pi = std::numbers::pi;
+  const double swept = ae_mm >= D_mm ? pi : std::acos(1 - 2 * ae_mm / D_mm);
+  return up_milling ? std::pair{0.0, swept} : std::pair{pi - swept, pi};
+}
+
 struct CliResult {
   int rc;
   std::string out, err;
@@ -82,6 +97,58 @@ inline std::string read_file(const std::string& path) {
 inline void write_file(const std::string& path, const std::string& text) {
   std::ofstream f(path, std::ios::binary);
   f << text;
+}
+
+// A CSV file with a header row (points.csv of --report): cells by column name.
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  // The number in `column` of row i (throws std::out_of_range on an unknown column).
+  double num(std::size_t i, const std::string& column) const {
+    for (std::size_t c = 0; c < header.size(); ++c)
+      if (header[c] == column) return std::stod(rows.at(i).at(c));
+    throw std::out_of_range("no column " + column);
+  }
+};
+
+inline std::vector<std::string> split_commas(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+inline Csv read_csv(const std::string& path) {
+  Csv t;
+  std::istringstream in(read_file(path));
+  std::string line;
+  if (std::getline(in, line)) t.header = split_commas(line);
+  while (std::getline(in, line)) t.rows.push_back(split_commas(line));
+  return t;
+}
+
+// What every row of a points.csv must show whatever the numbers, so a wrong
+// physics change fails even where a figure is pinned as a regression snapshot:
+// the deflection has a positive component along the force (a compliance is
+// positive definite: F.C.F > 0); beyond `tolerance_mm`, the error as written
+// is an undercut (positive) where the tool bends out of the material (d.n > 0)
+// and an overcut where it bends in; the mirror's offset (along n) has the
+// error's opposite sign, moving the point into the material for an undercut.
+inline void check_deflection_physics(const Csv& pts, double tolerance_mm) {
+  REQUIRE(!pts.rows.empty());
+  for (std::size_t i = 0; i < pts.rows.size(); ++i) {
+    CAPTURE(pts.num(i, "line"));
+    CAPTURE(pts.num(i, "x_mm"));
+    const double F[3] = {pts.num(i, "Fx_N"), pts.num(i, "Fy_N"), pts.num(i, "Fz_N")};
+    const double d[3] = {pts.num(i, "dx_mm"), pts.num(i, "dy_mm"), pts.num(i, "dz_mm")};
+    const double n[3] = {pts.num(i, "nx"), pts.num(i, "ny"), pts.num(i, "nz")};
+    const double F_dot_d = F[0] * d[0] + F[1] * d[1] + F[2] * d[2], d_dot_n = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+    if (std::hypot(F[0], F[1], F[2]) > 1) CHECK(F_dot_d > 0);
+    const double e = pts.num(i, "surface_error_as_written_mm");
+    if (std::fabs(e) > tolerance_mm) CHECK((e > 0) == (d_dot_n > 0));
+    CHECK(pts.num(i, "offset_mm") * e <= 0);
+  }
 }
 
 }  // namespace deflex::test

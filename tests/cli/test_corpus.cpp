@@ -39,7 +39,13 @@ std::vector<std::string> split_lines(const std::string& s) {
   return v;
 }
 
-const fs::path kShared = DEFLEX_SHARED_DIR;
+// The CAM programs of tests/data/corpus (its README names their source): all
+// four, or the tests that read them fail rather than read fewer.
+std::vector<fs::path> cam_corpus() {
+  const std::vector<fs::path> v = files_in("tests/data/corpus", {".nc", ".gcode"});
+  REQUIRE(v.size() == 4);
+  return v;
+}
 
 }  // namespace
 
@@ -62,6 +68,9 @@ TEST_CASE("bad-input corpus: each file produces the diagnostic its first line na
 }
 
 TEST_CASE("golden CLI runs: stdout, stderr and exit code") {
+  // Regression snapshots of deflex's own output (tests/golden/regen.sh): they
+  // catch any change, not a wrong one. The physics under the wall runs'
+  // figures is checked independently in test_golden_wall.cpp.
   auto cases = files_in("tests/golden", {".args"});
   REQUIRE(cases.size() >= 8);
   for (const fs::path& c : cases) {
@@ -99,7 +108,7 @@ TEST_CASE("diff: an inserted split block in a program of skeleton-equal lines is
 
 TEST_CASE("round trip: every program read and written back is byte-identical") {
   std::vector<fs::path> all;
-  for (auto dir : {fs::path("samples"), fs::path("tests"), kShared / "corpus"})
+  for (auto dir : {fs::path("samples"), fs::path("tests")})  // tests/ holds the CAM corpus
     for (auto& f : files_in(dir, {".nc", ".ngc", ".gcode", ".tap"})) all.push_back(f);
   REQUIRE(all.size() >= 25);
   auto fanuc = profile::load_dialect("fanuc");
@@ -110,7 +119,7 @@ TEST_CASE("round trip: every program read and written back is byte-identical") {
     CHECK_MESSAGE(w.str() == bytes, f.string());
   }
   // Through the command, for programs that interpret cleanly.
-  for (const fs::path& f : files_in(kShared / "corpus", {".nc", ".gcode"})) {
+  for (const fs::path& f : cam_corpus()) {
     std::string dialect = f.extension() == ".gcode" ? "linuxcnc" : "fanuc";
     auto r = test::run_cli({"rewrite", f.string(), "--dialect", dialect});
     CHECK_MESSAGE(r.rc == 0, (f.string() + r.err));
@@ -124,7 +133,7 @@ TEST_CASE("rs274 (LinuxCNC) and deflex give the same end points within 1e-4 mm")
   std::vector<fs::path> progs;
   for (const char* n : {"3dtest.ngc", "arcspiral.ngc", "cds.ngc", "plasmatest.ngc", "tort.ngc"})
     progs.push_back(fs::path("/usr/share/linuxcnc/ncfiles") / n);
-  for (auto& f : files_in(kShared / "corpus", {".nc", ".gcode"})) progs.push_back(f);
+  for (auto& f : cam_corpus()) progs.push_back(f);
   REQUIRE_MESSAGE(fs::exists("/usr/bin/rs274"), "rs274 missing: run scripts/install-deps.sh --test");
   for (const fs::path& f : progs) {
     REQUIRE_MESSAGE(fs::exists(f), f.string());

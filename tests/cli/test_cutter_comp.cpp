@@ -332,15 +332,27 @@ TEST_SUITE("cli") {
     CHECK(on.worst_mm <= kCsvRounding);
     MESSAGE("G41 sample: " << on.rows << " compensated points, the farthest " << on.worst_mm
                            << " mm from the control's centre path");
+    test::check_deflection_physics(test::read_csv((dir / "onpath/points.csv").string()), 0.01);
     // The D words and the G41 blocks stay as written; the face moved into
     // the material (-Y) in down-milling, as the centre path did (Y3.421 at
     // its end); the end's X so that the control's perpendicular to the last
-    // part (turned by 0.02 mm over 14.9 mm) lands on X110.
+    // part (turned by 0.02 mm over 14.9 mm) lands on X110. The digits are a
+    // regression snapshot of deflex's output; the physics is checked on
+    // points.csv above, and here the face's offset is the centre's, into the
+    // material (the face at Y-2.5, the centre at Y3.5 as written).
     const std::string written = test::read_file(out41);
     CHECK(written.find("N22 G41 D6 X-10. Y-2.5\n") != std::string::npos);
     CHECK(written.find("N34 G41 D6 X-10. Y-5.\n") != std::string::npos);
     CHECK(written.find("N24 X110.008 Y-2.579 F2546.4\n") != std::string::npos);
     CHECK(test::read_file(outc).find("N24 X110. Y3.421 F2546.4\n") != std::string::npos);
+    auto end_y_mm = [](const std::string& program) {
+      std::smatch m;
+      REQUIRE(std::regex_search(program, m, std::regex(R"(\nN24 X[0-9.]+ Y(-?[0-9.]+) )")));
+      return std::stod(m[1]);
+    };
+    const double face_offset_mm = end_y_mm(written) - -2.5, centre_offset_mm = end_y_mm(test::read_file(outc)) - 3.5;
+    CHECK(face_offset_mm == doctest::Approx(centre_offset_mm));
+    CHECK(face_offset_mm < 0);
     fs::remove_all(dir);
   }
 }

@@ -1,4 +1,4 @@
-// cmake --install (issue 15): the installed deflex finds its data through
+// cmake --install: the installed deflex finds its data through
 // DEFLEX_DATA_DIR, never through the source tree, runs the sample job from any
 // folder, and takes its config in the documented order.
 #include <doctest/doctest.h>
@@ -18,16 +18,25 @@ namespace {
 
 int exit_code(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 
+// cmake --install of this build into a new temporary folder, returned; the
+// installed tree is under its usr/.
+fs::path install_to_temp() {
+  std::string t = (fs::temp_directory_path() / "deflex-install-XXXXXX").string();
+  const fs::path tmp = mkdtemp(t.data());
+  const fs::path build = fs::path(DEFLEX_BINARY).parent_path();
+  REQUIRE(exit_code(std::system(("cmake --install " + build.string() + " --prefix " + (tmp / "usr").string() + " > " +
+                                 (tmp / "install.log").string() + " 2>&1")
+                                    .c_str())) == 0);
+  return tmp;
+}
+
+const char* const kBashCompletion = "/usr/share/bash-completion/bash_completion";
+
 }  // namespace
 
 TEST_SUITE("cli") {
   TEST_CASE("cmake --install: the sample job from an empty folder; the config search order") {
-    std::string t = (fs::temp_directory_path() / "deflex-install-XXXXXX").string();
-    const fs::path tmp = mkdtemp(t.data());
-    const fs::path build = fs::path(DEFLEX_BINARY).parent_path();
-    REQUIRE(exit_code(std::system(("cmake --install " + build.string() + " --prefix " + (tmp / "usr").string() + " > " +
-                                   (tmp / "install.log").string() + " 2>&1")
-                                      .c_str())) == 0);
+    const fs::path tmp = install_to_temp();
     const fs::path bin = tmp / "usr/bin/deflex", data = tmp / "usr/share/deflex";
     CHECK(fs::is_regular_file(bin));
     for (const char* f : {"config.yaml", "samples/machines/mill3.yaml", "samples/tools.yaml", "samples/materials.yaml",
@@ -96,12 +105,28 @@ TEST_SUITE("cli") {
       CHECK_MESSAGE(fs::is_regular_file(tmp / "usr/share/man/man1" / f), f);
     CHECK(test::read_file((tmp / "usr/share/man/man1/deflex-compensate.1").string()).find("feed\\-limit") !=  // roff escapes the hyphens
           std::string::npos);
+    // The completion, as packaging/deflex.bash-completion (tried in bash in the suite cli_completion).
+    CHECK(test::read_file((tmp / "usr/share/bash-completion/completions/deflex").string()) ==
+          test::read_file("packaging/deflex.bash-completion"));
+    fs::remove_all(tmp);
+  }
+}
+
+// bash-completion's own script must be there to source; where it is not, this
+// case is skipped, and CTest's entry cli_completion says so (cmake/tests.cmake).
+TEST_SUITE("cli_completion") {
+  TEST_CASE("bash completion of the installed deflex: commands, options, library names" *
+            doctest::skip(!fs::exists(kBashCompletion))) {
+    const fs::path tmp = install_to_temp();
+    const fs::path data = tmp / "usr/share/deflex", work = tmp / "work", home = tmp / "home";
+    fs::create_directories(work);
+    fs::create_directories(home);
     const fs::path completion = tmp / "usr/share/bash-completion/completions/deflex";
     REQUIRE(fs::is_regular_file(completion));
     // What bash offers after each line, with the installed deflex first on PATH.
     auto offered = [&](const std::string& line) {
       const std::string script = tmp.string() + "/complete.sh";
-      test::write_file(script, "source /usr/share/bash-completion/bash_completion\nsource " + completion.string() +
+      test::write_file(script, std::string("source ") + kBashCompletion + "\nsource " + completion.string() +
                                    "\nCOMP_LINE='" + line + "'; COMP_POINT=${#COMP_LINE}\n"
                                    "read -ra COMP_WORDS <<< \"$COMP_LINE\"; [[ $COMP_LINE == *' ' ]] && COMP_WORDS+=('')\n"
                                    "COMP_CWORD=$((${#COMP_WORDS[@]} - 1)); _deflex; printf '%s\\n' \"${COMPREPLY[@]}\"\n");
@@ -111,20 +136,13 @@ TEST_SUITE("cli") {
       std::system(cmd.c_str());
       return test::read_file((tmp / "out").string());
     };
-    fs::remove(work / "deflex.yaml");
-    fs::remove(work / "config.yaml");
-    fs::remove_all(home / ".config");
-    if (fs::exists("/usr/share/bash-completion/bash_completion")) {
-      CHECK(offered("deflex comp") == "compensate\ncompare\n");
-      CHECK(offered("deflex compensate --feed-") == "--feed-limit\n");
-      CHECK(offered("deflex compensate x.nc --machine ") == "mill3\n");
-      CHECK(offered("deflex simulate x.nc --dialect li") == "linuxcnc\n");
-      CHECK(offered("deflex compensate x.nc --tool T") == "T1\nT2\nT3\nT4\nT5\nT6\nT7\n");
-      CHECK(offered("deflex compensate x.nc --material Al") == "Al6082-T4\nAl7075-T6\n");
-      CHECK(offered("deflex check x.nc --progress a") == "auto\nalways\n");
-    } else {
-      MESSAGE("bash-completion is not installed (scripts/install-deps.sh --test): completion not tried");
-    }
+    CHECK(offered("deflex comp") == "compensate\ncompare\n");
+    CHECK(offered("deflex compensate --feed-") == "--feed-limit\n");
+    CHECK(offered("deflex compensate x.nc --machine ") == "mill3\n");
+    CHECK(offered("deflex simulate x.nc --dialect li") == "linuxcnc\n");
+    CHECK(offered("deflex compensate x.nc --tool T") == "T1\nT2\nT3\nT4\nT5\nT6\nT7\n");
+    CHECK(offered("deflex compensate x.nc --material Al") == "Al6082-T4\nAl7075-T6\n");
+    CHECK(offered("deflex check x.nc --progress a") == "auto\nalways\n");
     fs::remove_all(tmp);
   }
 }

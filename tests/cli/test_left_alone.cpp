@@ -63,9 +63,15 @@ TEST_SUITE("cli") {
     const std::string p90 = test::run_cli({"path", out90}).out, p91 = test::run_cli({"path", out91}).out;
     CHECK(p91 == p90);
     // The blocks deflex put in before the G91 block are increments in G91 too.
+    // Their digits are a regression snapshot of deflex's output (the first
+    // step of the offset ramp into the material, -Y); what the physics must
+    // show is checked on the same run's points.csv below.
     const std::string text = test::read_file(out91);
     CHECK(text.find("G91 G1 X6.667 Y-0.02 Z0. F2546.4\n") != std::string::npos);
     CHECK(text.find("N22 G91 X110. Y0.02 F2546.4\n") != std::string::npos);
+    const test::CliResult rep91 = compensate_wall(g91, (dir / "rep91.nc").string(), {"--report", (dir / "rep91").string()});
+    REQUIRE(rep91.rc == 0);
+    test::check_deflection_physics(test::read_csv((dir / "rep91/points.csv").string()), 0.01);
     // Every rapid ends where the original's does.
     const std::vector<std::string> orig = lines_of(test::run_cli({"path", g91}).out), comp = lines_of(p91);
     std::vector<std::string> rapids_o, rapids_c;

@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -48,8 +50,21 @@ struct TempDir {
 TEST_SUITE("cli") {
   TEST_CASE("subprogram sample: called at two depths, it stays as written and is named with its calls") {
     TempDir dir;
-    const test::CliResult r = compensate(kSample, dir / "out.nc");
+    const test::CliResult r = compensate(kSample, dir / "out.nc", {"--report", dir / "rep"});
     REQUIRE(r.rc == 0);
+    // The figures of the message are a regression snapshot of deflex's output;
+    // they must be the per-point predictions of the run's points.csv (all its
+    // cutting points are in O5113), and those must show the physics.
+    const test::Csv pts = test::read_csv(dir / "rep/points.csv");
+    int outside = 0;
+    double largest_mm = 0;
+    for (std::size_t i = 0; i < pts.rows.size(); ++i) {
+      outside += std::fabs(pts.num(i, "surface_error_mm")) > 0.01;
+      largest_mm = std::max(largest_mm, std::fabs(pts.num(i, "surface_error_mm")));
+    }
+    CHECK(outside == 412);
+    CHECK(largest_mm == doctest::Approx(0.0923).epsilon(1e-3));
+    test::check_deflection_physics(pts, 0.01);
     CHECK(r.err.find("side_wall_sub.nc:22:1: warning: 412 points outside +-0.0100 mm are left as programmed on moves in "
                      "subprograms that run more than once (the first here, in O5113, called at lines 12, 16); the "
                      "largest error left 0.0923 mm; --expand-subprograms writes each call inline and compensates each "

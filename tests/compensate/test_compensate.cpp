@@ -210,7 +210,15 @@ TEST_CASE("mirror fixed point: the deflected tool lands on the programmed wall")
     if (p.index != p.count || p.air || p.ap_mm < 9.9 || r.offsets[p.motion].norm() == 0) continue;
     const double residual = compensate::landing_error(p, r.offsets[p.motion]);
     CHECK(std::fabs(residual) <= 0.01 * f.s.tolerance_mm + 1e-9);
-    // ...and the as-written error there was outside the tolerance.
+    // ...and the as-written error there (the nominal point at the programmed
+    // position, the compensated one less its offset) was outside the tolerance.
+    const V3 programmed = p.tip_mm - r.offsets[p.motion];
+    const compensate::Point* written = nullptr;
+    for (const auto& q : r.nominal)
+      if (!written || (q.tip_mm - programmed).norm() < (written->tip_mm - programmed).norm()) written = &q;
+    REQUIRE(written != nullptr);
+    CHECK((written->tip_mm - programmed).norm() < 1e-9);
+    CHECK(std::fabs(written->error_mm) > f.s.tolerance_mm);
     ++checked;
   }
   CHECK(checked >= 2);

@@ -1,5 +1,5 @@
 // Engagement on a Z-map against the textbook geometry: full slot, half
-// immersion (force::immersion_interval), ball at depth a_p (Bagci Eq. 2), ramps,
+// immersion (Altintas's acos(1 - 2 a_e / D)), ball at depth a_p (Bagci Eq. 2), ramps,
 // plunges, air cuts, and the order "engage on the stock as cut so far, then cut".
 #include <doctest/doctest.h>
 
@@ -114,11 +114,11 @@ TEST_CASE("half immersion, up and down milling, four feed directions: the textbo
         if (ny < -0.5) y1 = -w;
         stock::ZMap z = stock::zmap_from_box({x0, y0, -20, x1, y1, 0});
         const Last r = run(z, cs, {line({-30 * fx[dir], -30 * fy[dir], -ap}, {10 * fx[dir], 10 * fy[dir], -ap})}, proc);
-        const force::AngleInterval want = force::immersion_interval(R, R, ae, mode);
+        const auto [want_start, want_end] = test::textbook_immersion(2 * R, ae, mode == force::MillingMode::up);
         for (std::size_t i = 0; i < cs.slices.size() && cs.slices[i].z_mm < ap; ++i) {
           REQUIRE(r.e.slices[i].size() == 1);
-          CHECK(std::fabs(r.e.slices[i][0].start - want.start) <= angle_tol);
-          CHECK(std::fabs(r.e.slices[i][0].end - want.end) <= angle_tol);
+          CHECK(std::fabs(r.e.slices[i][0].start - want_start) <= angle_tol);
+          CHECK(std::fabs(r.e.slices[i][0].end - want_end) <= angle_tol);
         }
         CHECK(r.m.ae_mm == doctest::Approx(ae).epsilon(2e-3));
         CHECK(r.m.ap_mm == doctest::Approx(ap));

@@ -112,13 +112,16 @@ TEST_CASE("deflex forces --format json: Morelli's three cases with Al 6082-T4") 
 TEST_CASE("deflex forces: no shape code for up-milling or a ball end") {
   const Run up = forces({"--tool-file", tools, "--tool", "F12", "--kt", "700", "--kr", "200", "--ka", "0",
                          "--ae", "2.5", "--ap", "12", "--fz", "0.1", "--up", "--format", "json"});
+  REQUIRE(up.code == 0);
   CHECK(up.out.find("shape_code") == std::string::npos);
   const Run ball = forces({"--tool-file", tools, "--tool", "B10", "--material", "C35", "--ae", "10", "--ap",
                            "1", "--fz", "0.1", "--down", "--format", "json"});
+  REQUIRE(ball.code == 0);
   CHECK(ball.out.find("shape_code") == std::string::npos);
   // Light up-milling draws the tool into the +Y wall (overcut), down-milling
   // pushes it off the -Y wall (undercut): both give a mean Fy > 0 here.
   CHECK(numbers_after(up.out, "mean_N")[1] > 0);
+  CHECK(numbers_after(ball.out, "mean_N")[1] > 0);
 }
 
 TEST_CASE("deflex forces: bad usage is Exit::usage, a bad library Exit::config") {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../support.hpp"
 #include "deflex/force/mechanistic.hpp"
 
 using namespace deflex::force;
@@ -117,14 +118,29 @@ TEST_CASE("flat end mill mean forces match Altintas' closed form within 0.5%") {
     const CutterSlices sl = make_slices(c, 0.05, ap);
     Engagement e;
     simple_engagement(sl, cs.ae, ap, cs.mode, e);
-    const AngleInterval iv = immersion_interval(cs.D / 2, cs.D / 2, cs.ae, cs.mode);
-    const Vec3 want = altintas_mean(k, cs.N, ap, f, iv.start, iv.end);
+    const auto [start, end] = deflex::test::textbook_immersion(cs.D, cs.ae, cs.mode == MillingMode::up);
+    const Vec3 want = altintas_mean(k, cs.N, ap, f, start, end);
     for (int steps : {360, 1000}) {  // 1000 % 3 != 0: the general (all-teeth) path
       const auto F = revolution_forces(sl, k, f, e, steps);
       INFO("D " << cs.D << " ae " << cs.ae << " steps " << steps);
       check_close(summarize(F).mean_N, want, 0.005);
     }
   }
+}
+
+TEST_CASE("immersion of a flat end: Altintas's entry and exit angles, and Morelli's a_e 2.5 mm on D 12 mm") {
+  for (const double ae : {0.5, 2.5, 6.0, 9.0, 12.0})
+    for (const MillingMode mode : {MillingMode::up, MillingMode::down}) {
+      CAPTURE(ae);
+      const auto [start, end] = deflex::test::textbook_immersion(12, ae, mode == MillingMode::up);
+      const AngleInterval iv = immersion_interval(6, 6, ae, mode);
+      CHECK(iv.start == doctest::Approx(start));
+      CHECK(iv.end == doctest::Approx(end));
+    }
+  // acos(7/12) = 0.947970 rad (Morelli 2021 Eq. 1 for its tests); half immersion pi/2.
+  CHECK(immersion_interval(6, 6, 2.5, MillingMode::down).start == doctest::Approx(2.193623).epsilon(1e-6));
+  CHECK(immersion_interval(6, 6, 2.5, MillingMode::up).end == doctest::Approx(0.947970).epsilon(1e-6));
+  CHECK(immersion_interval(6, 6, 6, MillingMode::up).end == doctest::Approx(pi / 2));
 }
 
 TEST_CASE("instantaneous helical flat end mill force matches direct quadrature") {
@@ -134,13 +150,13 @@ TEST_CASE("instantaneous helical flat end mill force matches direct quadrature")
   const CutterSlices sl = make_slices(c, 0.02, ap);
   Engagement e;
   simple_engagement(sl, ae, ap, MillingMode::down, e);
-  const AngleInterval iv = immersion_interval(6, 6, ae, MillingMode::down);
+  const auto [start, end] = deflex::test::textbook_immersion(12, ae, false);
   const int steps = 720;
   const auto F = revolution_forces(sl, k, f, e, steps);
   const double peak = summarize(F).peak_abs_N.norm();
   for (int j : {0, 37, 100, 181, 250, 333, 511, 700}) {
     const double theta = 2 * pi * j / steps;
-    const Vec3 ref = helical_reference(k, c, ap, f, iv.start, iv.end, theta);
+    const Vec3 ref = helical_reference(k, c, ap, f, start, end, theta);
     INFO("step " << j);
     CHECK((F[j] - ref).norm() < 0.01 * peak);
     CHECK((force_at_angle(sl, k, f, e, theta) - ref).norm() < 0.01 * peak);

@@ -1,10 +1,13 @@
-// Morelli et al. 2021 (seeds/003_…): force-shape codes of Table 3 and the peak
-// angle of Eq. 6 against the simulated force.
+// Morelli et al. 2021, "Surface error shape identification for 3-axis milling
+// operations", Procedia CIRP 101 (seeds/003_9dafcae66a71b6c7.txt): force-shape codes of Table 3, key points of
+// Table 2 for its three tests, and the peak angle of Eq. 6 against the
+// simulated force.
 #include <doctest/doctest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/mechanistic.hpp"
@@ -74,16 +77,48 @@ TEST_CASE("Eq. 6: the single-flute slot F_y peaks at phi_max in the simulation")
   }
 }
 
-TEST_CASE("Morelli key points of Table 2 for the IIM case") {
-  MorelliInput in;
-  in.ap_mm = 12;
-  const MorelliAngles a = morelli_angles(in);
-  const auto kp = morelli_key_points(in);
-  REQUIRE(kp.size() == 3);  // z_3, then z_L^1 and z_M^1 for the M overlap
-  CHECK(kp[0].name == "z_3");
-  CHECK(kp[0].z_mm == doctest::Approx(12 - a.alpha_en / a.k_b));
-  CHECK(kp[1].z_mm == doctest::Approx((a.phi_z - a.alpha_en) / a.k_b));
-  CHECK(kp[2].z_mm == doctest::Approx(12 - a.phi_z / a.k_b));
+TEST_CASE("Morelli Table 2: key-point positions of the paper's three tests (IIM, IIML, IImL)") {
+  // The paper's tests (Sec. 3.1, Table 3): D 12 mm, 4 flutes, helix 45 deg,
+  // a_r 2.5 mm, down milling. It draws the key points in Fig. 3 without printing
+  // their positions; worked by hand from its inputs and Table 2's expressions:
+  // alpha_en = acos(1 - 2 a_r / D) = acos(7/12) = 0.947970 rad (Eq. 1),
+  // k_b = 2 tan(45 deg) / D = 1/6 rad/mm (Eq. 3), phi_z = pi/2; so
+  // alpha_en / k_b = 5.68782 mm and phi_z / k_b = 9.42478 mm, and
+  // z_3 = a_p - 5.68782, z_L^i = i 9.42478 - 5.68782, z_M^i = a_p - i 9.42478,
+  // z_m^i = i 9.42478, z_2m^i = z_3 - i 9.42478. Table 1 picks which apply:
+  // flute 2 overlaps M at a_p 12 and 15 (alpha_sw < phi_z + alpha_en = 2.519 rad),
+  // m at 18 (alpha_sw = 3 rad); flute 3 overlaps L from a_p 15 on
+  // (alpha_en + alpha_sw >= pi).
+  struct Point {
+    const char* name;
+    double z_mm;
+  };
+  struct Test {
+    double ap_mm;
+    std::vector<Point> points;
+  };
+  const Test tests[] = {
+      {12, {{"z_3", 6.31218}, {"z_L^1", 3.73696}, {"z_M^1", 2.57522}}},
+      {15, {{"z_3", 9.31218}, {"z_L^1", 3.73696}, {"z_M^1", 5.57522}, {"z_L^2", 13.16174}}},
+      {18,
+       {{"z_3", 12.31218},
+        {"z_L^1", 3.73696},
+        {"z_m^1", 9.42478},
+        {"z_M^1", 8.57522},
+        {"z_2m^1", 2.88740},
+        {"z_L^2", 13.16174}}},
+  };
+  for (const Test& t : tests) {
+    MorelliInput in;  // defaults are the paper's tool, a_r and coefficients
+    in.ap_mm = t.ap_mm;
+    const auto kp = morelli_key_points(in);
+    CAPTURE(t.ap_mm);
+    REQUIRE(kp.size() == t.points.size());
+    for (std::size_t i = 0; i < kp.size(); ++i) {
+      CHECK(kp[i].name == t.points[i].name);
+      CHECK(kp[i].z_mm == doctest::Approx(t.points[i].z_mm).epsilon(1e-5));
+    }
+  }
 }
 
 TEST_CASE("Morelli classification refuses impossible input") {

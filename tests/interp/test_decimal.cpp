@@ -71,11 +71,8 @@ TEST_CASE("decimal points: a pointless program that reads as micrometre hops, an
 }
 
 TEST_CASE("decimal points: --strict stops check, path and compensate on the corpus's wave.gcode") {
-  const std::string wave = std::string(DEFLEX_SHARED_DIR) + "/corpus/wave.gcode";
-  if (!std::ifstream(wave)) {
-    MESSAGE("skipped: " << wave << " not found (the shared corpus lies beside the repository)");
-    return;
-  }
+  const std::string wave = "tests/data/corpus/wave.gcode";
+  REQUIRE(std::ifstream(wave).good());
   const auto c = test::run_cli({"check", wave});
   CHECK(c.rc == 0);
   CHECK(c.err.find("wave.gcode:5:4: warning: Z3 has no decimal point") != std::string::npos);

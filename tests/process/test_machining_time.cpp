@@ -274,8 +274,6 @@ TEST_CASE("one million motions in one pass, well under a second") {
   CHECK(took_s < 1.0);  // about 0.06 s in a Release build here
 }
 
-}  // TEST_SUITE
-
 TEST_CASE("a ramp over many look-ahead batches: the clock settles only what no later stop can slow") {
   // 40 mm along X in 40,000 collinear pieces of 1 um at 600 mm/s: the braking
   // ramp (v^2 / 2a = 180 mm would not fit; the peak is sqrt(a L) = 200 mm/s)
@@ -302,3 +300,5 @@ TEST_CASE("a ramp over many look-ahead batches: the clock settles only what no l
   CHECK(fed.program.cutting_mm == whole.program.cutting_mm);
   CHECK(fed.per_tool.at(1).cutting_s == whole.per_tool.at(1).cutting_s);
 }
+
+}  // TEST_SUITE

@@ -138,17 +138,17 @@ TEST_SUITE("stiffness") {
     // A circle (scaled radially) through the corner: r(4) = 0.8 sqrt(4 (16 - 4)).
     CHECK(radius_at(s, 4) == doctest::Approx(0.8 * std::sqrt(48.0)));
   }
-}
 
-TEST_CASE("tool library: max_force_N and centre_cutting (plausibility keys)") {
-  const std::string base = "tools:\n  A:\n    type: flat\n    diameter_mm: 10\n    flute_length_mm: 20\n"
-                           "    stickout_mm: 40\n    material: carbide\n";
-  const ToolLibrary plain = parse_tool_library(base, "lib.yaml");
-  CHECK_FALSE(plain.tools.at("A").max_force_N);
-  CHECK(plain.tools.at("A").centre_cutting);
-  const ToolLibrary set = parse_tool_library(base + "    max_force_N: 400\n    centre_cutting: false\n", "lib.yaml");
-  CHECK(*set.tools.at("A").max_force_N == 400.0);
-  CHECK_FALSE(set.tools.at("A").centre_cutting);
-  CHECK(tool_error(base + "    max_force_N: -1\n").find("lib.yaml:8:") == 0);
-  CHECK(tool_error(base + "    centre_cutting: maybe\n").find("lib.yaml:8:") == 0);
+  TEST_CASE("tool library: max_force_N and centre_cutting (plausibility keys)") {
+    const std::string base = "tools:\n  A:\n    type: flat\n    diameter_mm: 10\n    flute_length_mm: 20\n"
+                             "    stickout_mm: 40\n    material: carbide\n";
+    const ToolLibrary plain = parse_tool_library(base, "lib.yaml");
+    CHECK_FALSE(plain.tools.at("A").max_force_N);
+    CHECK(plain.tools.at("A").centre_cutting);
+    const ToolLibrary set = parse_tool_library(base + "    max_force_N: 400\n    centre_cutting: false\n", "lib.yaml");
+    CHECK(*set.tools.at("A").max_force_N == 400.0);
+    CHECK_FALSE(set.tools.at("A").centre_cutting);
+    CHECK(tool_error(base + "    max_force_N: -1\n").find("lib.yaml:8:") == 0);
+    CHECK(tool_error(base + "    centre_cutting: maybe\n").find("lib.yaml:8:") == 0);
+  }
 }

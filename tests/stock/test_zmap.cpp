@@ -27,13 +27,25 @@ double seg_dist(double x, double y, const Point3& a, const Point3& b) {
   return std::hypot(x - a[0] - t * dx, y - a[1] - t * dy);
 }
 
+// Height (mm) of a cutter's lower surface above its tip at radial distance rho,
+// written out here rather than taken from the library: flat out to D/2 - r,
+// then the corner circle of radius r (r = 0 flat end, r = D/2 ball), r -
+// sqrt(r^2 - (rho - (D/2 - r))^2); no tool beyond D/2 (infinite).
+double lower_surface_mm(const ToolProfile& tool, double rho) {
+  const double R = tool.radius_mm;
+  const double r = tool.kind == ToolKind::ball ? R : tool.kind == ToolKind::flat ? 0.0 : tool.corner_radius_mm;
+  if (rho > R) return std::numeric_limits<double>::infinity();
+  const double u = std::max(0.0, rho - (R - r));
+  return r - std::sqrt(std::max(0.0, r * r - u * u));
+}
+
 // Brute force: the lowest lower-surface height over n + 1 tool positions.
 double brute_lower(const ToolProfile& tool, const Point3& a, const Point3& b, double x, double y, int n) {
   double best = std::numeric_limits<double>::infinity();
   for (int k = 0; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
     const double px = a[0] + t * (b[0] - a[0]), py = a[1] + t * (b[1] - a[1]), pz = a[2] + t * (b[2] - a[2]);
-    best = std::min(best, pz + profile_height(tool, std::hypot(x - px, y - py)));
+    best = std::min(best, pz + lower_surface_mm(tool, std::hypot(x - px, y - py)));
   }
   return best;
 }
@@ -149,14 +161,29 @@ TEST_CASE("flat end along a diagonal line leaves a rectangular trench") {
 }
 
 TEST_CASE("bull nose along a line: torus profile across the trench") {
+  // D 8 mm, corner radius r 1 mm, tip at Z -0.8 mm. Across a straight trench the
+  // floor at distance rho from the path is the tool's lower surface at radius
+  // rho (lower_surface_mm); beyond D/2 the stock is untouched.
+  const double D = 8, r = 1, tip_z = -0.8;
   ZMap z = zmap_from_box(parse_box("box:0,0,-20,40,20,0"), 0.05);
-  const ToolProfile bull{ToolKind::bull, 4, 1};
-  sweep_line(z, bull, {5, 10, -0.8}, {35, 10, -0.8});
+  const ToolProfile bull{ToolKind::bull, D / 2, r};
+  sweep_line(z, bull, {5, 10, tip_z}, {35, 10, tip_z});
   const int i = z.ix(20);
+  int on_corner = 0;
   for (int j = 0; j < z.grid().ny; ++j) {
-    const double d = std::fabs(z.cy(j) - 10);
-    CHECK(z.at(i, j) == doctest::Approx(std::min(0.0, -0.8 + profile_height(bull, d))).epsilon(1e-6));
+    const double rho = std::fabs(z.cy(j) - 10);
+    CAPTURE(rho);
+    if (rho > D / 2) {
+      CHECK(z.at(i, j) == 0);
+      continue;
+    }
+    const double want = std::min(0.0, tip_z + lower_surface_mm(bull, rho));
+    CHECK(z.at(i, j) == doctest::Approx(want).epsilon(1e-6));
+    on_corner += rho > D / 2 - r && want < 0;
   }
+  CHECK(on_corner >= 10);  // the corner's arc is sampled, not only the flat floor
+  // Half-way round the corner, rho = 3.5 mm: 1 - sqrt(0.75) = 0.133975 mm above the tip.
+  CHECK(lower_surface_mm(bull, 3.5) == doctest::Approx(0.133975).epsilon(1e-6));
 }
 
 TEST_CASE("ramps and plunges: closed-form envelope equals the brute-force minimum") {
