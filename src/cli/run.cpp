@@ -57,7 +57,8 @@ void top_help(std::ostream& out) {
          "  2   usage error on the command line\n"
          "  3   configuration error (config.yaml, machine profile, dialect, tool/material library)\n"
          "  4   I/O error (a file could not be read or written)\n"
-         "  70  internal error (a bug in deflex: please report it)\n";
+         "  70  internal error (a bug in deflex: please report it)\n"
+         "  129, 130, 143  ended by SIGHUP, SIGINT or SIGTERM: temporary files removed\n";
 }
 
 // The output options every command takes, anywhere after its name: taken out
