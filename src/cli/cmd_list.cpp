@@ -21,7 +21,7 @@ int cmd_list(const std::vector<std::string>& args, Io& io) {
       "material-file", po::value(&material_file),
       "material library (default: config material_file, else the installed one)");
   std::vector<std::string> words;
-  parse_with_files(args, desc, words, 1);
+  parse_with_files(args, desc, words, 1, true);
   if (help || words.empty()) {
     print_help(io.out, "deflex list machines|dialects|tools|materials",
                "Prints the names a command line can give, one per line: machine profiles (in the\n"

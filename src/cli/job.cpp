@@ -249,6 +249,10 @@ void apply_job(Args& a, std::vector<std::string>& files) {
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);
   text("report", a.report, true);
+  std::vector<std::string> inputs = files;
+  inputs.insert(inputs.end(), a.stock_from.begin(), a.stock_from.end());
+  inputs.insert(inputs.end(), {a.stock, a.part.part, a.tool_file, a.mat.material_file});
+  refuse_output_onto_input(inputs);  // the files the job names
 }
 
 Setup resolve_with_machine(const ReadOptions& r) {
