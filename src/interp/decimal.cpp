@@ -46,8 +46,9 @@ void DecimalCheck::add(const gcode::Program& piece) {
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   for (std::uint32_t l = piece.first_line(); l <= piece.last_line(); ++l) {
-    piece.lex(l, b, quiet);
-    if (b.kind != gcode::LineKind::block || b.macro) continue;
+    // A line that does not read is the lexer's to report (X11O.: a letter
+    // where a digit was expected, not a missing decimal point).
+    if (!piece.lex(l, b, quiet) || b.kind != gcode::LineKind::block || b.macro) continue;
     for (const gcode::Word& w : b.words)
       if (w.letter == 'G' && (w.value == 20 || w.value == 21)) inch_ = w.value == 20;
     bool counted = false;
