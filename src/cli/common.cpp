@@ -9,6 +9,7 @@
 #include <ostream>
 #include <sys/stat.h>
 
+#include "deflex/diag/plural.hpp"
 #include "deflex/force/material.hpp"
 #include "deflex/profile/search.hpp"
 #include "deflex/gcode/reader.hpp"
@@ -212,16 +213,16 @@ void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceT
   };
   char buf[160];
   if (g.overcut.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %zu CL points "
-                  "beyond the %.4f mm gap", g.overcut.worst_mm, g.overcut.points, gap_mm);
+    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %s "
+                  "beyond the %.4f mm gap", g.overcut.worst_mm, plural(g.overcut.points, "CL point").c_str(), gap_mm);
     diags.report(Severity::warning, line_of(g.overcut.worst_line), g.overcut.worst_line, 1,
-                 std::string(buf) + " (" + std::to_string(g.overcut.lines.size()) + " lines: " + lines(g.overcut.lines) + ")");
+                 std::string(buf) + " (" + plural(g.overcut.lines.size(), "line") + ": " + lines(g.overcut.lines) + ")");
   }
   if (g.standoff.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %zu "
-                  "CL points beyond the %.4f mm gap", g.standoff.worst_mm, g.standoff.points, gap_mm);
+    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %s "
+                  "beyond the %.4f mm gap", g.standoff.worst_mm, plural(g.standoff.points, "CL point").c_str(), gap_mm);
     diags.report(Severity::warning, line_of(g.standoff.worst_line), g.standoff.worst_line, 1,
-                 std::string(buf) + " (" + std::to_string(g.standoff.lines.size()) + " lines: " + lines(g.standoff.lines) + ")");
+                 std::string(buf) + " (" + plural(g.standoff.lines.size(), "line") + ": " + lines(g.standoff.lines) + ")");
   }
 }
 
