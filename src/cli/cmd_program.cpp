@@ -12,6 +12,7 @@
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/json.hpp"
+#include "deflex/writer/temp_files.hpp"
 #include "deflex/writer/writer.hpp"
 
 namespace deflex::cli {
@@ -118,6 +119,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   if (interpret_all(prog, opt, diags, none).stopped || diags.errors()) return finish(diags);
   Diagnostics quiet(nullptr, 0);
   PathPrinter p(io.out, lines, centre);
+  writer::temp_files::streaming_stdout();
   interpret_all(prog, opt, quiet, p);
   return finish(diags);
 }
@@ -278,8 +280,12 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   auto write = [&](std::ostream& o) {
     prog.each([&](const gcode::Program& p, bool) { writer::Rewriter(p, s.dialect).write(o); });
   };
-  if (output.empty() || output == "-") write(io.out);
-  else writer::write_file_atomically(output, file, write);
+  if (output.empty() || output == "-") {
+    writer::temp_files::streaming_stdout();
+    write(io.out);
+  } else {
+    writer::write_file_atomically(output, file, write);
+  }
   return 0;
 }
 

@@ -35,6 +35,8 @@ extern "C" void on_signal(int sig) {
     say("): stopped after writing ");
     say(done);
     say("; temporary files removed\n");
+  } else if (writer::temp_files::stdout_streamed()) {
+    say("): standard output is cut short; temporary files removed\n");
   } else {
     say("): nothing written; temporary files removed\n");
   }

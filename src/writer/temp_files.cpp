@@ -24,6 +24,7 @@ struct Slot {
 // report.html, a stdout copy): room to spare.
 Slot g_slots[64];
 Slot g_done;  // the last completed output
+std::atomic<bool> g_streaming{false};
 
 bool fill(Slot& s, const std::string& path) {
   if (path.size() >= sizeof s.path) return false;
@@ -63,6 +64,10 @@ void completed(const std::string& path) noexcept {
   }
   g_done.state.store(kArmed, std::memory_order_release);
 }
+
+void streaming_stdout() noexcept { g_streaming.store(true); }
+
+bool stdout_streamed() noexcept { return g_streaming.load(); }
 
 void remove_all() noexcept {
   for (Slot& s : g_slots) {

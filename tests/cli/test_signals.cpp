@@ -4,8 +4,10 @@
 #include <doctest/doctest.h>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -118,6 +120,31 @@ TEST_SUITE("cli") {
       CHECK(names_with(tmpdir, "").empty());
       CHECK(test::read_file((tmp / "stdout").string()).empty());
     }
+    fs::remove_all(tmp);
+  }
+
+  TEST_CASE("a signal while path streams to standard output: the line says it is cut short") {
+    std::string t = (fs::temp_directory_path() / "deflex-signals-XXXXXX").string();
+    const fs::path tmp = mkdtemp(t.data());
+    const fs::path fifo = tmp / "fifo";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    // Held open for reading here, so deflex's open does not wait; read from
+    // once deflex writes, and then no more: it blocks on a full pipe.
+    const int rd = ::open(fifo.c_str(), O_RDWR);
+    REQUIRE(rd >= 0);
+    const pid_t pid = start({"path", "samples/programs/six_surfaces.nc"}, tmp, fifo, tmp / "stderr");
+    pollfd ready{rd, POLLIN, 0};
+    REQUIRE(::poll(&ready, 1, 60000) == 1);  // not forever, should deflex fail before it writes
+    char buf[4096];
+    CHECK(::read(rd, buf, sizeof buf) > 0);
+    ::kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ::close(rd);
+    REQUIRE(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 130);
+    CHECK(test::read_file((tmp / "stderr").string()) ==
+          "deflex: interrupted (SIGINT): standard output is cut short; temporary files removed\n");
     fs::remove_all(tmp);
   }
 }

@@ -26,9 +26,15 @@ void forget(int slot) noexcept;
 // An output is complete (renamed into place): the handler names the last one.
 void completed(const std::string& path) noexcept;
 
+// Standard output is being written as the work goes (path, rewrite): a
+// signal leaves it cut short, which the handler says.
+void streaming_stdout() noexcept;
+
 // Async-signal-safe, for the handler: unlinks every registered file.
 void remove_all() noexcept;
 // Async-signal-safe: the last completed output, or nullptr.
 const char* last_completed() noexcept;
+// Async-signal-safe: whether streaming_stdout() was called.
+bool stdout_streamed() noexcept;
 
 }  // namespace deflex::writer::temp_files
