@@ -122,7 +122,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
                             " D" + fmt(rt.diameter_mm, 3) + " - ALLOWANCE " + fmt(o.allowance_mm, 3) + " MM OVER THE SURFACE OF " +
                             files[0] + (finish_tool.empty() ? "" : " CUT WITH " + finish_tool),
                         "STOCK " + spec + " - CELL " + fmt(cell_mm, 3) + " MM",
-                        "Z-LEVEL RASTER ALONG X, STEPDOWN AT MOST " + fmt(o.stepdown_mm, 3) + ", LINES " +
+                        "Z-LEVEL RASTER ALONG X, " +
+                            (o.stepdown_mm > 0 ? "STEPDOWN AT MOST " + fmt(o.stepdown_mm, 3) : std::string("ONE LEVEL")) +
+                            ", LINES " +
                             fmt(spacing, 3) + " MM APART - THE STEPOVER " + fmt(o.stepover_mm, 3) +
                             " SPREAD EVENLY OVER THE STOCK - FEEDS AND SPEEDS NOT CHECKED: FOR SIMULATION"});
   const std::vector<interp::Motion> motions = read_back(text.str(), name, s);

@@ -81,7 +81,8 @@ TEST_SUITE("cli") {
                                   "--rough-tool", "T3", "--stepdown", "0", "--stepover", "4"});
     REQUIRE(r.rc == 0);
     CHECK(r.err.find("9 lines 3.750 mm apart") != std::string::npos);
-    CHECK(r.out.find("LINES 3.750 MM APART - THE STEPOVER 4.000 SPREAD EVENLY OVER THE STOCK") != std::string::npos);
+    CHECK(r.out.find("ALONG X, ONE LEVEL, LINES 3.750 MM APART - THE STEPOVER 4.000 SPREAD EVENLY OVER THE STOCK") !=
+          std::string::npos);
     CHECK(r.out.find("STEPOVER 4.000 MM") == std::string::npos);
   }
 
