@@ -1,7 +1,11 @@
 // Helpers shared by the tests: interpret a program given as text, run the CLI
 // in-process, read files.
 #pragma once
+#include <sys/wait.h>
+
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -85,6 +89,21 @@ inline CliResult run_cli(const std::vector<std::string>& args, const std::string
   cli::Io io{in, out, err, false};
   int rc = cli::run(args, io);
   return {rc, out.str(), err.str()};
+}
+
+std::string read_file(const std::string& path);
+
+// Runs a shell `script` in `dir` (build/deflex is DEFLEX_BINARY there): its
+// exit code and what it wrote to stdout and stderr (a redirection in the
+// script wins). For what only a process shows: file descriptors, the folder.
+inline CliResult run_shell(const std::string& script, const std::string& dir) {
+  const std::string out = dir + "/.run_shell.out", err = dir + "/.run_shell.err";
+  const std::string cmd = "cd '" + dir + "' && { " + script + " ; } > '" + out + "' 2> '" + err + "'";
+  const int status = std::system(cmd.c_str());
+  CliResult r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+  std::remove(out.c_str());
+  std::remove(err.c_str());
+  return r;
 }
 
 inline std::string read_file(const std::string& path) {

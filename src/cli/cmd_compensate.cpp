@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/compensate/pipeline.hpp"
@@ -56,13 +57,17 @@ const char* kCompensateHelp =
     "points.csv (one row per CL point), flank_profile.csv and summary.json.\n"
     "--feed-limit N also lowers F (by the ratio of N to the predicted peak force) on\n"
     "cutting blocks whose peak force would exceed N, restoring the programmed F after.\n"
-    "The surface normal comes from the tool and the programmed path: the wall for a\n"
-    "flat or bull-nose flank, else the normal to the travel in its vertical plane.\n";
+    "The surface normal (points.csv normal_source) comes, best first, from the part\n"
+    "model (--part): the cutter's contact with the design surface at the programmed\n"
+    "tip, where it lies within reach; else, for a ball end, from the tip surface\n"
+    "fitted through the CL points of the same and the adjacent passes; else from\n"
+    "the tool and the travel: the wall for a flat or bull-nose flank, otherwise the\n"
+    "normal to the travel in its vertical plane (blind to a slope across the feed).\n";
 
 void summary_line(Io& io, const char* what, const report::ErrorStats& s, double tol) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "  %-28s max %.4f mm, rms %.4f mm, %.1f%% of %zu points outside +-%.4f mm\n", what,
-                s.max_abs, s.rms, 100.0 * s.share_out, s.points, tol);
+  std::snprintf(buf, sizeof buf, "  %-28s max %.4f mm, rms %.4f mm, %.1f%% of %s outside +-%.4f mm\n", what,
+                s.max_abs, s.rms, 100.0 * s.share_out, plural(s.points, "point").c_str(), tol);
   io.info() << buf;
 }
 
@@ -132,8 +137,9 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
     for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)
       lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
     if (r.feed_lowered_lines.size() > 12) lines += ", ...";
-    io.info() << j.prog.source().name() << ": note: feed lowered on " << r.feed_lowered_lines.size()
-           << " blocks to keep the peak force under " << j.settings.feed_limit_N << " N (lines " << lines << ")\n";
+    io.info() << j.prog.source().name() << ": note: feed lowered on " << plural(r.feed_lowered_lines.size(), "block")
+           << " to keep the peak force under " << j.settings.feed_limit_N << " N ("
+           << (r.feed_lowered_lines.size() == 1 ? "line " : "lines ") << lines << ")\n";
   }
   print_plausibility(j, pl, io);
   if (!r.capped_lines.empty() && !pl.find("offset_cap")) {
@@ -141,23 +147,26 @@ void print_run(const Job& j, const compensate::Result& r, const compensate::Writ
     for (std::size_t i = 0; i < r.capped_lines.size() && i < 12; ++i) lines += (i ? ", " : "") + std::to_string(r.capped_lines[i]);
     if (r.capped_lines.size() > 12) lines += ", ...";
     io.err << j.prog.source().name() << ": warning: the offset was capped at max_offset_mm = " << j.settings.max_offset_mm
-           << " mm on " << r.capped_lines.size() << " points (lines " << lines << ")\n";
+           << " mm on " << plural(r.capped_lines.size(), "point") << " ("
+           << (r.capped_lines.size() == 1 ? "line " : "lines ") << lines << ")\n";
   }
   if (r.linearised_arcs)
-    io.info() << j.prog.source().name() << ": note: " << r.linearised_arcs
-           << " arcs whose compensation varies along them were linearised (G1 chords within "
+    io.info() << j.prog.source().name() << ": note: " << plural(r.linearised_arcs, "arc")
+           << (r.linearised_arcs == 1 ? " whose compensation varies along it was" : " whose compensation varies along them were")
+           << " linearised (G1 chords within "
            << j.settings.chord_tol_mm << " mm of the arc; the arc block keeps the last piece)\n";
   for (std::uint32_t l : r.nonuniform_arcs)
     io.err << j.prog.source().name() << ":" << l
            << ":1: warning: the compensation varies along this arc by more than the tolerance; it is kept as a translated arc\n";
   if (!r.converged)
-    io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << r.iterations
-           << " updates at " << r.unconverged_points << " points (largest change left " << r.last_change_mm
+    io.err << j.prog.source().name() << ": warning: the mirror iteration did not converge in " << plural(r.iterations, "update")
+           << " at " << plural(r.unconverged_points, "point") << " (largest change left " << r.last_change_mm
            << " mm); the best iterate is written\n";
-  io.info() << j.prog.source().name() << ": " << r.compensated_points << " points compensated, " << ws.numbers_changed
-         << " numbers changed, " << ws.words_inserted << " axis words added, " << ws.blocks_inserted
-         << " blocks inserted to split moves; mirror: " << r.evaluations << " engagement evaluations, at most "
-         << r.iterations << " updates per point" << (r.converged ? "" : " (not converged)") << "\n";
+  io.info() << j.prog.source().name() << ": " << plural(r.compensated_points, "point") << " compensated, "
+            << plural(ws.numbers_changed, "number") << " changed, " << plural(ws.words_inserted, "axis word") << " added, "
+            << plural(ws.blocks_inserted, "block") << " inserted to split moves; mirror: "
+            << plural(r.evaluations, "engagement evaluation") << ", at most " << plural(r.iterations, "update")
+            << " per point" << (r.converged ? "" : " (not converged)") << "\n";
   summary_line(io, "predicted error, as written:", before, tol);
   summary_line(io, "predicted error, compensated:", after, tol);
   time_line(io, t0, t1);
@@ -213,8 +222,8 @@ void print_left_alone(const Job& j, const report::RunFigures& f, Io& io) {
   Diagnostics diags(&io.err, 0);
   for (const auto& [why, l] : f.left_alone) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "%zu points outside +-%.4f mm are left as programmed on ", l.points,
-                  j.settings.tolerance_mm);
+    std::snprintf(buf, sizeof buf, "%s outside +-%.4f mm %s left as programmed on ", plural(l.points, "point").c_str(),
+                  j.settings.tolerance_mm, l.points == 1 ? "is" : "are");
     std::string more = " (the first here)";
     if (why == interp::Fixed::subprogram && j.calls) more = subprogram_calls(j, l);
     diags.report(Severity::warning, text.at(l.first_line), l.first_line, 1, buf + moves_of(why) + more + " [left_alone]");
@@ -450,9 +459,9 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   const double tol = j.settings.tolerance_mm;
   char buf[300];
   std::snprintf(buf, sizeof buf,
-                "%s: %zu CL points%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "
+                "%s: %s%s: surface error max %.4f mm, rms %.4f mm, %.1f%% outside +-%.4f mm "
                 "(undercut up to %.4f, overcut up to %.4f mm)\n",
-                j.prog.source().name().c_str(), st.points, a.reference.empty() ? "" : " against the reference",
+                j.prog.source().name().c_str(), plural(st.points, "CL point").c_str(), a.reference.empty() ? "" : " against the reference",
                 st.max_abs, st.rms, 100.0 * st.share_out, tol, st.max_under, -st.max_over);
   io.out << buf;
   const process::MachiningTime tm =

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/gcode/skeleton.hpp"
@@ -183,10 +184,9 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
       io.out << buf;
     }
     for (const std::string& o : other) io.out << o << "\n";
-    std::snprintf(buf, sizeof buf,
-                  "%zu motion blocks moved (%zu edited), %zu blocks inserted splitting moves: max %.6f mm, mean %.6f mm; "
-                  "%zu changes in more than coordinates\n",
-                  changes.size(), edited, splits, max_mm, mean_mm, other.size());
+    std::snprintf(buf, sizeof buf, "%s moved (%zu edited), %s inserted splitting moves: max %.6f mm, mean %.6f mm; "
+                  "%s in more than coordinates\n", plural(changes.size(), "motion block").c_str(), edited,
+                  plural(splits, "block").c_str(), max_mm, mean_mm, plural(other.size(), "change").c_str());
     io.out << buf;
   }
   return other.empty() ? 0 : static_cast<int>(Exit::input);

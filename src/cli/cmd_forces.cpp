@@ -139,6 +139,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
       ("dz", po::value(&a.dz), "axial slice height, mm (default 0.05; at least 20 slices)")
       ("format", po::value(&a.format), "csv (default) or json");
   const po::variables_map vm = parse(args, desc, po::positional_options_description());
+  refuse_output_onto_input({a.tool_file, a.mat.material_file});
   if (a.help) {
     print_help(io.out,
                "deflex forces --tool-file F --tool ID (--material M [--material-file F] | --kt K --kr K "
@@ -251,6 +252,7 @@ int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
   po::positional_options_description pos;
   pos.add("file", 1);
   parse(args, all, pos);
+  refuse_output_onto_input({file});
   if (help) {
     print_help(io.out, "deflex calibrate FILE.csv [--name NAME] [-o OUT.yaml]", kCalibrateHelp, desc);
     return 0;

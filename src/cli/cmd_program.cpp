@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/report/text_out.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/gcode/reader.hpp"
@@ -11,6 +12,7 @@
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/json.hpp"
+#include "deflex/writer/temp_files.hpp"
 #include "deflex/writer/writer.hpp"
 
 namespace deflex::cli {
@@ -117,6 +119,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   if (interpret_all(prog, opt, diags, none).stopped || diags.errors()) return finish(diags);
   Diagnostics quiet(nullptr, 0);
   PathPrinter p(io.out, lines, centre);
+  writer::temp_files::streaming_stdout();
   interpret_all(prog, opt, quiet, p);
   return finish(diags);
 }
@@ -223,8 +226,8 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   }
   if (st.cutter_comp_motions)
     diags.report(Severity::note, tc.cutter_comp_line(), st.first_cutter_comp_line, 1,
-                 std::to_string(st.cutter_comp_motions) +
-                     " motions run under G41/G42 cutter compensation (first here): deflex simulates the tool "
+                 plural(st.cutter_comp_motions, "motion") + (st.cutter_comp_motions == 1 ? " runs" : " run") +
+                     " under G41/G42 cutter compensation (first here): deflex simulates the tool "
                      "centre's path and compensates the programmed contour (not the start-up moves)");
   if (format == "json") {
     io.out << report::line({{"file", prog.name()}, {"lines", st.lines}, {"blocks", st.blocks},
@@ -235,9 +238,9 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
                             {"interpretation_stopped_at_line", st.stopped_line},
                             {"diagnostics", report::to_json(diags.all())}});
   } else {
-    io.out << prog.name() << ": " << st.lines << " lines, " << st.blocks << " blocks, " << st.motions
-           << " motions (" << st.compensable << " compensable), " << diags.errors() << " errors, "
-           << diags.warnings() << " warnings [dialect " << s.dialect.name
+    io.out << prog.name() << ": " << plural(st.lines, "line") << ", " << plural(st.blocks, "block") << ", "
+           << plural(st.motions, "motion") << " (" << st.compensable << " compensable), " << plural(diags.errors(), "error")
+           << ", " << plural(diags.warnings(), "warning") << " [dialect " << s.dialect.name
            << (s.machine ? ", machine " + s.machine->name : std::string()) << "]\n";
   }
   return finish(diags);
@@ -277,8 +280,12 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
   auto write = [&](std::ostream& o) {
     prog.each([&](const gcode::Program& p, bool) { writer::Rewriter(p, s.dialect).write(o); });
   };
-  if (output.empty() || output == "-") write(io.out);
-  else writer::write_file_atomically(output, file, write);
+  if (output.empty() || output == "-") {
+    writer::temp_files::streaming_stdout();
+    write(io.out);
+  } else {
+    writer::write_file_atomically(output, file, write);
+  }
   return 0;
 }
 

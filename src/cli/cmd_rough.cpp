@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/plan/roughing.hpp"
 #include "deflex/process/machining_time.hpp"
@@ -110,6 +111,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   sweep_earlier(finish, target, lib, cl_spacing_mm, finish_tool);
   const plan::RoughingPlan p = plan::plan_roughing(target, top, o);
 
+  // The lines are spread evenly over the stock's width (plan/roughing.hpp), so
+  // they lie at most the stepover apart: the header names what was planned.
+  const double spacing = p.line_y_mm.size() > 1 ? p.line_y_mm[1] - p.line_y_mm[0] : 0;
   const std::string name = output.empty() || output == "-" ? "<stdout>" : output;
   std::ostringstream text;
   plan::write_roughing(text, p, o, s.dialect,
@@ -118,8 +122,11 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
                             " D" + fmt(rt.diameter_mm, 3) + " - ALLOWANCE " + fmt(o.allowance_mm, 3) + " MM OVER THE SURFACE OF " +
                             files[0] + (finish_tool.empty() ? "" : " CUT WITH " + finish_tool),
                         "STOCK " + spec + " - CELL " + fmt(cell_mm, 3) + " MM",
-                        "Z-LEVEL RASTER ALONG X, STEPDOWN " + fmt(o.stepdown_mm, 3) + " STEPOVER " + fmt(o.stepover_mm, 3) +
-                            " MM - FEEDS AND SPEEDS NOT CHECKED: FOR SIMULATION"});
+                        "Z-LEVEL RASTER ALONG X, " +
+                            (o.stepdown_mm > 0 ? "STEPDOWN AT MOST " + fmt(o.stepdown_mm, 3) : std::string("ONE LEVEL")) +
+                            ", LINES " +
+                            fmt(spacing, 3) + " MM APART - THE STEPOVER " + fmt(o.stepover_mm, 3) +
+                            " SPREAD EVENLY OVER THE STOCK - FEEDS AND SPEEDS NOT CHECKED: FOR SIMULATION"});
   const std::vector<interp::Motion> motions = read_back(text.str(), name, s);
   if (output.empty() || output == "-") io.out << text.str();
   else writer::write_file_atomically(output, files[0], [&](std::ostream& out) { out << text.str(); });
@@ -127,10 +134,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   const process::MachiningTime t = process::machining_time(motions, s.machine->axis_limits);
   io.err << name << ": " << p.levels_mm.size() << (p.levels_mm.size() == 1 ? " level" : " levels") << " from Z"
          << fmt(p.top_mm, 3) << " to the floor (lowest Z" << fmt(p.floor_min_mm, 3) << "), " << p.line_y_mm.size()
-         << " lines " << fmt(p.line_y_mm.size() > 1 ? p.line_y_mm[1] - p.line_y_mm[0] : 0, 3) << " mm apart, "
-         << motions.size() << " moves; " << rough_tool << " leaves " << fmt(o.allowance_mm, 3)
+         << " lines " << fmt(spacing, 3) << " mm apart, " << plural(motions.size(), "move") << "; " << rough_tool << " leaves " << fmt(o.allowance_mm, 3)
          << " mm over the surface of " << files[0] << "; machining time " << report::clock(t.program.total_s)
-         << " [m:ss]\n";
+         << (report::clock_has_hours(t.program.total_s) ? " [h:mm:ss]\n" : " [m:ss]\n");
   return 0;
 }
 

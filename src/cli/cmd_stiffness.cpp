@@ -100,6 +100,7 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
   } catch (const po::error& e) {
     throw Error(Exit::usage, std::string("stiffness: ") + e.what());
   }
+  refuse_output_onto_input({tool_file});
   if (vm.count("help")) {
     print_help(io.out, kUsage, kHelp, d);
     return 0;

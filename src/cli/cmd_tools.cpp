@@ -1,6 +1,7 @@
 // deflex tools import FILE [-o OUT]: a Fusion 360 JSON or LinuxCNC .tbl tool
 // library as deflex YAML (stiffness/tool_import.hpp).
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/stiffness/tool_import.hpp"
 #include "deflex/writer/writer.hpp"
@@ -34,7 +35,7 @@ int cmd_tools(const std::vector<std::string>& args, Io& io) {
   // What was written must load as a library: the same check --tool-file makes.
   (void)stiffness::parse_tool_library(imp.yaml, output.empty() ? words[1] : output);
   for (const std::string& s : imp.skipped) io.info() << words[1] << ": note: skipped " << s << "\n";
-  io.err << words[1] << ": " << imp.format << ": " << imp.tools << " tools converted, " << imp.skipped.size()
+  io.err << words[1] << ": " << imp.format << ": " << plural(imp.tools, "tool") << " converted, " << imp.skipped.size()
          << " skipped\n";
   if (output.empty() || output == "-") io.out << imp.yaml;
   else writer::write_file_atomically(output, words[1], [&](std::ostream& o) { o << imp.yaml; });

@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <mutex>
 #include <ostream>
+#include <sys/stat.h>
 
+#include "deflex/diag/plural.hpp"
 #include "deflex/force/material.hpp"
 #include "deflex/profile/search.hpp"
 #include "deflex/gcode/reader.hpp"
@@ -105,12 +107,39 @@ po::variables_map parse(const std::vector<std::string>& args, const po::options_
 }
 
 void parse_with_files(const std::vector<std::string>& args, const po::options_description& desc,
-                      std::vector<std::string>& files, int max_files) {
+                      std::vector<std::string>& files, int max_files, bool words) {
   po::options_description all;
   all.add(desc).add_options()("file", po::value(&files));
   po::positional_options_description pos;
   pos.add("file", max_files);
-  parse(args, all, pos);
+  const po::variables_map vm = parse(args, all, pos);
+  std::vector<std::string> inputs = words ? std::vector<std::string>() : files;
+  // The options that name a file deflex reads (--machine and --dialect name
+  // one by a name as often as by a path: left out).
+  for (const char* o : {"stock", "stock-from", "part", "reference", "job", "config", "tool-file", "material-file"}) {
+    if (!vm.count(o)) continue;
+    const boost::any& v = vm[o].value();
+    if (const auto* one = boost::any_cast<std::string>(&v)) inputs.push_back(*one);
+    if (const auto* many = boost::any_cast<std::vector<std::string>>(&v)) inputs.insert(inputs.end(), many->begin(), many->end());
+  }
+  refuse_output_onto_input(inputs);
+}
+
+void refuse_output_onto_input(const std::vector<std::string>& inputs) {
+  struct stat out {};
+  if (::fstat(1, &out) != 0 || !S_ISREG(out.st_mode)) return;  // a terminal, a pipe: nothing to overwrite
+  for (const std::string& f : inputs) {
+    struct stat in {};
+    if (f.empty() || (f == "-" ? ::fstat(0, &in) : ::stat(f.c_str(), &in)) != 0) continue;
+    if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) continue;
+    const std::string name = f == "-" ? std::string("<stdin>") : f;
+    // `>` truncates the file before deflex starts: what it held is gone already.
+    throw Error(Exit::usage, name + ": error: input file is output file (standard output is redirected to it)" +
+                                 (in.st_size == 0 ? std::string("; the shell emptied it before deflex ran: "
+                                                                "restore it (a backup, or export it again)")
+                                                  : std::string()) +
+                                 "; write the output to another file, or with -o OUT");
+  }
 }
 
 void add_material_options(po::options_description& d, MaterialOptions& m) {
@@ -184,16 +213,16 @@ void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceT
   };
   char buf[160];
   if (g.overcut.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %zu CL points "
-                  "beyond the %.4f mm gap", g.overcut.worst_mm, g.overcut.points, gap_mm);
+    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %s "
+                  "beyond the %.4f mm gap", g.overcut.worst_mm, plural(g.overcut.points, "CL point").c_str(), gap_mm);
     diags.report(Severity::warning, line_of(g.overcut.worst_line), g.overcut.worst_line, 1,
-                 std::string(buf) + " (" + std::to_string(g.overcut.lines.size()) + " lines: " + lines(g.overcut.lines) + ")");
+                 std::string(buf) + " (" + plural(g.overcut.lines.size(), "line") + ": " + lines(g.overcut.lines) + ")");
   }
   if (g.standoff.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %zu "
-                  "CL points beyond the %.4f mm gap", g.standoff.worst_mm, g.standoff.points, gap_mm);
+    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %s "
+                  "beyond the %.4f mm gap", g.standoff.worst_mm, plural(g.standoff.points, "CL point").c_str(), gap_mm);
     diags.report(Severity::warning, line_of(g.standoff.worst_line), g.standoff.worst_line, 1,
-                 std::string(buf) + " (" + std::to_string(g.standoff.lines.size()) + " lines: " + lines(g.standoff.lines) + ")");
+                 std::string(buf) + " (" + plural(g.standoff.lines.size(), "line") + ": " + lines(g.standoff.lines) + ")");
   }
 }
 

@@ -97,8 +97,16 @@ std::string material_library_path(const std::string& option, const profile::Conf
 
 // Parses args whose positional words are program files (up to max_files of
 // them) into `files`; the named options go to `desc`. Throws Error(usage).
+// Unless `words` (list's positionals are no files), refuses, before anything
+// is computed, input files that are standard output (refuse_output_onto_input).
 void parse_with_files(const std::vector<std::string>& args, const po::options_description& desc,
-                      std::vector<std::string>& files, int max_files);
+                      std::vector<std::string>& files, int max_files, bool words = false);
+
+// Throws Error(usage) when standard output is one of the `inputs` (a file of
+// "-": standard input): `deflex compensate x.nc > x.nc` finds x.nc already
+// emptied by the shell, and would read nothing and write nothing over it.
+// Same device and inode, as cat compares them ("input file is output file").
+void refuse_output_onto_input(const std::vector<std::string>& inputs);
 
 // Prints the subcommand's help: usage line, explanation, options.
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,

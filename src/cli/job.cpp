@@ -26,6 +26,7 @@
 #include "deflex/stock/build.hpp"
 #include "deflex/version.hpp"
 #include "deflex/writer/expand.hpp"
+#include "deflex/diag/plural.hpp"
 
 namespace deflex::cli {
 namespace fs = std::filesystem;
@@ -332,6 +333,10 @@ void apply_job(Args& a, std::vector<std::string>& files) {
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);
   text("report", a.report, true);
+  std::vector<std::string> inputs = files;
+  inputs.insert(inputs.end(), a.stock_from.begin(), a.stock_from.end());
+  inputs.insert(inputs.end(), {a.stock, a.part.part, a.tool_file, a.mat.material_file});
+  refuse_output_onto_input(inputs);  // the files the job names
 }
 
 Setup resolve_with_machine(const ReadOptions& r) {
@@ -448,9 +453,8 @@ void print_setup(const Job& j, const Args& a, Io& io) {
          << "deflex: stock " << j.stock_spec << ", Z-map cell " << cell << "; part model "
          << (j.part_spec.empty() ? "none" : j.part_spec) << "\n"
          << "deflex: tolerance " << j.settings.tolerance_mm << " mm, gain " << j.settings.gain << "; "
-         << (j.pieces ? std::to_string(j.motion_count) + " motions, read in pieces of " +
-                            std::to_string(j.pieces->max_lines()) + " lines"
-                      : std::to_string(j.motions.size()) + " motions, read whole")
+         << (j.pieces ? plural(j.motion_count, "motion") + ", read in pieces of " + plural(j.pieces->max_lines(), "line")
+                      : plural(j.motions.size(), "motion") + ", read whole")
          << "\n";
 }
 
@@ -752,11 +756,13 @@ report::Json warnings_json(const compensate::Plausibility& pl) {
 
 void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after) {
   std::ostream& o = io.info();
-  o << "  machining time:              " << report::clock(before.program.total_s) << " (cutting "
-    << report::clock(before.program.cutting_s) << ", rapids " << report::clock(before.program.rapid_s) << ")";
+  // One form for the line: h:mm:ss for all its times when one reaches an hour.
+  const bool h = report::clock_has_hours(std::max(before.program.total_s, after.program.total_s));
+  o << "  machining time:              " << report::clock(before.program.total_s, h) << " (cutting "
+    << report::clock(before.program.cutting_s, h) << ", rapids " << report::clock(before.program.rapid_s, h) << ")";
   if (std::fabs(after.program.total_s - before.program.total_s) >= 0.5)
-    o << ", compensated " << report::clock(after.program.total_s);
-  o << " [m:ss, axis limits of the machine profile]\n";
+    o << ", compensated " << report::clock(after.program.total_s, h);
+  o << (h ? " [h:mm:ss" : " [m:ss") << ", axis limits of the machine profile]\n";
 }
 
 std::string command_of(const char* cmd, const std::vector<std::string>& args) {

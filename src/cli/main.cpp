@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include "deflex/cli/command.hpp"
+#include "signals.hpp"
 
 int main(int argc, char** argv) {
   std::ios::sync_with_stdio(false);
+  deflex::cli::remove_temporaries_on_signals();
   std::vector<std::string> args(argv + 1, argv + argc);
   deflex::cli::Io io{std::cin, std::cout, std::cerr, static_cast<bool>(::isatty(2))};
   int rc = deflex::cli::run(args, io);

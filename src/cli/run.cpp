@@ -2,6 +2,7 @@
 // to exit codes.
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 
 #include "deflex/cli/command.hpp"
@@ -55,9 +56,11 @@ void top_help(std::ostream& out) {
          "  0   success (check: clean; diff: only coordinates of motion blocks differ)\n"
          "  1   input error in a program (diff: the programs differ in more than coordinates)\n"
          "  2   usage error on the command line\n"
-         "  3   configuration error (config.yaml, machine profile, dialect, tool/material library)\n"
+         "  3   configuration error (config.yaml, machine profile, dialect, tool/material library;\n"
+         "      list: nothing found where deflex looks)\n"
          "  4   I/O error (a file could not be read or written)\n"
-         "  70  internal error (a bug in deflex: please report it)\n";
+         "  70  internal error (a bug in deflex: please report it)\n"
+         "  129, 130, 143  ended by SIGHUP, SIGINT or SIGTERM: temporary files removed\n";
 }
 
 // The output options every command takes, anywhere after its name: taken out
@@ -94,6 +97,17 @@ std::vector<std::string> take_output_options(const std::vector<std::string>& arg
   return rest;
 }
 
+// The data folder in use, or where deflex looked when there is none (a
+// binary run outside its install): never a folder that does not exist.
+std::string data_line() {
+  const std::string d = profile::data_dir();
+  std::error_code ec;
+  if (std::filesystem::is_directory(d, ec)) return d;
+  std::string looked;
+  for (const std::string& c : profile::data_dir_candidates()) looked += (looked.empty() ? "" : ", ") + c;
+  return "none found (looked in " + looked + "; DEFLEX_DATA_DIR sets it)";
+}
+
 }  // namespace
 
 std::ostream& Io::info() {
@@ -109,7 +123,7 @@ int run(const std::vector<std::string>& argv, Io& io) {
     }
     if (argv[0] == "--version" || argv[0] == "-V") {
       io.out << "deflex " DEFLEX_VERSION " (git " << revision() << ")\n"
-             << "data: " << profile::data_dir() << "\n"
+             << "data: " << data_line() << "\n"
              << "config: " << [] {
                   const std::string c = profile::find_config("");
                   return c.empty() ? std::string("none found (built-in defaults)") : c;

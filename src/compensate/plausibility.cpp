@@ -8,6 +8,8 @@
 #include <map>
 #include <set>
 
+#include "deflex/diag/plural.hpp"
+
 namespace deflex::compensate {
 
 const Finding* Plausibility::find(const std::string& kind) const {
@@ -256,7 +258,7 @@ Plausibility PlausibilityScan::finish(bool compensated) {
     std::string l;
     for (std::size_t i = 0; i < f.lines.size(); ++i) l += (i ? ", " : "") + std::to_string(f.lines[i]);
     if (f.line_count > f.lines.size()) l += ", ...";
-    return std::to_string(f.count) + " points on " + std::to_string(f.line_count) + " lines (" + l + ")";
+    return plural(f.count, "point") + " on " + plural(f.line_count, "line") + " (" + l + ")";
   };
   auto emit = [&](Acc& a, const std::string& msg) {
     a.f.line_count = a.seen.size();

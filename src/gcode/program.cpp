@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace deflex::gcode {
 
@@ -26,6 +27,30 @@ char first_char(std::string_view s) {
   for (char c : s)
     if (!is_space(c)) return c;
   return 0;
+}
+
+// The end of the run of letters, digits and points from `i` (a name).
+std::uint32_t word_end(const std::string& s, std::uint32_t i, std::uint32_t e) {
+  while (i < e && (is_letter(s[i]) || is_digit(s[i]) || s[i] == '.' || s[i] == '_')) ++i;
+  return i;
+}
+
+// Whether the letters at `i` begin a macro B keyword (Fanuc Custom Macro B:
+// control, operators, functions) or a LinuxCNC O-word keyword, both refused
+// as macro B; any other run of letters is no G-code.
+bool macro_keyword(const std::string& s, std::uint32_t i, std::uint32_t e) {
+  std::string w;
+  while (i < e && is_letter(s[i]) && w.size() < 9) w += upper(s[i++]);
+  static const char* const kWords[] = {
+      "IF", "THEN", "GOTO", "WHILE", "DO", "END", "EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "XOR", "MOD",
+      "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "ATN", "SQRT", "SQR", "ABS", "BIN", "BCD", "ROUND", "RND", "FIX",
+      "FUP", "LN", "EXP", "POW", "ADP", "POPEN", "PCLOS", "DPRNT", "BPRNT", "SETVN",
+      // LinuxCNC O-words (o100 sub ... o100 endsub)
+      "SUB", "ENDSUB", "CALL", "RETURN", "ENDWHILE", "REPEAT", "ENDREPEAT", "ELSE", "ELSEIF", "ENDIF", "BREAK",
+      "CONTINUE"};
+  for (const char* k : kWords)
+    if (w == k) return true;
+  return false;
 }
 
 const double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
@@ -137,10 +162,22 @@ bool Program::lex(std::uint32_t line, Block& b, Diagnostics& diags) const {
     char letter = iso_colon ? 'O' : upper(c);
     std::uint32_t j = i;
     while (j < e && is_space(s[j])) ++j;
-    if (j < e && (is_letter(s[j]) || s[j] == '#' || s[j] == '[')) {
+    if (j < e && (s[j] == '#' || s[j] == '[' || (is_letter(s[j]) && (b.macro || macro_keyword(s, start, e))))) {
       mark_macro(start);
       i = j;
       continue;
+    }
+    if (i < e && is_letter(s[i])) {
+      // Letters that form no word (a header line without its parentheses:
+      // `profile.nc (...)`): the control alarms at the first letter.
+      ok = error(start, std::string("letters that form no word: '") + c + "' is not followed by a number ('" +
+                            std::string(s, start, std::min<std::uint32_t>(word_end(s, start, e) - start, 24)) + "')");
+      break;
+    }
+    if (letter == 'O' && !b.macro && !b.words.empty() && start > b.begin && (is_digit(s[start - 1]) || s[start - 1] == '.')) {
+      // X11O.: a program number only stands first in a block.
+      ok = error(start, std::string("the letter '") + c + "' where a digit was expected (a zero typed as the letter O?)");
+      break;
     }
     if (b.macro) {
       // Inside a macro block keep going without parsing numbers exactly.

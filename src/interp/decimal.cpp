@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string>
 
+#include "deflex/diag/plural.hpp"
+
 namespace deflex::interp {
 namespace {
 
@@ -24,11 +26,12 @@ void report_mixed(const SourceText& src, const profile::Dialect& d, Diagnostics&
   // increment (Fanuc's rule) or the number as written (calculator style).
   char buf[420];
   std::snprintf(buf, sizeof buf,
-                "%c%g has no decimal point while %zu other axis words have one: dialect %s reads it as %g "
+                "%c%g has no decimal point while %s %s one: dialect %s reads it as %g "
                 "(least input increments of %g), a control that reads numbers as written (LinuxCNC) as %g; "
-                "%zu such words on %zu lines. Check the dialect (--dialect linuxcnc) or write the points",
-                letter, value, f.with_point, d.name.c_str(), value * lii_mm, lii_mm, value, f.without_point,
-                f.lines);
+                "%s on %s. Check the dialect (--dialect linuxcnc) or write the points",
+                letter, value, plural(f.with_point, "other axis word").c_str(), f.with_point == 1 ? "has" : "have",
+                d.name.c_str(), value * lii_mm, lii_mm, value, plural(f.without_point, "such word").c_str(),
+                plural(f.lines, "line").c_str());
   diags.report(strict ? Severity::error : Severity::warning, src, f.first_line, f.first_col, buf);
 }
 
@@ -46,8 +49,9 @@ void DecimalCheck::add(const gcode::Program& piece) {
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   for (std::uint32_t l = piece.first_line(); l <= piece.last_line(); ++l) {
-    piece.lex(l, b, quiet);
-    if (b.kind != gcode::LineKind::block || b.macro) continue;
+    // A line that does not read is the lexer's to report (X11O.: a letter
+    // where a digit was expected, not a missing decimal point).
+    if (!piece.lex(l, b, quiet) || b.kind != gcode::LineKind::block || b.macro) continue;
     for (const gcode::Word& w : b.words)
       if (w.letter == 'G' && (w.value == 20 || w.value == 21)) inch_ = w.value == 20;
     bool counted = false;

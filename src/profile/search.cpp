@@ -31,18 +31,27 @@ std::string user_dir() {
 
 }  // namespace
 
-std::string data_dir() {
+std::vector<std::string> data_dir_candidates() {
   const std::string e = env("DEFLEX_DATA_DIR");
-  if (!e.empty()) return e;
+  if (!e.empty()) return {e};
+  std::vector<std::string> c;
   // Installed under any prefix (a .deb's /usr, cmake --install's /usr/local or
   // a user's ~/.local): the data beside the binary, ../share/deflex.
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    const fs::path beside = exe.parent_path().parent_path() / "share" / "deflex";
-    if (fs::is_regular_file(beside / "config.yaml", ec)) return beside.string();
-  }
-  return DEFLEX_DATA_DIR;
+  if (!ec) c.push_back((exe.parent_path().parent_path() / "share" / "deflex").string());
+  c.push_back(DEFLEX_DATA_DIR);
+  return c;
+}
+
+std::string data_dir() {
+  const std::vector<std::string> c = data_dir_candidates();
+  std::error_code ec;
+  // Beside the binary only where it holds a config.yaml: a build tree's
+  // ../share is no data folder.
+  for (std::size_t i = 0; i + 1 < c.size(); ++i)
+    if (fs::is_regular_file(fs::path(c[i]) / "config.yaml", ec)) return c[i];
+  return c.back();
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "deflex/diag/plural.hpp"
 #include "deflex/report/summary.hpp"
 
 namespace deflex::report {
@@ -150,7 +151,7 @@ std::string compare_html(const std::vector<CompareRow>& rows, double tol,
       ".bar{height:5px;background:#7a8fc2;margin-top:2px}.best{font-weight:bold;color:#185c18}"
       ".prov td{border:none;text-align:left;font-family:ui-monospace,monospace;font-size:13px}"
       ".prov td:first-child{white-space:nowrap}\n"
-      "</style></head><body>\n<h1>deflex compare: " + std::to_string(rows.size()) + " programs on the same stock</h1>\n"
+      "</style></head><body>\n<h1>deflex compare: " + plural(rows.size(), "program") + " on the same stock</h1>\n"
       "<table class=\"prov\">";
   for (const auto& [k, v] : provenance) h += "<tr><td>" + html_escape(k) + "</td><td>" + html_escape(v) + "</td></tr>";
   h += "</table>\n<p>Each program simulated from the same stock with the same tool data and machine; "

@@ -26,10 +26,12 @@ Json to_json(const process::MachiningTime& t) {
   return j;
 }
 
-std::string clock(double seconds) {
+bool clock_has_hours(double seconds) { return std::lround(std::max(0.0, seconds)) >= 3600; }
+
+std::string clock(double seconds, bool hours) {
   const long s = std::lround(std::max(0.0, seconds));
   char b[40];
-  if (s >= 3600) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+  if (hours || s >= 3600) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
   else std::snprintf(b, sizeof b, "%ld:%02ld", s / 60, s % 60);
   return b;
 }

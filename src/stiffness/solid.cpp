@@ -23,6 +23,7 @@
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/shape.hpp"
+#include "deflex/writer/temp_files.hpp"
 #include "solid_internal.hpp"
 
 namespace deflex::stiffness {
@@ -100,33 +101,39 @@ void write_cache(const std::string& path, const std::string& key, const Complian
   std::error_code ec;
   fs::create_directories(fs::path(path).parent_path(), ec);
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  const int slot = writer::temp_files::add(tmp);
+  bool ok = false;
   {
     std::ofstream out(tmp);
-    if (!out) return;
     out << key << "\n";
     for (const auto& r : t.rows()) {
       out << num(r.height_mm);
       for (int i = 0; i < 9; ++i) out << " " << num(r.matrix_mm_per_N(i / 3, i % 3));
       out << "\n";
     }
-    if (!out) return;
+    ok = static_cast<bool>(out);
   }
-  fs::rename(tmp, path, ec);
-  if (ec) fs::remove(tmp, ec);
+  if (ok) fs::rename(tmp, path, ec);
+  if (!ok || ec) fs::remove(tmp, ec);
+  writer::temp_files::forget(slot);
 }
 
-// Temporary file removed when it goes out of scope.
+// Temporary file removed when it goes out of scope (or by the signal handler:
+// writer/temp_files.hpp).
 struct TempFile {
   std::string path;
+  int slot = -1;
   explicit TempFile(const std::string& ext) {
     static int counter = 0;
     path = (fs::temp_directory_path() /
             ("deflex-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ext))
                .string();
+    slot = writer::temp_files::add(path);
   }
   ~TempFile() {
     std::error_code ec;
     fs::remove(path, ec);
+    writer::temp_files::forget(slot);
   }
 };
 

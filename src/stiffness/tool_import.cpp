@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/profile/yaml.hpp"
 
 namespace deflex::stiffness {
@@ -301,7 +302,7 @@ ImportedLibrary import_linuxcnc_tbl(const std::string& text, const std::string& 
   out.tools = static_cast<int>(tools.size());
   out.yaml = to_yaml(tools,
                      "Imported by deflex from " + file + " (LinuxCNC tool table, diameters in mm): " +
-                         std::to_string(tools.size()) + " tools, " + std::to_string(out.skipped.size()) +
+                         plural(tools.size(), "tool") + ", " + std::to_string(out.skipped.size()) +
                          " skipped. Check every default below.",
                      out.skipped);
   return out;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/writer/temp_files.hpp"
 
 namespace deflex::writer {
 namespace fs = std::filesystem;
@@ -354,9 +355,11 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) :
   if (fd < 0) throw Error(Exit::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
   ::close(fd);
   tmp_ = name.data();
+  slot_ = temp_files::add(tmp_);
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) {
     std::remove(tmp_.c_str());
+    temp_files::forget(slot_);
     throw Error(Exit::io, path + ": error: cannot write " + tmp_);
   }
 }
@@ -365,6 +368,7 @@ AtomicFile::~AtomicFile() {
   if (tmp_.empty()) return;
   out_.close();
   std::remove(tmp_.c_str());
+  temp_files::forget(slot_);  // after the removal: a signal between the two finds nothing left behind
 }
 
 void AtomicFile::commit() {
@@ -384,6 +388,8 @@ void AtomicFile::commit() {
   }
   if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
     throw Error(Exit::io, path_ + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
+  temp_files::forget(slot_);
+  temp_files::completed(path_);
   tmp_.clear();
 }
 
@@ -402,6 +408,7 @@ void write_through_temporary(std::ostream& out, const std::function<void(std::os
   if (fd < 0) throw Error(Exit::io, "error: cannot create a temporary file in " + tmpl + ": " + std::strerror(errno));
   ::close(fd);
   const std::string tmp(name.data());
+  const int slot = temp_files::add(tmp);
   try {
     {
       std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
@@ -413,9 +420,11 @@ void write_through_temporary(std::ostream& out, const std::function<void(std::os
     if (i.peek() != std::ifstream::traits_type::eof()) out << i.rdbuf();  // nothing to copy is no failure
   } catch (...) {
     std::remove(tmp.c_str());
+    temp_files::forget(slot);
     throw;
   }
   std::remove(tmp.c_str());
+  temp_files::forget(slot);
 }
 
 }  // namespace deflex::writer

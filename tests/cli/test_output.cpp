@@ -185,4 +185,36 @@ TEST_CASE("plausibility warnings: compiler style on stderr at the worst line, an
   CHECK(js.find("\"kind\": \"roughing\"") != std::string::npos);
 }
 
+TEST_CASE("standard output onto an input file: refused before any work, saying the shell emptied it") {
+  TempDir d;
+  const std::string x = (d.p / "x.nc").string(), bin = DEFLEX_BINARY;
+  auto fresh = [&] { fs::copy_file(kWall, x, fs::copy_options::overwrite_existing); };
+  // Every command that reads a file and writes standard output; the refusal
+  // comes before the config or the machine is looked at.
+  for (const std::string& cmd :
+       {"compensate x.nc --stock box:0,0,-20,100,20,0", "simulate x.nc --stock box:0,0,-20,100,20,0", "rewrite x.nc",
+        "path x.nc", "check x.nc", "diff x.nc x.nc", "compare x.nc --stock box:0,0,-20,100,20,0",
+        "rough x.nc --stock box:0,0,-20,100,20,0 --rough-tool T1", "stock --stock-from x.nc -o s.stl",
+        "compensate y.nc --stock x.nc", "path - < x.nc"}) {
+    fresh();
+    test::write_file((d.p / "y.nc").string(), test::read_file(kWall));
+    const test::CliResult r = test::run_shell(bin + " " + cmd + " > x.nc", d.p.string());
+    INFO(cmd << ": " << r.err);
+    CHECK(r.rc == 2);
+    CHECK(r.err.find("error: input file is output file (standard output is redirected to it); the shell emptied it "
+                     "before deflex ran: restore it") != std::string::npos);
+    CHECK(r.err.find("warning") == std::string::npos);  // nothing read: no "empty program"
+  }
+  // Appended to (>>), the input is whole: no word of emptying.
+  fresh();
+  const test::CliResult a = test::run_shell(bin + " rewrite x.nc >> x.nc", d.p.string());
+  CHECK(a.rc == 2);
+  CHECK(a.err == "x.nc: error: input file is output file (standard output is redirected to it); write the output to "
+                 "another file, or with -o OUT\n");
+  CHECK(test::read_file(x) == test::read_file(kWall));
+  // Another file, and a pipe, are fine.
+  CHECK(test::run_shell(bin + " rewrite x.nc > y.nc", d.p.string()).rc == 0);
+  CHECK(test::run_shell(bin + " rewrite x.nc | cat > y.nc", d.p.string()).rc == 0);
+}
+
 }  // TEST_SUITE

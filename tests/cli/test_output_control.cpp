@@ -85,4 +85,26 @@ TEST_SUITE("cli") {
     CHECK(c.err.find("done in ", at + 30) == std::string::npos);
     CHECK(c.err.find("simulating") == std::string::npos);
   }
+  TEST_CASE("machining time: over an hour every time of the line is h:mm:ss, and the label says so") {
+    // 120 mm at 1 mm/min: two hours of cutting, seconds of rapids.
+    const std::string slow = "%\nO0001\nN1 G21 G90 G17 G40 G49 G80 G54\nN2 T1 M06\nN3 S8000 M03\nN4 G00 X-10. Y-3. Z5.\n"
+                             "N5 G01 Z-10. F800.\nN6 X110. F1.\nN7 G00 Z5.\nN8 M30\n%\n";
+    const test::CliResult r = test::run_cli({"simulate", "-", "--stock", "box:0,0,-20,100,20,0"}, slow);
+    REQUIRE(r.rc == 0);
+    CHECK(std::regex_search(r.out + r.err, std::regex(R"(machining time: +2:00:\d\d \(cutting 2:00:\d\d, rapids )"
+                                                       R"(0:00:\d\d\) \[h:mm:ss, axis limits)")));
+    // Under an hour, m:ss.
+    const test::CliResult w = with({});
+    CHECK(w.err.find(" [m:ss, axis limits") != std::string::npos);
+  }
+  TEST_CASE("compensate --help names the normal's sources as compensate/normals.hpp orders them") {
+    const test::CliResult h = test::run_cli({"compensate", "--help"});
+    REQUIRE(h.rc == 0);
+    const std::size_t part = h.out.find("comes, best first, from the part\nmodel (--part)");
+    const std::size_t path = h.out.find("fitted through the CL points of the same and the adjacent passes");
+    const std::size_t travel = h.out.find("the tool and the travel: the wall for a flat or bull-nose flank");
+    CHECK(part < path);
+    CHECK(path < travel);
+    CHECK(travel != std::string::npos);
+  }
 }

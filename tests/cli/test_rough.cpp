@@ -75,6 +75,17 @@ TEST_SUITE("cli") {
     fs::remove_all(dir);
   }
 
+  TEST_CASE("rough: the header names the spacing the lines have, the stepover spread evenly") {
+    // 30 mm of stock at a stepover of at most 4 mm: 8 gaps of 3.75 mm.
+    const auto r = test::run_cli({"rough", "tests/engage/data/ball_finish.nc", "--stock", "box:0,0,-10,40,30,0",
+                                  "--rough-tool", "T3", "--stepdown", "0", "--stepover", "4"});
+    REQUIRE(r.rc == 0);
+    CHECK(r.err.find("9 lines 3.750 mm apart") != std::string::npos);
+    CHECK(r.out.find("ALONG X, ONE LEVEL, LINES 3.750 MM APART - THE STEPOVER 4.000 SPREAD EVENLY OVER THE STOCK") !=
+          std::string::npos);
+    CHECK(r.out.find("STEPOVER 4.000 MM") == std::string::npos);
+  }
+
   TEST_CASE("rough: refused before anything is computed") {
     const std::string finish = "tests/engage/data/ball_finish.nc", box = "box:0,0,-10,40,30,0";
     auto rc = [&](std::vector<std::string> extra, const std::string& says) {

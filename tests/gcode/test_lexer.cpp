@@ -113,7 +113,29 @@ TEST_CASE("macro B is recognised, never parsed as words") {
   CHECK(lex1("IF [#1 GT 2] GOTO 10").b.macro);
   CHECK(lex1("WHILE [#1 LT 3] DO1").b.macro);
   CHECK(lex1("END1").b.macro);
+  CHECK(lex1("N10 GOTO 20").b.macro);
+  CHECK(lex1("o100 sub").b.macro);  // LinuxCNC O-words
   CHECK_FALSE(lex1("G1 X1").b.macro);
+}
+
+TEST_CASE("letters that form no word are named as such, not as macro B") {
+  // FreeCAD's Fanuc post starts with the file name: no G-code at all.
+  Lexed h = lex1("profile.nc (Exported by FreeCAD)");
+  CHECK_FALSE(h.ok);
+  CHECK_FALSE(h.b.macro);
+  CHECK(h.diags.find("t.nc:1:1: error: letters that form no word: 'p' is not followed by a number ('profile.nc')") == 0);
+  Lexed x = lex1("G1 XY1.");
+  CHECK_FALSE(x.b.macro);
+  CHECK(x.diags.find("t.nc:1:4: error: letters that form no word: 'X'") == 0);
+  // A letter with a space and then a letter is an address without a number.
+  CHECK(lex1("G1 X Y1.").diags.find("t.nc:1:4: error: address 'X' has no number") == 0);
+}
+
+TEST_CASE("a letter O where a digit was expected is named at the O") {
+  Lexed o = lex1("G1 X11O. Y2.");
+  CHECK_FALSE(o.ok);
+  CHECK(o.diags.find("t.nc:1:7: error: the letter 'O' where a digit was expected") == 0);
+  CHECK(lex1("O1000 (a program number)").ok);
 }
 
 TEST_CASE("lexical errors name the column") {

@@ -41,6 +41,15 @@ TEST_CASE("decimal points: a mixed program is named at its first pointless word 
   }
 }
 
+TEST_CASE("decimal points: a word the lexer refuses (X11O., a letter O for a zero) is the lexer's to name first") {
+  const std::string text = "G21 G90 G0 X0. Y0. Z5.\nG1 X11O. Y2. F100.\nM30\n";
+  const test::CliResult r = test::run_cli({"check", "-"}, text);
+  CHECK(r.rc == 1);
+  const std::string first = r.err.substr(0, r.err.find('\n'));
+  CHECK(first.find(":2:7: error: the letter 'O' where a digit was expected") != std::string::npos);
+  CHECK(r.err.find("decimal point") == std::string::npos);
+}
+
 TEST_CASE("decimal points: a pointless program that reads as micrometre hops, and sub-micrometre words") {
   auto run = [](const char* text, const profile::Dialect& d, bool strict = false) {
     std::ostringstream err;

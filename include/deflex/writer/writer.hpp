@@ -144,6 +144,7 @@ class AtomicFile {
   std::ofstream out_;
   bool have_old_ = false;
   unsigned old_mode_ = 0, old_uid_ = 0, old_gid_ = 0;
+  int slot_ = -1;  // in writer/temp_files.hpp's registry
 };
 
 // Writes `path` atomically (an AtomicFile committed when `fill` returned normally).
