@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <numbers>
 #include <regex>
+#include <set>
 
 #include "../support.hpp"
 
@@ -48,13 +49,24 @@ std::vector<std::size_t> wall_rows(const test::Csv& pts) {
 }
 
 // The Y word of the blocks N6-N8 (the wall) of a program.
+// Where the wall blocks N6-N8 of a written program end in Y (mm), as the
+// control reads them: a block that leaves Y out holds the Y before it.
 std::vector<double> wall_y_mm(const std::string& program) {
   std::vector<double> ys;
-  const std::regex block(R"(N[678] X[0-9.]+ Y(-?[0-9.]+))");
+  std::set<std::string> lines;  // line numbers of N6-N8, as `path --lines` prints them
   std::istringstream in(program);
-  std::smatch m;
-  for (std::string line; std::getline(in, line);)
-    if (std::regex_match(line, m, block)) ys.push_back(std::stod(m[1]));
+  std::uint32_t n = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++n;
+    if (std::regex_search(line, std::regex("^N[678] X"))) lines.insert(std::to_string(n));
+  }
+  std::istringstream path(test::run_cli({"path", "--lines", "-"}, program).out);
+  for (std::string line, kind; std::getline(path, line);) {
+    std::istringstream row(line);
+    std::string at;
+    double x = 0, y = 0;
+    if (row >> at >> kind >> x >> y && lines.count(at)) ys.push_back(y);
+  }
   return ys;
 }
 
