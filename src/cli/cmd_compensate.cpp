@@ -60,9 +60,12 @@ const char* kCompensateHelp =
     "The surface normal (points.csv normal_source) comes, best first, from the part\n"
     "model (--part): the cutter's contact with the design surface at the programmed\n"
     "tip, where it lies within reach; else, for a ball end, from the tip surface\n"
-    "fitted through the CL points of the same and the adjacent passes; else from\n"
-    "the tool and the travel: the wall for a flat or bull-nose flank, otherwise the\n"
-    "normal to the travel in its vertical plane (blind to a slope across the feed).\n";
+    "fitted through the CL points of the same and the adjacent passes, where they\n"
+    "determine it (not on a lone pass, nor on an edge pass without two passes\n"
+    "beside it: such points are left as programmed and counted in the [left_alone]\n"
+    "warning, normal_source undetermined); for flat and bull-nose ends from the\n"
+    "tool and the travel: the wall of a flank cut, else the normal to the travel\n"
+    "in its vertical plane (blind to a slope across the feed).\n";
 
 void summary_line(Io& io, const char* what, const report::ErrorStats& s, double tol) {
   char buf[256];
@@ -186,6 +189,10 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::canned_cycle: return "canned-cycle moves (drilling is not a surface)";
     case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";
     case interp::Fixed::block_delete: return "block-delete '/' moves (run or not at the operator's switch)";
+    case interp::Fixed::no_normal:
+      return "points whose surface normal the program does not determine (a ball end without --part: the first "
+             "or last pass without two passes beside it within 8 mm, a single pass, points off a smooth surface; "
+             "give the part model with --part)";
     case interp::Fixed::held:
       return "moves ending where a block deflex cannot re-target starts (a canned cycle, G28/G30/G53, a subprogram "
              "that runs more than once, a change of work offset, an arc that stays)";

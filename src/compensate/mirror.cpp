@@ -260,7 +260,9 @@ class Stream {
     Point p0 = probe(m, prev_, V3::Zero(), 0);
     V3 off = V3::Zero();
     Point at = p0;  // the sample at `off`
-    if (!p0.air && !p0.plunge && std::fabs(p0.error_mm) > s_.tolerance_mm) {
+    // A normal the program's points do not determine moves nothing.
+    if (!p0.air && !p0.plunge && p0.normal_source != NormalSource::undetermined &&
+        std::fabs(p0.error_mm) > s_.tolerance_mm) {
       const V3 n = p0.normal;
       // Each written coordinate may round away by half its last decimal: the
       // displacement as written stays within max_offset_mm (sqrt(3) axes).

@@ -14,6 +14,7 @@ const char* to_string(NormalSource s) {
   switch (s) {
     case NormalSource::part: return "part";
     case NormalSource::path: return "path";
+    case NormalSource::undetermined: return "undetermined";
     case NormalSource::travel: break;
   }
   return "travel";
@@ -174,6 +175,7 @@ SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metric
     return s;
   }
   if (t.type == stiffness::ToolType::ball) {
+    s.source = NormalSource::undetermined;  // unless the neighbouring points give it
     std::shared_ptr<const Trees> w;
     {
       std::lock_guard<std::mutex> lock(mutex_);

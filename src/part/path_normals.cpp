@@ -29,27 +29,13 @@ struct PathNormals::Impl {
     std::vector<K::Point_3> near;
     tree.search(std::back_inserter(near), Sphere(K::Point_3(q.x(), q.y(), q.z()), r, 0.0));
     if (near.size() < 6) return std::nullopt;
-    // Spread across the smaller principal direction of the weighted XY offsets.
     const std::size_t m = near.size();
     Eigen::VectorXd w(m);
-    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    double ws = 0;
     for (std::size_t i = 0; i < m; ++i) {
       const Eigen::Vector3d d(near[i].x() - q.x(), near[i].y() - q.y(), near[i].z() - q.z());
       const double t = 1.0 - d.squaredNorm() / (r * r);
       w[static_cast<Eigen::Index>(i)] = t * t + 1e-6;
-      mean += w[static_cast<Eigen::Index>(i)] * d.head<2>();
-      ws += w[static_cast<Eigen::Index>(i)];
     }
-    mean /= ws;
-    for (std::size_t i = 0; i < m; ++i) {
-      const Eigen::Vector2d d = Eigen::Vector2d(near[i].x() - q.x(), near[i].y() - q.y()) - mean;
-      cov += w[static_cast<Eigen::Index>(i)] * d * d.transpose();
-    }
-    cov /= ws;
-    const double minor = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(cov).eigenvalues()[0];
-    if (!(std::sqrt(std::max(minor, 0.0)) >= o.min_spread * r)) return std::nullopt;
     // z - z_q = c0 + c1 x + c2 y + c3 x^2 + c4 x y + c5 y^2 (offsets from q, scaled by r).
     Eigen::MatrixXd A(m, 6);
     Eigen::VectorXd b(m);
@@ -59,8 +45,35 @@ struct PathNormals::Impl {
       A.row(static_cast<Eigen::Index>(i)) << sw, sw * x, sw * y, sw * x * x, sw * x * y, sw * y * y;
       b[static_cast<Eigen::Index>(i)] = sw * (near[i].z() - q.z());
     }
-    const Eigen::VectorXd c = A.colPivHouseholderQr().solve(b);
+    return determined_normal(A, b, r);
+  }
+
+  // The slope of the least-squares fit and how well the points pin it down:
+  // through the eigen-decomposition of the normal equations N = A'A, so a
+  // term the points cannot tell from another (two rows of points across the
+  // feed: y^2 is s y on them) shows as a vanishing eigenvalue, not as an
+  // arbitrary split between the two (which tilted edge-pass normals by tens of
+  // degrees). The slope's standard error, from the residual scatter (at least
+  // the rounding of the program's digits), must stay under max_slope_error_rad;
+  // else the points do not determine the normal at this radius.
+  std::optional<Eigen::Vector3d> determined_normal(const Eigen::MatrixXd& A, const Eigen::VectorXd& b, double r) const {
+    const Eigen::Index m = A.rows();
+    const Eigen::Matrix<double, 6, 6> N = A.transpose() * A;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(N);
+    const Eigen::Matrix<double, 6, 1> lambda = es.eigenvalues();
+    if (!(lambda[0] > 1e-12 * lambda[5])) return std::nullopt;
+    const Eigen::Matrix<double, 6, 6>& V = es.eigenvectors();
+    const Eigen::Matrix<double, 6, 1> c = V * ((V.transpose() * (A.transpose() * b)).array() / lambda.array()).matrix();
     if (!c.allFinite()) return std::nullopt;
+    const Eigen::VectorXd res = A * c - b;
+    // Weighted residual variance: A and b carry sqrt(w), weights <= 1.
+    const double scatter_mm2 = m > 6 ? res.squaredNorm() / static_cast<double>(m - 6) : 0.0;
+    if (std::sqrt(scatter_mm2) > o.max_residual_mm) return std::nullopt;
+    const double s2 = std::max(scatter_mm2, o.digit_noise_mm * o.digit_noise_mm);
+    double var_slope = 0;  // of c1 and c2, in (mm per r)^2
+    for (int k = 1; k <= 2; ++k)
+      for (int j = 0; j < 6; ++j) var_slope += s2 * V(k, j) * V(k, j) / lambda[j];
+    if (std::sqrt(var_slope) / r > o.max_slope_error_rad) return std::nullopt;
     return Eigen::Vector3d(-c[1] / r, -c[2] / r, 1.0).normalized();
   }
 };

@@ -116,6 +116,7 @@ std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree
 CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i, std::vector<std::size_t>& near) {
   const CuspSample& p = s[i];
   CuspResult r;
+  if (!p.normal_known) return r;
   const Eigen::Vector3d n = p.normal.normalized();
   const double alpha1 = std::acos(std::clamp(n.z(), -1.0, 1.0));
   r.inclination_deg = alpha1 / kRad;

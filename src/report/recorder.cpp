@@ -60,6 +60,7 @@ struct Recorder::Impl {
     process::CuspSample c;
     c.tip_mm = p.tip_mm;
     c.normal = p.normal;
+    c.normal_known = p.normal_source != compensate::NormalSource::undetermined;
     c.cutting = cutting;
     const stiffness::Tool* t = tool(p.tool);
     if (t && t->type == stiffness::ToolType::ball) c.profile_diameter_mm = t->diameter_mm;
@@ -180,8 +181,10 @@ struct Recorder::Impl {
     if (opt.points_csv && !p.air) csv_row(p, error, as_written, offset_n, c);
     if (p.air || p.plunge) return;
     err.add(error);
-    if (p.fixed != interp::Fixed::no && std::fabs(error) > opt.tolerance_mm) {
-      RunFigures::LeftAlone& l = left_alone[p.fixed];
+    const interp::Fixed why =
+        p.normal_source == compensate::NormalSource::undetermined ? interp::Fixed::no_normal : p.fixed;
+    if (why != interp::Fixed::no && std::fabs(error) > opt.tolerance_mm) {
+      RunFigures::LeftAlone& l = left_alone[why];
       if (!l.points++) l.first_line = p.line;
       l.largest_mm = std::max(l.largest_mm, std::fabs(error));
     }

@@ -136,7 +136,14 @@ TEST_SUITE("cli") {
     REQUIRE(a90.rc == 0);
     REQUIRE(a91.rc == 0);
     CHECK(a91.err.find("blocks inserted") != std::string::npos);
-    CHECK(a91.err.find("[left_alone]") == std::string::npos);
+    // No move is left alone for being in G91: what stays (the ball's points on
+    // this single contour, whose normal the path cannot determine) stays alike.
+    CHECK(a91.err.find("incremental") == std::string::npos);
+    auto left_alone = [](const std::string& err) {
+      const std::size_t at = err.find("[left_alone]");
+      return at == std::string::npos ? std::string() : err.substr(err.rfind(": warning:", at), at - err.rfind(": warning:", at));
+    };
+    CHECK(left_alone(a91.err) == left_alone(a90.err));
     CHECK(test::run_cli({"path", (dir / "pb.nc").string()}).out == test::run_cli({"path", (dir / "pa.nc").string()}).out);
     fs::remove_all(dir);
   }

@@ -102,7 +102,7 @@ TEST_SUITE("cli") {
     REQUIRE(h.rc == 0);
     const std::size_t part = h.out.find("comes, best first, from the part\nmodel (--part)");
     const std::size_t path = h.out.find("fitted through the CL points of the same and the adjacent passes");
-    const std::size_t travel = h.out.find("the tool and the travel: the wall for a flat or bull-nose flank");
+    const std::size_t travel = h.out.find("for flat and bull-nose ends from the\ntool and the travel");
     CHECK(part < path);
     CHECK(path < travel);
     CHECK(travel != std::string::npos);

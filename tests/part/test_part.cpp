@@ -4,8 +4,11 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <numbers>
+#include <unistd.h>
 
 #include "../support.hpp"
 #include "deflex/compensate/apply.hpp"
@@ -169,6 +172,109 @@ TEST_CASE("path normals: fitted through the tip points of a raster, within 2 deg
   std::vector<V3> line;
   for (double x = 0; x <= 10; x += 0.5) line.emplace_back(x, 0, 0.1 * x);
   CHECK_FALSE(part::PathNormals(line).normal_at(V3(5, 0, 0.5)));
+}
+
+TEST_CASE("path normals on the edge passes of a raster: determined by the points, or none") {
+  // The first and last passes have neighbours on one side only, and within
+  // the search radius often one other pass: two rows of points determine a
+  // plane's slope across the feed but not a quadratic's. A normal returned
+  // there must be as good as inside (its error times a 0.1 mm deflection
+  // under 2 um: 1.15 deg); where the points cannot give one, none.
+  const double R = 5, spacing = 0.5;
+  for (double step : {0.8, 2.0, 3.0})
+    for (const Surface& s : analytic()) {
+      auto tip_at = [&](double x, double y) {
+        double u = x, v = y;
+        for (int it = 0; it < 100; ++it) {
+          const V3 n = s.normal(u, v);
+          u = x - R * n.x();
+          v = y - R * n.y();
+        }
+        return std::pair{ball_tip(s, u, v, R), s.normal(u, v)};
+      };
+      std::vector<V3> tips;
+      const int passes = static_cast<int>(std::floor(16 / step)) + 1;
+      for (int k = 0; k < passes; ++k)
+        for (double x = -8; x <= 8 + 1e-9; x += spacing) {
+          // As a program writes them: to 3 decimals.
+          const V3 t = tip_at(x, -8 + k * step).first;
+          tips.emplace_back(std::round(t.x() * 1000) / 1000, std::round(t.y() * 1000) / 1000,
+                            std::round(t.z() * 1000) / 1000);
+        }
+      const part::PathNormals pn(tips);
+      double worst = 0;
+      int none_edge = 0, none_next = 0;
+      for (int k : {0, 1, passes - 2, passes - 1})
+        for (double x = -8; x <= 8 + 1e-9; x += spacing) {
+          const auto [tip, n] = tip_at(x, -8 + k * step);
+          const auto est = pn.normal_at(tip);
+          if (!est) {
+            ++(k == 0 || k == passes - 1 ? none_edge : none_next);
+            continue;
+          }
+          worst = std::max(worst, angle_deg(*est, n));
+        }
+      INFO(s.name << ", step-over " << step << ": worst " << worst << " deg; none on " << none_edge
+                  << " points of the edge passes, " << none_next << " of the passes next to them");
+      CHECK(worst < 1.15);
+      CHECK(none_next == 0);  // neighbours on both sides: always determined
+      // The edge passes: determined where the passes on their one side lie
+      // within the search radius (8 mm in 3D: a 3 mm step-over on a 45 deg
+      // slope puts the second one 8.5 mm away).
+      if (step < 3) CHECK(none_edge == 0);
+    }
+}
+
+TEST_CASE("a freeform raster without a part: no point moves on a normal off by more than 2 um of error") {
+  // samples/strategies/zigzag_45.nc finishes z = 5 sin(6x deg) cos(4.5y deg)
+  // with a D10 ball (T7) at 45 deg, 2 mm apart; on a raw box the load is
+  // high. The true normal at a CL point is the surface's at the ball's
+  // contact (found by fixed-point iteration from the ball's centre): e against
+  // delta . n of the true surface, at every point that carries a normal.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("deflex-ffn-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto r = test::run_cli({"compensate", "samples/strategies/zigzag_45.nc", "--stock", "box:0,0,-30,120,80,6",
+                                "--material", "Al7075-T6", "--report", dir.string(), "-o", (dir / "out.nc").string()});
+  REQUIRE(r.rc == 0);
+  const test::Csv pts = test::read_csv((dir / "points.csv").string());
+  const double k = std::numbers::pi / 180, R = 5;
+  auto true_normal = [&](double x_tip, double y_tip) {
+    double u = x_tip, v = y_tip;
+    V3 n;
+    for (int it = 0; it < 60; ++it) {
+      n = V3(-5 * 6 * k * std::cos(6 * k * u) * std::cos(4.5 * k * v),
+             5 * 4.5 * k * std::sin(6 * k * u) * std::sin(4.5 * k * v), 1).normalized();
+      u = x_tip - R * n.x();
+      v = y_tip - R * n.y();
+    }
+    return n;
+  };
+  std::size_t path = 0, undetermined = 0, moved_undetermined = 0;
+  double worst_um = 0;
+  for (std::size_t i = 0; i < pts.rows.size(); ++i) {
+    const std::string& src = pts.rows[i][std::find(pts.header.begin(), pts.header.end(), "normal_source") - pts.header.begin()];
+    if (src == "undetermined") {
+      ++undetermined;
+      moved_undetermined += pts.num(i, "offset_mm") != 0;
+      continue;
+    }
+    REQUIRE(src == "path");
+    ++path;
+    const double x = pts.num(i, "x_mm"), y = pts.num(i, "y_mm");
+    // The ball's contact lies on the part (X 0..120, Y 0..80) only inside it.
+    if (x < R || x > 120 - R || y < R || y > 80 - R) continue;
+    const V3 d(pts.num(i, "dx_mm"), pts.num(i, "dy_mm"), pts.num(i, "dz_mm"));
+    worst_um = std::max(worst_um, 1000 * std::fabs(pts.num(i, "surface_error_as_written_mm") - d.dot(true_normal(x, y))));
+  }
+  MESSAGE("path normals " << path << ", undetermined " << undetermined << ", worst |e - delta.n_true| " << worst_um << " um");
+  CHECK(path > 10000);
+  CHECK(worst_um <= 2.0);
+  CHECK(moved_undetermined == 0);
+  // The cusp of an edge pass is its neighbours' (no 5 mm "cusp" of a guessed normal).
+  const auto summary = nlohmann::json::parse(test::read_file((dir / "summary.json").string()));
+  CHECK(summary.at("cusp_height_mm").at("max").get<double>() < 0.2);
+  fs::remove_all(dir);
 }
 
 TEST_CASE("gouge check: a pass dug into the part and a pass standing off are named, the exact pass is clean") {

@@ -12,7 +12,12 @@
 //   path    ball ends without a part model: the normal of the tip surface fitted
 //           through the neighbouring CL points of the same and the adjacent
 //           passes (part/path_normals.hpp), which is the part's normal at the
-//           contact point.
+//           contact point. Where those points do not determine it (the
+//           first or last pass with no two passes on its one side within
+//           reach, a single pass, points off a smooth surface), the source is
+//           `undetermined`: the normal is the travel rule's guess, used for
+//           the figures only, and compensation leaves the point alone (the
+//           [left_alone] warning counts it).
 //   travel  the rule of the tool geometry and the programmed travel: the wall
 //           (horizontal, on the side the engaged edge cuts) for a flat or
 //           bull-nose flank, else the normal to the travel in its vertical
@@ -40,7 +45,7 @@
 
 namespace deflex::compensate {
 
-enum class NormalSource : std::uint8_t { travel, path, part };
+enum class NormalSource : std::uint8_t { travel, path, part, undetermined };
 const char* to_string(NormalSource s);
 
 struct SurfaceNormal {

@@ -24,6 +24,10 @@ enum class Fixed : std::uint8_t {
   // Set by compensation, never by the interpreter: a compensable move whose
   // end starts a block the writer cannot re-target (compensate::movable).
   held,
+  // Set by the report for a point, never on a motion: a ball end's point
+  // without a part model whose surface normal the program's points do not
+  // determine (compensate::NormalSource::undetermined): not moved.
+  no_normal,
 };
 const char* to_string(Fixed f);
 const char* to_string(MotionKind k);  // "G0", "G1", "G2", "G3"

@@ -8,11 +8,13 @@
 // neighbouring tip points of the same and the adjacent passes: fitted here as a
 // height field z(x, y) = quadratic, by weighted least squares (weights
 // (1 - (d/r)^2)^2) over the tip points within r of the query, r growing from
-// radius_mm (doubling, up to max_radius_mm) until the points span both
-// directions (their spread across the smaller principal direction at least
-// min_spread of r; one pass alone is a line and gives no slope across it).
-// Exact for planes, second order for curved surfaces. Neighbours are found
-// through CGAL's kd-tree.
+// radius_mm (doubling, up to max_radius_mm) until the points determine the
+// slope (PathNormalOptions): one pass alone is a line and gives no slope
+// across it, two rows of points do not determine a quadratic across them, so
+// the first and last passes of a raster need the two passes beside them on
+// their one side. Exact for planes,
+// second order for curved surfaces. Neighbours are found through CGAL's
+// kd-tree.
 #pragma once
 #include <Eigen/Core>
 #include <memory>
@@ -24,7 +26,15 @@ namespace deflex::part {
 struct PathNormalOptions {
   double radius_mm = 1.0;       // first search radius
   double max_radius_mm = 8.0;   // no neighbours across the pass within it: no estimate
-  double min_spread = 0.2;      // smaller principal spread / r needed for a fit
+  // The fit must pin the slope down: its standard error (from the scatter of
+  // the points about the fit, at least the rounding of a program's 3
+  // decimals, 0.001 / sqrt(12) mm) under max_slope_error_rad (a 0.1 mm
+  // deflection then moves the error by 0.2 um), and the points must lie on a
+  // smooth surface (scatter under max_residual_mm: not across a wall or a
+  // gouge). Else the radius grows; at max_radius_mm there is no estimate.
+  double max_slope_error_rad = 0.002;
+  double digit_noise_mm = 0.001 / 3.4641016151377544;
+  double max_residual_mm = 0.005;
 };
 
 class PathNormals {

@@ -47,6 +47,10 @@ struct CuspSample {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();   // outward unit normal of the design surface
   double profile_diameter_mm = 0; // D_e; 0: not a ball end, no cusp
   bool cutting = false;           // in material: gets a cusp (a neighbour may be in air)
+  // The normal is the design surface's (false: a guess, compensate's
+  // NormalSource::undetermined): the cusp's angles, and so the cusp, are not
+  // known there (a steep guess across the feed would give the ball's radius).
+  bool normal_known = true;
 };
 
 struct CuspResult {
