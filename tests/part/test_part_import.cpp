@@ -30,6 +30,7 @@
 #include "../support.hpp"
 #include "deflex/compensate/gouge.hpp"
 #include "deflex/part/part.hpp"
+#include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/build.hpp"
 
 using namespace deflex;
@@ -67,6 +68,14 @@ TopoDS_Shape read_step(const std::string& path) {
   return r.OneShape();
 }
 
+// OCCT's writer reports on stdout unless routed as deflex routes it.
+void write_step(const TopoDS_Shape& s, const std::string& path) {
+  stock::route_occt_messages();
+  STEPControl_Writer w;
+  w.Transfer(s, STEPControl_AsIs);
+  REQUIRE(w.Write(path.c_str()) == IFSelect_RetDone);
+}
+
 // The STL a CAD system exports: the B-rep meshed to `deflection_mm`, binary.
 void write_stl(const TopoDS_Shape& s, const std::string& path, double deflection_mm) {
   BRepMesh_IncrementalMesh mesh(s, deflection_mm);
@@ -85,9 +94,7 @@ struct TempDir {
 // occt.step and occt.stl of pocketed_block() in tmp.
 void write_occt_solid(const TempDir& tmp, double stl_deflection_mm) {
   const TopoDS_Shape s = pocketed_block();
-  STEPControl_Writer w;
-  w.Transfer(s, STEPControl_AsIs);
-  REQUIRE(w.Write((tmp / "occt.step").c_str()) == IFSelect_RetDone);
+  write_step(s, tmp / "occt.step");
   write_stl(s, tmp / "occt.stl", stl_deflection_mm);
 }
 
@@ -162,6 +169,29 @@ TEST_CASE("gouge check: a pocket program against the pocketed part from STEP and
     INFO(part << ":\n" << r.err);
     CHECK(r.rc == 0);
     CHECK(r.err.find("into the part") == std::string::npos);
+  }
+}
+
+TEST_CASE("gouge check: the pocket program against the block without the pocket cuts 12 mm into it, from STEP and from STL") {
+  const TempDir tmp;
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, -30), gp_Pnt(100, 100, 0)).Shape();
+  write_step(block, tmp / "block.step");
+  write_stl(block, tmp / "block.stl", 0.005);
+  const test::Interpreted in = test::interpret_text(pocket_program);
+  REQUIRE(in.errors == 0);
+  const stiffness::ToolLibrary lib = stiffness::load_tool_library("samples/tools.yaml");
+  test::write_file(tmp / "pocket.nc", pocket_program);
+  for (const std::string& file : {tmp / "block.step", tmp / "block.stl"}) {
+    const part::PartModel pm = part::PartModel::load(file);
+    const compensate::PartGaps g =
+        compensate::part_gaps(in.motions, pm, lib, [](const interp::Motion&) { return "T1"; }, {}, 0.02, 1.0);
+    INFO(file << ": deepest " << g.overcut.worst_mm << " mm at line " << g.overcut.worst_line);
+    // The tip 12 mm under the top all round the loop (lines 8 to 14 of the text).
+    CHECK(g.overcut.worst_mm == doctest::Approx(12).epsilon(1e-6));
+    CHECK(g.overcut.lines == std::vector<std::uint32_t>{7, 8, 9, 10, 11, 12, 13, 14});
+    const test::CliResult r = test::run_cli({"check", tmp / "pocket.nc", "--part", file});
+    INFO(r.err);
+    CHECK(r.err.find("cuts 12.0000 mm into the part model") != std::string::npos);
   }
 }
 
