@@ -264,6 +264,9 @@ Contact PartModel::Impl::deepest(const CutterShape& s, const V3& tip_mm, Contact
   double step = std::max(0.5, -best.gap_mm);
   for (int it = 0; it < 64 && step > 1e-4; ++it)
     if (!try_point(core_point(s, tip_mm, k - step * best.normal))) step *= 0.5;
+  // Stopped inside the core rather than at its end: midway between faces.
+  const V3 beyond = k - 1e-3 * best.normal;
+  best.depth_at_least = (core_point(s, tip_mm, beyond) - beyond).norm() < 1e-9;
   return best;
 }
 

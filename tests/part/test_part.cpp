@@ -163,12 +163,20 @@ TEST_CASE("part model: a flat or bull-nose end buried in a block: the gap is min
       INFO(id << " plunged " << depth_mm << " mm: gap " << c.gap_mm);
       CHECK(c.gap_mm == doctest::Approx(-depth_mm).epsilon(1e-6));
       CHECK(angle_deg(c.normal, V3::UnitZ()) < 1e-6);
+      CHECK_FALSE(c.depth_at_least);
     }
+    // 20 mm down a 30 mm block: the core's deepest point is 15 mm from the top
+    // and from the bottom, and the depth says it is a bound.
+    const part::Contact through = pm.contact(shape, V3(50, 50, -20), V3::Zero());
+    INFO(id << " plunged 20 mm: gap " << through.gap_mm);
+    CHECK(through.gap_mm == doctest::Approx(-15 - shape.rho_mm).epsilon(1e-4));
+    CHECK(through.depth_at_least);
     // The flank 3 mm into the wall x = 100, the tip 15 mm down.
     const part::Contact w = pm.contact(shape, V3(100 + R - 3, 50, -15), V3(-R, 0, 4));
     INFO(id << " flank in the wall: gap " << w.gap_mm);
     CHECK(w.gap_mm == doctest::Approx(-3).epsilon(1e-6));
     CHECK(angle_deg(w.normal, V3::UnitX()) < 1e-6);
+    CHECK_FALSE(w.depth_at_least);
   }
 }
 

@@ -193,6 +193,15 @@ TEST_CASE("gouge check: the pocket program against the block without the pocket 
     INFO(r.err);
     CHECK(r.err.find("cuts 12.0000 mm into the part model") != std::string::npos);
   }
+  // Down to Z-20 in the 30 mm block the depth below the nearest face is at most
+  // 15 mm (+ the 0.2 mm corner): a bound, and the warning says so.
+  std::string deeper = pocket_program;
+  deeper.replace(deeper.find("Z-12."), 5, "Z-20.");
+  test::write_file(tmp / "deeper.nc", deeper);
+  const test::CliResult r = test::run_cli({"check", tmp / "deeper.nc", "--part", tmp / "block.stl"});
+  INFO(r.err);
+  CHECK(r.err.find("cuts at least 15.2000 mm into the part model here (through more than half the part's thickness "
+                   "there)") != std::string::npos);
 }
 
 }  // TEST_SUITE

@@ -55,6 +55,10 @@ struct Contact {
   V3 normal = V3::UnitZ();   // outward unit normal of the part at point_mm
   double gap_mm = 0;         // > 0: the cutter stands off the part; < 0: it cuts into it, by -gap_mm
   bool on_face = true;       // inside a facet or on a smooth edge (not a crease)
+  // -gap_mm only bounds the depth from below: the core's deepest point lies
+  // midway between faces of the part (the cutter through more than half its
+  // thickness), where the depth below the nearest surface stops growing.
+  bool depth_at_least = false;
 };
 
 struct PartOptions {
