@@ -211,10 +211,14 @@ void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceT
     for (std::size_t i = 0; i < l.size() && i < 12; ++i) s += (i ? ", " : "") + std::to_string(l[i]);
     return l.size() > 12 ? s + ", ..." : s;
   };
-  char buf[160];
+  char buf[256];
   if (g.overcut.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %.4f mm into the part model here, the deepest of %s "
-                  "beyond the %.4f mm gap", g.overcut.worst_mm, plural(g.overcut.points, "CL point").c_str(), gap_mm);
+    // The depth of a cutter through more than half the part is only a lower bound (part::Contact).
+    const char* bound = g.overcut.worst_at_least ? "at least " : "";
+    const char* why = g.overcut.worst_at_least ? " (through more than half the part's thickness there)" : "";
+    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %s%.4f mm into the part model here%s, the deepest of %s "
+                  "beyond the %.4f mm gap", bound, g.overcut.worst_mm, why, plural(g.overcut.points, "CL point").c_str(),
+                  gap_mm);
     diags.report(Severity::warning, line_of(g.overcut.worst_line), g.overcut.worst_line, 1,
                  std::string(buf) + " (" + plural(g.overcut.lines.size(), "line") + ": " + lines(g.overcut.lines) + ")");
   }

@@ -8,12 +8,13 @@ using V3 = Eigen::Vector3d;
 
 namespace {
 
-void note(GapSide& g, std::uint32_t line, double gap_mm) {
+void note(GapSide& g, std::uint32_t line, double gap_mm, bool at_least = false) {
   ++g.points;
   if (g.lines.empty() || g.lines.back() != line) g.lines.push_back(line);
   if (std::fabs(gap_mm) > g.worst_mm) {
     g.worst_mm = std::fabs(gap_mm);
     g.worst_line = line;
+    g.worst_at_least = at_least;
   }
 }
 
@@ -51,7 +52,7 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
       if (d.norm() > 1e-9) feed = d.normalized();
       const part::Contact c = nearest(part, it->second, tip, feed);
       ++g.points;
-      if (c.gap_mm < -gap_mm) note(g.overcut, m.line, c.gap_mm);
+      if (c.gap_mm < -gap_mm) note(g.overcut, m.line, c.gap_mm, c.depth_at_least);
       else if (c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face) note(g.standoff, m.line, c.gap_mm);
     }
   }
@@ -67,6 +68,7 @@ void merge(PartGaps& into, const PartGaps& piece) {
     if (b.worst_mm > a.worst_mm) {  // the earlier on a tie, as note() keeps it
       a.worst_mm = b.worst_mm;
       a.worst_line = b.worst_line;
+      a.worst_at_least = b.worst_at_least;
     }
   };
   side(into.overcut, piece.overcut);

@@ -62,6 +62,8 @@ struct PartModel::Impl {
 
   void build(const std::vector<stock::Triangle>& tris, double crease_deg);
   Contact closest(const V3& p) const;
+  // The contact of the core point deepest in the part, from `best` on (see contact()).
+  Contact deepest(const CutterShape& s, const V3& tip_mm, Contact best) const;
 };
 
 void PartModel::Impl::build(const std::vector<stock::Triangle>& tris, double crease_deg) {
@@ -215,30 +217,74 @@ std::size_t PartModel::triangles() const { return impl_->face.size(); }
 
 Contact PartModel::closest(const V3& p) const { return impl_->closest(p); }
 
-Contact PartModel::contact(const CutterShape& s, const V3& tip_mm, const V3& hint) const {
-  // The core point nearest to x (the core is a solid cylinder about the axis).
-  auto project = [&](const V3& x) {
-    V3 k = x - tip_mm;
-    k.z() = std::clamp(k.z(), s.core_bottom_mm, s.core_top_mm);
-    const double r = std::hypot(k.x(), k.y());
-    if (r > s.core_radius_mm) {
-      const double f = r > 0 ? s.core_radius_mm / r : 0.0;
-      k.x() *= f;
-      k.y() *= f;
-    }
-    return V3(tip_mm + k);
+namespace {
+
+// The core point nearest to x (the core is a solid cylinder about the axis).
+V3 core_point(const CutterShape& s, const V3& tip_mm, const V3& x) {
+  V3 k = x - tip_mm;
+  k.z() = std::clamp(k.z(), s.core_bottom_mm, s.core_top_mm);
+  const double r = std::hypot(k.x(), k.y());
+  if (r > s.core_radius_mm) {
+    const double f = r > 0 ? s.core_radius_mm / r : 0.0;
+    k.x() *= f;
+    k.y() *= f;
+  }
+  return tip_mm + k;
+}
+
+}  // namespace
+
+// Where the core enters the part, the pair of closest points meets on the
+// surface and |k - q| - rho says only -rho (0.2 mm for a flat D10), however
+// deep the cutter is. The depth of the cutter is then that of its deepest core
+// point below the part's nearest surface, plus rho: the distance that point
+// must travel to leave the part, so a lower bound on the translation that frees
+// the whole cutter (the penetration depth, Cameron & Culley, ICRA 1986), and
+// equal to it for a plunge into a face or a flank into a wall. The depth below
+// the surface is 1-Lipschitz and grows fastest along minus the part's outward
+// normal at the nearest point: from the deepest of a few core points (bottom
+// and flank, centre and rim) it climbs by projected steps along that direction.
+Contact PartModel::Impl::deepest(const CutterShape& s, const V3& tip_mm, Contact best) const {
+  V3 k = best.point_mm;
+  auto try_point = [&](const V3& x) {
+    const Contact c = closest(x);
+    if (c.gap_mm >= best.gap_mm) return false;
+    best = c;
+    k = x;
+    return true;
   };
+  for (int h = 0; h <= 4; ++h) {
+    const double z = s.core_bottom_mm + 0.25 * h * (s.core_top_mm - s.core_bottom_mm);
+    try_point(tip_mm + V3(0, 0, z));
+    for (int a = 0; a < 8 && s.core_radius_mm > 0; ++a) {
+      const double t = a * std::numbers::pi / 4;
+      try_point(tip_mm + V3(s.core_radius_mm * std::cos(t), s.core_radius_mm * std::sin(t), z));
+    }
+  }
+  double step = std::max(0.5, -best.gap_mm);
+  for (int it = 0; it < 64 && step > 1e-4; ++it)
+    if (!try_point(core_point(s, tip_mm, k - step * best.normal))) step *= 0.5;
+  // Stopped inside the core rather than at its end: midway between faces.
+  const V3 beyond = k - 1e-3 * best.normal;
+  best.depth_at_least = (core_point(s, tip_mm, beyond) - beyond).norm() < 1e-9;
+  return best;
+}
+
+Contact PartModel::contact(const CutterShape& s, const V3& tip_mm, const V3& hint) const {
   // Alternating projections: core -> part -> core ... the distance between the
   // pair decreases at each step (the core is convex), to the contact on the
   // hint's side.
-  V3 k = project(tip_mm + hint);
+  V3 k = core_point(s, tip_mm, tip_mm + hint);
   Contact c;
   for (int it = 0; it < 24; ++it) {
     c = impl_->closest(k);
-    const V3 next = project(c.point_mm);
+    const V3 next = core_point(s, tip_mm, c.point_mm);
     if ((next - k).norm() < 1e-7) break;
     k = next;
   }
+  // The core on or in the part (a ball's core is a point: its signed distance
+  // is already the depth).
+  if (c.gap_mm < 1e-6 && (s.core_radius_mm > 0 || s.core_top_mm > s.core_bottom_mm)) c = impl_->deepest(s, tip_mm, c);
   c.gap_mm -= s.rho_mm;
   return c;
 }

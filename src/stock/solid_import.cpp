@@ -24,6 +24,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <utility>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stock/build.hpp"
@@ -38,12 +39,20 @@ std::string lower_extension(const std::string& path) {
   return e;
 }
 
-void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, std::vector<Triangle>& out) {
+// A face's triangulation is wound by its surface's parametrisation (the
+// normal du x dv), which is the solid's outward side only where the face is
+// FORWARD in the shell: a REVERSED face (the pocket's floor and walls after
+// BRepAlgoAPI_Cut, half the faces of a box) is flipped here, as OCCT's own
+// StlAPI_Writer::Write does (StlAPI_Writer.cxx, OCCT 7.6). The upper envelope
+// of the stock does not see the winding; the part model's inside and outside
+// do (src/part/part.cpp).
+void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, bool reversed, std::vector<Triangle>& out) {
   if (tri.IsNull()) return;
   out.reserve(out.size() + static_cast<std::size_t>(tri->NbTriangles()));
   for (Standard_Integer k = 1; k <= tri->NbTriangles(); ++k) {
     Standard_Integer n[3];
     tri->Triangle(k).Get(n[0], n[1], n[2]);
+    if (reversed) std::swap(n[1], n[2]);
     Triangle t;
     for (int v = 0; v < 3; ++v) {
       gp_Pnt p = tri->Node(n[v]);
@@ -104,9 +113,10 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
     BRepMesh_IncrementalMesh mesh(shape, mesh_deflection_mm, false, 0.2, false);
     for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
       TopLoc_Location loc;
-      const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(TopoDS::Face(ex.Current()), loc);
+      const TopoDS_Face& face = TopoDS::Face(ex.Current());
+      const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
       const gp_Trsf trsf = loc.Transformation();
-      append(tri, loc.IsIdentity() ? nullptr : &trsf, out);
+      append(tri, loc.IsIdentity() ? nullptr : &trsf, face.Orientation() == TopAbs_REVERSED, out);
     }
   } catch (const Standard_Failure& e) {
     throw Error(Exit::io, path + ": OpenCASCADE: " + e.GetMessageString());

@@ -73,6 +73,19 @@ V3 ball_tip(const Surface& s, double u, double v, double R) {
   return V3(u, v, s.f(u, v)) + R * s.normal(u, v) - R * V3::UnitZ();
 }
 
+// The closed box lo..hi as triangles, counter-clockwise seen from outside.
+std::vector<stock::Triangle> box_triangles(const V3& lo, const V3& hi) {
+  std::vector<stock::Triangle> t;
+  auto corner = [&](int i) { return std::array<double, 3>{i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z()}; };
+  // Each face's corners in order round its outward normal.
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : faces) {
+    t.push_back({{corner(f[0]), corner(f[1]), corner(f[2])}});
+    t.push_back({{corner(f[0]), corner(f[2]), corner(f[3])}});
+  }
+  return t;
+}
+
 std::vector<Surface> analytic() { return {plane_across(0), plane_across(20), plane_across(45), sphere(30), cylinder_along_x(25)}; }
 
 }  // namespace
@@ -136,6 +149,37 @@ TEST_CASE("part model: flat and bull-nose flank and floor contacts") {
     const part::Contact f = pm.contact(shape, V3(12, 0, -0.03), V3::Zero());
     CHECK(angle_deg(f.normal, V3::UnitZ()) < 1e-6);
     CHECK(f.gap_mm == doctest::Approx(-0.03).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("part model: a flat or bull-nose end buried in a block: the gap is minus its depth, not minus its corner") {
+  // The block x, y in [0, 100], z in [-30, 0]: its top's outward normal +Z, the wall x = 100's +X.
+  const part::PartModel pm(box_triangles(V3(0, 0, -30), V3(100, 100, 0)));
+  const stiffness::ToolLibrary lib = stiffness::load_tool_library("samples/tools.yaml");
+  for (const std::string id : {"T1", "T2"}) {  // flat D10, bull D12 r1
+    const stiffness::Tool& t = lib.tools.at(id);
+    const part::CutterShape shape = part::cutter_shape(t);
+    const double R = 0.5 * t.diameter_mm;
+    // Plunged straight down into the top, from less than the corner to 12 mm.
+    for (double depth_mm : {0.1, 0.5, 3.0, 12.0}) {
+      const part::Contact c = pm.contact(shape, V3(50, 50, -depth_mm), V3::Zero());
+      INFO(id << " plunged " << depth_mm << " mm: gap " << c.gap_mm);
+      CHECK(c.gap_mm == doctest::Approx(-depth_mm).epsilon(1e-6));
+      CHECK(angle_deg(c.normal, V3::UnitZ()) < 1e-6);
+      CHECK_FALSE(c.depth_at_least);
+    }
+    // 20 mm down a 30 mm block: the core's deepest point is 15 mm from the top
+    // and from the bottom, and the depth says it is a bound.
+    const part::Contact through = pm.contact(shape, V3(50, 50, -20), V3::Zero());
+    INFO(id << " plunged 20 mm: gap " << through.gap_mm);
+    CHECK(through.gap_mm == doctest::Approx(-15 - shape.rho_mm).epsilon(1e-4));
+    CHECK(through.depth_at_least);
+    // The flank 3 mm into the wall x = 100, the tip 15 mm down.
+    const part::Contact w = pm.contact(shape, V3(100 + R - 3, 50, -15), V3(-R, 0, 4));
+    INFO(id << " flank in the wall: gap " << w.gap_mm);
+    CHECK(w.gap_mm == doctest::Approx(-3).epsilon(1e-6));
+    CHECK(angle_deg(w.normal, V3::UnitX()) < 1e-6);
+    CHECK_FALSE(w.depth_at_least);
   }
 }
 

@@ -24,6 +24,7 @@ struct GapSide {
   std::size_t points = 0;            // CL samples beyond the gap
   std::vector<std::uint32_t> lines;  // their lines, each once, in program order
   double worst_mm = 0;               // largest |gap| among them
+  bool worst_at_least = false;       // worst_mm bounds the depth from below (part::Contact::depth_at_least)
   std::uint32_t worst_line = 0;
 };
 

@@ -12,7 +12,10 @@
 //                              cutter's corner.
 // The contact is the part point q closest to the core; the gap (signed
 // distance from the cutter surface to the part, mm) is |k - q| - rho for the
-// core point k closest to q; the normal is the part's outward normal at q. The
+// core point k closest to q; where the core itself enters the part (a cut
+// deeper than rho), minus the depth of the core's deepest point below the
+// part's nearest surface, minus rho, and q is that point's nearest part point.
+// The normal is the part's outward normal at q. The
 // pair (k, q) is found by alternating projections (core convex, mesh through a
 // CGAL AABB tree), starting from the core point on the side the caller expects
 // the contact (the hint), which converges to the contact on that side.
@@ -50,8 +53,12 @@ struct Contact {
   bool found = false;
   V3 point_mm = V3::Zero();  // on the part
   V3 normal = V3::UnitZ();   // outward unit normal of the part at point_mm
-  double gap_mm = 0;         // > 0: the cutter stands off the part; < 0: it cuts into it
+  double gap_mm = 0;         // > 0: the cutter stands off the part; < 0: it cuts into it, by -gap_mm
   bool on_face = true;       // inside a facet or on a smooth edge (not a crease)
+  // -gap_mm only bounds the depth from below: the core's deepest point lies
+  // midway between faces of the part (the cutter through more than half its
+  // thickness), where the depth below the nearest surface stops growing.
+  bool depth_at_least = false;
 };
 
 struct PartOptions {
