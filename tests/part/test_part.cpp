@@ -86,6 +86,19 @@ std::vector<stock::Triangle> box_triangles(const V3& lo, const V3& hi) {
   return t;
 }
 
+// The tip of a drop-cutter ball of radius R whose centre lies over (x, y),
+// and the surface's normal at its contact (u, v), found by fixed-point
+// iteration: (u, v) = (x, y) - R n_xy(u, v).
+std::pair<V3, V3> drop_tip(const Surface& s, double x, double y, double R) {
+  double u = x, v = y;
+  for (int it = 0; it < 100; ++it) {
+    const V3 n = s.normal(u, v);
+    u = x - R * n.x();
+    v = y - R * n.y();
+  }
+  return {ball_tip(s, u, v, R), s.normal(u, v)};
+}
+
 std::vector<Surface> analytic() { return {plane_across(0), plane_across(20), plane_across(45), sphere(30), cylinder_along_x(25)}; }
 
 }  // namespace
@@ -186,17 +199,7 @@ TEST_CASE("part model: a flat or bull-nose end buried in a block: the gap is min
 TEST_CASE("path normals: fitted through the tip points of a raster, within 2 deg of the analytic normal") {
   const double R = 5, step = 1.0, spacing = 0.5;
   for (const Surface& s : analytic()) {
-    // The tip points of a drop-cutter raster along X: the contact (u, v) that
-    // puts the ball's centre over (x, y) is found by fixed-point iteration.
-    auto tip_at = [&](double x, double y) {
-      double u = x, v = y;
-      for (int it = 0; it < 100; ++it) {
-        const V3 n = s.normal(u, v);
-        u = x - R * n.x();
-        v = y - R * n.y();
-      }
-      return std::pair{ball_tip(s, u, v, R), s.normal(u, v)};
-    };
+    auto tip_at = [&](double x, double y) { return drop_tip(s, x, y, R); };
     std::vector<V3> tips;
     for (double y = -8; y <= 8 + 1e-9; y += step)
       for (double x = -8; x <= 8 + 1e-9; x += spacing) tips.push_back(tip_at(x, y).first);
@@ -227,15 +230,7 @@ TEST_CASE("path normals on the edge passes of a raster: determined by the points
   const double R = 5, spacing = 0.5;
   for (double step : {0.8, 2.0, 3.0})
     for (const Surface& s : analytic()) {
-      auto tip_at = [&](double x, double y) {
-        double u = x, v = y;
-        for (int it = 0; it < 100; ++it) {
-          const V3 n = s.normal(u, v);
-          u = x - R * n.x();
-          v = y - R * n.y();
-        }
-        return std::pair{ball_tip(s, u, v, R), s.normal(u, v)};
-      };
+      auto tip_at = [&](double x, double y) { return drop_tip(s, x, y, R); };
       std::vector<V3> tips;
       const int passes = static_cast<int>(std::floor(16 / step)) + 1;
       for (int k = 0; k < passes; ++k)
