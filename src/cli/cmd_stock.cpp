@@ -14,23 +14,23 @@ namespace deflex::cli {
 int cmd_stock(const std::vector<std::string>& args, Io& io) {
   ReadOptions read;
   std::string stock_given, tool_file, output;
-  std::vector<std::string> stock_from;
+  std::vector<EarlierOp> stock_from;
   double cell_mm = 0.05, tol_mm = 0.001, cl_spacing_mm = 0.5;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
       "output,o", po::value(&output), "the stock to write (atomically): FILE.zmap, every cell's height; any other name, a binary STL")(
       "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid or a .zmap (default: config stock)")(
-      "stock-from", po::value(&stock_from)->composing(), "an earlier program swept into the stock with its own tools; repeat, in order")(
       "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
       "cell-mm", po::value(&cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
       "mesh-tolerance", po::value(&tol_mm)->default_value(0.001, "0.001"),
       "largest height difference merged into one flat patch of the STL, mm (0: only exactly flat cells)");
+  add_stock_from_options(desc, stock_from);
   add_read_options(desc, read);
   std::vector<std::string> none;
   parse_with_files(args, desc, none, 0);
   if (help) {
-    print_help(io.out, "deflex stock [--stock S] [--stock-from A.nc ...] -o rest.zmap|rest.stl",
+    print_help(io.out, "deflex stock [--stock S] [--stock-from A.nc [--stock-from-tools LIB] ...] -o rest.zmap|rest.stl",
                "Builds the stock - a box or a solid, then each earlier program swept into it\n"
                "with its own tools from the tool library, geometry only - and writes it.\n"
                "-o rest.zmap: the Z-map itself, every cell's height exactly, compressed\n"
@@ -50,12 +50,11 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
   const Setup s = resolve_with_machine(read);
   const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-  std::vector<std::vector<interp::Motion>> earlier;
-  for (const std::string& f : stock_from) earlier.push_back(read_earlier(f, s, lib, io));
+  const std::vector<EarlierRun> earlier = read_earlier_all(stock_from, s, lib, io);
   stock::SolidOptions so;
   so.cell_mm = cell_mm;
   stock::ZMap z = stock::make_stock(spec, so);
-  for (const auto& m : earlier) sweep_earlier(m, z, lib, cl_spacing_mm);
+  sweep_earlier_all(earlier, z, lib, cl_spacing_mm);
   const stock::GridSpec& g = z.grid();
   if (stock::is_zmap_path(output)) {
     writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });
