@@ -46,7 +46,7 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
-      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, or auto[:MARGIN] "
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, a .zmap (deflex stock), or auto[:MARGIN] "
                                      "(a blank box round the cutting moves and the tool, MARGIN mm beyond them, default 1; "
                                      "its top at the highest cutting point) (default: config stock)")
       ("job", po::value(&a.job), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it");
