@@ -24,7 +24,7 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
       "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
       "cell-mm", po::value(&cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
       "mesh-tolerance", po::value(&tol_mm)->default_value(0.001, "0.001"),
-      "largest height difference merged into one flat patch of the STL, mm (0: only exactly flat cells)");
+      "how far the STL's surface may pass from a cell's height where triangles are merged, mm (0: only exactly flat or planar cells)");
   add_stock_from_options(desc, stock_from);
   add_read_options(desc, read);
   std::vector<std::string> none;
