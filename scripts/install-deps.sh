@@ -12,7 +12,7 @@ set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev libjs-three libjs-dygraphs help2man"
+libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-three libjs-dygraphs help2man"
 for a in "$@"; do
   case "$a" in
     --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion" ;;

@@ -56,7 +56,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
       "rough-tool", po::value(&rough_tool), "the cutter of the generated program, from the tool library (T<n>; required)")(
       "tool", po::value(&finish_tool), "the finishing program's tool for every cut (default: its T words)")(
       "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
-      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")(
+      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid or a .zmap (default: config stock)")(
       "allowance", po::value(&o.allowance_mm)->default_value(0.5, "0.5"), "material left over the finished surface, along its normal, mm")(
       "stepdown", po::value<double>()->notifier([&](double v) { stepdown = v; }),
       "largest depth of one level, mm (default: half the tool diameter; 0: one pass on the floor, a semi-finish)")(

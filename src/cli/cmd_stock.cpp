@@ -1,9 +1,11 @@
-// deflex stock: the stock after earlier operations, as a closed binary STL
-// (stock/mesh_out.hpp) for the next operation, a CAM system or a viewer.
+// deflex stock: the stock after earlier operations, as a .zmap (every cell's
+// height, compact: stock/zmap_file.hpp) for the next operation, or as a closed
+// binary STL (stock/mesh_out.hpp) for a CAM system or a viewer.
 #include <sstream>
 
 #include "common.hpp"
 #include "deflex/stock/mesh_out.hpp"
+#include "deflex/stock/zmap_file.hpp"
 #include "deflex/writer/writer.hpp"
 #include "job.hpp"
 
@@ -12,50 +14,57 @@ namespace deflex::cli {
 int cmd_stock(const std::vector<std::string>& args, Io& io) {
   ReadOptions read;
   std::string stock_given, tool_file, output;
-  std::vector<std::string> stock_from;
+  std::vector<EarlierOp> stock_from;
   double cell_mm = 0.05, tol_mm = 0.001, cl_spacing_mm = 0.5;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
-      "output,o", po::value(&output), "the STL to write (binary; atomically)")(
-      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame) or an STL/STEP/IGES solid (default: config stock)")(
-      "stock-from", po::value(&stock_from)->composing(), "an earlier program swept into the stock with its own tools; repeat, in order")(
+      "output,o", po::value(&output), "the stock to write (atomically): FILE.zmap, every cell's height; any other name, a binary STL")(
+      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid or a .zmap (default: config stock)")(
       "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
       "cell-mm", po::value(&cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
       "mesh-tolerance", po::value(&tol_mm)->default_value(0.001, "0.001"),
-      "largest height difference merged into one flat patch of the STL, mm (0: only exactly flat cells)");
+      "how far the STL's surface may pass from a cell's height where triangles are merged, mm (0: only exactly flat or planar cells)");
+  add_stock_from_options(desc, stock_from);
   add_read_options(desc, read);
   std::vector<std::string> none;
   parse_with_files(args, desc, none, 0);
   if (help) {
-    print_help(io.out, "deflex stock [--stock S] [--stock-from A.nc ...] -o rest.stl",
+    print_help(io.out, "deflex stock [--stock S] [--stock-from A.nc [--stock-from-tools LIB] ...] -o rest.zmap|rest.stl",
                "Builds the stock - a box or a solid, then each earlier program swept into it\n"
-               "with its own tools from the tool library, geometry only - and writes it as a\n"
-               "closed binary STL: the top through the cell centres, walls, a flat bottom\n"
-               "0.01 mm under the stock's base. Flat regions are merged into large triangles\n"
-               "within --mesh-tolerance; the surface is within it of every cell's height.\n"
-               "`--stock rest.stl` of a later run reads it back.\n",
+               "with its own tools from the tool library, geometry only - and writes it.\n"
+               "-o rest.zmap: the Z-map itself, every cell's height exactly, compressed\n"
+               "(docs/zmap.md); `--stock rest.zmap` of a later run reads it back in well\n"
+               "under a second. Any other name: a closed binary STL for a viewer or a CAM\n"
+               "system: the top through the cell centres, walls, a flat bottom 0.01 mm under\n"
+               "the stock's base. Flat regions are merged into large triangles within\n"
+               "--mesh-tolerance; the surface is within it of every cell's height.\n",
                desc);
     return 0;
   }
-  if (output.empty() || output == "-") throw Error(Exit::usage, "stock: -o FILE.stl is required (the STL is binary)");
+  if (output.empty() || output == "-")
+    throw Error(Exit::usage, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
   writer::check_output_path(output, "");
   if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(Exit::usage, "--mesh-tolerance must be in [0, 10] mm");
   if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
   const Setup s = resolve_with_machine(read);
   const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-  std::vector<std::vector<interp::Motion>> earlier;
-  for (const std::string& f : stock_from) earlier.push_back(read_earlier(f, s, lib, io));
+  const std::vector<EarlierRun> earlier = read_earlier_all(stock_from, s, lib, io);
   stock::SolidOptions so;
   so.cell_mm = cell_mm;
   stock::ZMap z = stock::make_stock(spec, so);
-  for (const auto& m : earlier) sweep_earlier(m, z, lib, cl_spacing_mm);
+  sweep_earlier_all(earlier, z, lib, cl_spacing_mm);
+  const stock::GridSpec& g = z.grid();
+  if (stock::is_zmap_path(output)) {
+    writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });
+    io.err << output << ": " << g.nx << " x " << g.ny << " cells of " << g.cell_mm << " mm, every height as computed\n";
+    return 0;
+  }
   const std::vector<stock::Triangle> tris = stock::zmap_mesh(z, tol_mm);
   writer::write_file_atomically(output, "", [&](std::ostream& o) {
     stock::write_binary_stl(o, tris, "deflex stock: " + spec);
   });
-  const stock::GridSpec& g = z.grid();
   io.err << output << ": " << tris.size() << " triangles (" << 2.0 * (g.nx + 1.0) * (g.ny + 1.0)
          << " for the full grid of " << g.nx << " x " << g.ny << " cells of " << g.cell_mm << " mm), within "
          << tol_mm << " mm of every cell\n";

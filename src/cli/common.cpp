@@ -116,7 +116,7 @@ void parse_with_files(const std::vector<std::string>& args, const po::options_de
   std::vector<std::string> inputs = words ? std::vector<std::string>() : files;
   // The options that name a file deflex reads (--machine and --dialect name
   // one by a name as often as by a path: left out).
-  for (const char* o : {"stock", "stock-from", "part", "reference", "job", "config", "tool-file", "material-file"}) {
+  for (const char* o : {"stock", "stock-from", "stock-from-tools", "part", "reference", "job", "config", "tool-file", "material-file"}) {
     if (!vm.count(o)) continue;
     const boost::any& v = vm[o].value();
     if (const auto* one = boost::any_cast<std::string>(&v)) inputs.push_back(*one);

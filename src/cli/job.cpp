@@ -46,12 +46,12 @@ void describe(po::options_description& d, Args& a, bool compensating) {
       ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
       ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
       ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
-      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, or auto[:MARGIN] "
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, a .zmap (deflex stock), or auto[:MARGIN] "
                                      "(a blank box round the cutting moves and the tool, MARGIN mm beyond them, default 1; "
                                      "its top at the highest cutting point) (default: config stock)")
-      ("job", po::value(&a.job), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it")
-      ("stock-from", po::value(&a.stock_from)->composing(),
-       "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; repeat for several, in order")
+      ("job", po::value(&a.job), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it");
+  add_stock_from_options(d, a.stock_from);
+  d.add_options()
       ("tolerance", opt(a.tolerance), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
       ("report", po::value(&a.report), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
@@ -240,60 +240,6 @@ void check_stock_reached(const Job& j, const Args& a, Diagnostics& diags) {
 
 }  // namespace
 
-std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
-                                         Io& io, const std::string& tool_override) {
-  if (file == "-") throw Error(Exit::usage, "--stock-from takes files (standard input is the program's)");
-  const gcode::Program prog(gcode::read_source(file, &io.in));
-  Diagnostics diags(&io.err, setup.max_errors);
-  std::vector<interp::Motion> motions;
-  Collect c;
-  c.out = &motions;
-  interp::interpret(prog, setup.interp(), diags, c);
-  for (const interp::Motion& m : motions) interp::check_travel(m, setup.machine->travel, prog.source(), diags);
-  for (const interp::Motion& m : motions) {
-    if (diags.errors()) break;
-    if (m.kind == interp::MotionKind::rapid) continue;
-    const bool no_tool = m.tool == 0 && tool_override.empty();
-    const std::string id = !tool_override.empty() ? tool_override : "T" + std::to_string(m.tool);
-    if (no_tool || !lib.tools.count(id)) {
-      diags.report(Severity::error, prog.source(), m.line, 1,
-                   (no_tool ? std::string("cutting with no tool selected (T.. M6)")
-                            : "tool " + id + " is not in the tool library " + lib.file) +
-                       ": an earlier operation sweeps the stock with its own tools");
-      throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
-    }
-  }
-  if (diags.errors())
-    throw Error(Exit::input, prog.source().name() + ": error: the earlier operation has errors; nothing done");
-  return motions;
-}
-
-// Sweeps an earlier operation's motions into the job's stock with their own tools.
-void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
-                   double cl_spacing_mm, const std::string& tool_override) {
-  engage::PathOptions po;
-  po.cl_spacing_mm = cl_spacing_mm;
-  // Before the first tool change the tool is the one of the first cutting motion.
-  int first = 0;
-  for (const interp::Motion& m : motions)
-    if (m.tool) { first = m.tool; break; }
-  // A program with no tool at all has only rapids (read_earlier checked the
-  // cutting moves): nothing is known to sweep.
-  if (!first && tool_override.empty()) return;
-  // The profile looked up once per tool change, not per motion (a program of
-  // a million moves changes tools a few times).
-  int last = -1;
-  stock::ToolProfile profile;
-  engage::sweep_motions(z, motions, [&](const interp::Motion& m) {
-    const int t = m.tool ? m.tool : first;
-    if (t != last) {
-      profile = profile_of(lib.tools.at(!tool_override.empty() ? tool_override : "T" + std::to_string(t)));
-      last = t;
-    }
-    return profile;
-  }, po);
-}
-
 stock::ToolProfile profile_of(const stiffness::Tool& t) { return engage::tool_profile(force::cutter_of(t)); }
 
 void apply_job(Args& a, std::vector<std::string>& files) {
@@ -323,18 +269,14 @@ void apply_job(Args& a, std::vector<std::string>& files) {
     const std::string st = m.text("stock");
     a.stock = st.rfind("box:", 0) == 0 ? st : path(st);
   }
-  if (a.stock_from.empty() && m.has("stock_from")) {
-    const YAML::Node list = m.get("stock_from");
-    if (!list.IsSequence()) m.fail("stock_from", "stock_from is a list of programs, in the order they ran");
-    for (const YAML::Node& n : list) a.stock_from.push_back(path(yaml::text(n, "stock_from", file)));
-  }
+  if (a.stock_from.empty() && m.has("stock_from")) a.stock_from = earlier_of_job(m, path);
   text("part", a.part.part, true);
   if (!a.tolerance && m.has("tolerance_mm")) a.tolerance = m.number("tolerance_mm", yaml::Range::positive());
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);
   text("report", a.report, true);
   std::vector<std::string> inputs = files;
-  inputs.insert(inputs.end(), a.stock_from.begin(), a.stock_from.end());
+  for (const EarlierOp& e : a.stock_from) inputs.insert(inputs.end(), {e.program, e.tool_file});
   inputs.insert(inputs.end(), {a.stock, a.part.part, a.tool_file, a.mat.material_file});
   refuse_output_onto_input(inputs);  // the files the job names
 }
@@ -558,9 +500,8 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (compensating ? "nothing compensated, nothing written" : "not simulated"));
   // The earlier operations read and checked before any stock is built.
-  std::vector<std::vector<interp::Motion>> earlier;
-  if (!shared)
-    for (const std::string& f : a.stock_from) earlier.push_back(read_earlier(f, j.setup, j.physics.tools, io));
+  std::vector<EarlierRun> earlier;
+  if (!shared) earlier = read_earlier_all(a.stock_from, j.setup, j.physics.tools, io);
   j.stock_from = a.stock_from;
   if (!part.empty()) {
     j.part_spec = part;
@@ -575,7 +516,7 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
     if (stock.starts_with("auto")) j.stock_spec = auto_stock(stock, j, io);
     j.stock = std::make_unique<stock::ZMap>(stock::make_stock(j.stock_spec, so));
     j.physics.stock = j.stock.get();
-    for (const auto& m : earlier) sweep_earlier(m, *j.stock, j.physics.tools, st.cl_spacing_mm);
+    sweep_earlier_all(earlier, *j.stock, j.physics.tools, st.cl_spacing_mm);
   }
   check_stock_reached(j, a, diags);
   if (j.physics.part && a.reference.empty()) {
@@ -727,7 +668,7 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   p.emplace_back("tool library", j.physics.tools.file);
   p.emplace_back("material", j.material);
   p.emplace_back("stock", j.stock_spec);
-  for (const std::string& f : j.stock_from) p.emplace_back("stock from", f);
+  for (const EarlierOp& e : j.stock_from) p.emplace_back("stock from", earlier_text(e));
   p.emplace_back("part model", j.part_spec.empty() ? "none (normals fitted through the path, or from the travel)" : j.part_spec);
   p.emplace_back("tolerance", report_number(j.settings.tolerance_mm) + " mm");
   p.emplace_back("deflex", std::string(DEFLEX_VERSION " (git ") + revision() + ")");

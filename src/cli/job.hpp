@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common.hpp"
+#include "earlier.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/plausibility.hpp"
 #include "deflex/gcode/reader.hpp"
@@ -27,7 +28,7 @@ struct Args {
   MaterialOptions mat;
   PartOptions part;
   std::string file, output, reference, tool_file, tool, stock, report;
-  std::vector<std::string> stock_from;  // earlier operations swept into the stock, in order
+  std::vector<EarlierOp> stock_from;  // earlier operations swept into the stock, in order
   std::string job;                      // a job file: what the command line leaves out
   std::optional<double> tolerance, gain;
   double feed_limit_N = 0;
@@ -41,7 +42,7 @@ struct Args {
 struct Job {
   Setup setup;
   std::string material, stock_spec, part_spec;  // as given, for the report's provenance
-  std::vector<std::string> stock_from;           // the earlier operations swept into the stock
+  std::vector<EarlierOp> stock_from;             // the earlier operations swept into the stock
   gcode::Program prog;
   std::vector<interp::Motion> motions;
   compensate::Physics physics;
@@ -91,15 +92,6 @@ struct Collect : interp::MotionSink {
 void fill_cut_defaults(const Args& a, interp::Motion& m);
 // The options of compensate (compensating) or simulate/compare.
 void describe(po::options_description& d, Args& a, bool compensating);
-// An earlier operation (--stock-from): read and interpreted under `setup`,
-// its diagnostics naming its own file, checked (travel, every cutting motion's
-// tool in `lib`, or `tool_override` for every cut) before anything is
-// swept. Throws on any error.
-std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
-                                         Io& io, const std::string& tool_override = "");
-// Sweeps its motions into `z` with their own tools (or `tool_override`), geometry only.
-void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
-                   double cl_spacing_mm, const std::string& tool_override = "");
 // The setup of a run that needs a machine (travel, dialect): throws Error(usage) without one.
 Setup resolve_with_machine(const ReadOptions& r);
 // The stock a run starts from: `given` (--stock), else config.yaml's; throws Error(usage) when neither.

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/stock/zmap_file.hpp"
 
 namespace deflex::stock {
 
@@ -152,6 +153,7 @@ ZMap zmap_from_solid_file(const std::string& path, const SolidOptions& o) {
 
 ZMap make_stock(const std::string& spec, const SolidOptions& o) {
   if (spec.rfind("box:", 0) == 0) return zmap_from_box(parse_box(spec), o.cell_mm);
+  if (is_zmap_path(spec)) return zmap_from_file(spec, o.cell_mm);
   return zmap_from_solid_file(spec, o);
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <ostream>
+#include <span>
 
 #include "deflex/diag/diagnostics.hpp"
 
@@ -45,8 +46,57 @@ struct Stats {
   bool inside = true;  // the node lies within the quad grid
 };
 
-// Post-order quadtree: a node whose vertices lie within `tol` and whose four
-// children were leaves becomes one leaf.
+using Corner = std::pair<int, int>;  // a vertex of the grid
+
+// Whether the triangles `tris` (covering the square [i0, i0 + s]^2 of vertices)
+// pass within `limit` of every vertex height in it; stops at the first that does not.
+bool fits(const Vertices& v, int i0, int j0, int s, std::span<const std::array<Corner, 3>> tris, double limit) {
+  struct Plane {
+    std::array<double, 3> a, b, c;
+    double d;
+  };
+  std::array<Plane, 4> planes;
+  for (std::size_t k = 0; k < tris.size(); ++k) {
+    const auto& t = tris[k];
+    Plane& p = planes[k];
+    p.a = v.p(t[0].first, t[0].second), p.b = v.p(t[1].first, t[1].second), p.c = v.p(t[2].first, t[2].second);
+    p.d = (p.b[0] - p.a[0]) * (p.c[1] - p.a[1]) - (p.c[0] - p.a[0]) * (p.b[1] - p.a[1]);
+  }
+  for (int j = j0; j <= j0 + s; ++j)
+    for (int i = i0; i <= i0 + s; ++i) {
+      const double x = v.x(i), y = v.y(j);
+      for (std::size_t k = 0; k < tris.size(); ++k) {
+        const auto& [a, b, c, d] = planes[k];
+        const double l1 = ((x - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (y - a[1])) / d;
+        const double l2 = ((b[0] - a[0]) * (y - a[1]) - (x - a[0]) * (b[1] - a[1])) / d;
+        if (l1 < -1e-9 || l2 < -1e-9 || l1 + l2 > 1 + 1e-9) continue;
+        if (std::fabs((1 - l1 - l2) * a[2] + l1 * b[2] + l2 * c[2] - v.h(i, j)) > limit) return false;
+        break;
+      }
+    }
+  return true;
+}
+
+// Whether a square of s >= 2 quads may be one leaf. Its triangles are two
+// (split along the diagonal from (i0, j0)) where no neighbour puts a vertex on
+// its sides, else a fan from its centre through every vertex on them. Flat
+// within `tol`: any triangles over its vertices stay in that band. Else both
+// forms must fit: the split within `tol`; the fan within tol / 2, because a
+// vertex p a neighbour adds on a side lies within tol / 2 of the fan, and the
+// finer fan differs from the coarse one by a function linear on each new
+// triangle, zero at the centre and the corners, at most |h(p) - fan(p)| at p:
+// within tol / 2 + tol / 2 of every height. So sloped and gently curved
+// surfaces merge too, not only level ones.
+bool one_leaf(const Vertices& v, int i0, int j0, int s, double lo, double hi, double tol) {
+  if (hi - lo <= tol) return true;
+  const Corner a{i0, j0}, b{i0 + s, j0}, c{i0 + s, j0 + s}, d{i0, j0 + s}, m{i0 + s / 2, j0 + s / 2};
+  const std::array<std::array<Corner, 3>, 2> split{{{a, b, c}, {a, c, d}}};
+  const std::array<std::array<Corner, 3>, 4> fan{{{m, a, b}, {m, b, c}, {m, c, d}, {m, d, a}}};
+  return fits(v, i0, j0, s, split, tol) && fits(v, i0, j0, s, fan, tol / 2);
+}
+
+// Post-order quadtree: a node whose four children were leaves becomes one
+// leaf where one_leaf() allows it.
 Stats build(const Vertices& v, int i0, int j0, int s, double tol, std::vector<Leaf>& leaves) {
   const int qx = v.vx - 1, qy = v.vy - 1;
   Stats st;
@@ -72,7 +122,8 @@ Stats build(const Vertices& v, int i0, int j0, int s, double tol, std::vector<Le
     st.hi = std::max(st.hi, c.hi);
     st.inside = st.inside && c.inside;
   }
-  if (st.inside && i0 + s <= qx && j0 + s <= qy && st.hi - st.lo <= tol && leaves.size() == before + 4) {
+  if (st.inside && i0 + s <= qx && j0 + s <= qy && leaves.size() == before + 4 &&
+      one_leaf(v, i0, j0, s, st.lo, st.hi, tol)) {
     leaves.resize(before);
     leaves.push_back({i0, j0, s});
   }

@@ -38,6 +38,25 @@ ZMap cut_box() {
 using Key = std::tuple<float, float, float>;
 Key key(const std::array<double, 3>& p) { return {float(p[0]), float(p[1]), float(p[2])}; }
 
+// Read back through deflex's STL reader at the same cell: the same grid, and
+// the largest difference of a cell's height from the Z-map's.
+double worst_read_back(const ZMap& z, const std::vector<Triangle>& tris) {
+  const fs::path f = fs::temp_directory_path() / ("deflex-mesh-" + std::to_string(::getpid()) + ".stl");
+  {
+    std::ofstream o(f, std::ios::binary);
+    write_binary_stl(o, tris, "test");
+  }
+  const ZMap back = zmap_from_triangles(read_stl(f.string()), z.grid().cell_mm);
+  fs::remove(f);
+  REQUIRE(back.grid().nx == z.grid().nx);
+  REQUIRE(back.grid().ny == z.grid().ny);
+  CHECK(back.grid().x0_mm == Approx(z.grid().x0_mm).epsilon(1e-6));
+  double worst = 0;
+  for (int j = 0; j < z.grid().ny; ++j)
+    for (int i = 0; i < z.grid().nx; ++i) worst = std::max(worst, std::fabs(double(back.at(i, j)) - z.at(i, j)));
+  return worst;
+}
+
 }  // namespace
 
 TEST_SUITE("stock") {
@@ -65,21 +84,7 @@ TEST_SUITE("stock") {
       for (int j = 0; j < z.grid().ny; ++j)
         for (int i = 0; i < z.grid().nx; ++i) cells += (z.at(i, j) - (-5.01)) * 0.01;
       CHECK(vol == Approx(cells).epsilon(0.002));
-      // Read back through deflex's STL reader at the same cell: the same grid, each height within tol.
-      const fs::path f = fs::temp_directory_path() / ("deflex-mesh-" + std::to_string(::getpid()) + ".stl");
-      {
-        std::ofstream o(f, std::ios::binary);
-        write_binary_stl(o, tris, "test");
-      }
-      const ZMap back = zmap_from_triangles(read_stl(f.string()), 0.1);
-      fs::remove(f);
-      REQUIRE(back.grid().nx == z.grid().nx);
-      REQUIRE(back.grid().ny == z.grid().ny);
-      CHECK(back.grid().x0_mm == Approx(z.grid().x0_mm).epsilon(1e-6));
-      double worst = 0;
-      for (int j = 0; j < z.grid().ny; ++j)
-        for (int i = 0; i < z.grid().nx; ++i) worst = std::max(worst, std::fabs(double(back.at(i, j)) - z.at(i, j)));
-      CHECK(worst <= tol + 2e-5);  // + float rounding of the STL
+      CHECK(worst_read_back(z, tris) <= tol + 2e-5);  // + float rounding of the STL
     }
     // Flat regions merge. The full grid is 2 x 201 x 101 triangles on top; the
     // untouched box needs under a tenth of that (the quadtree's leaves stay small
@@ -88,6 +93,31 @@ TEST_SUITE("stock") {
     const double full = 2.0 * 201 * 101;
     CHECK(zmap_mesh(make_stock("box:0,0,-5,20,10,0", {0.1}), 0.001).size() < full / 10);
     CHECK(zmap_mesh(z, 0.001).size() < 0.6 * full);
+  }
+
+  TEST_CASE("stock mesh: sloped and curved surfaces merge too, every cell still within the tolerance") {
+    // A 20 x 10 mm ramp rising 0.1 mm per mm along X and 0.05 along Y (0.01 mm
+    // from cell to cell: no two neighbours within 0.001 mm of each other), with
+    // a ball D16 dimple 1 mm deep in it.
+    auto make_ramp = [] {
+      ZMap r = make_stock("box:0,0,-5,20,10,0", {0.1});
+      for (int j = 0; j < r.grid().ny; ++j)
+        for (int i = 0; i < r.grid().nx; ++i) r.set(i, j, static_cast<float>(-3 + 0.1 * r.cx(i) + 0.05 * r.cy(j)));
+      return r;
+    };
+    const ZMap ramp = make_ramp();
+    ZMap z = make_ramp();
+    sweep_line(z, {ToolKind::ball, 8, 8}, {6, 5, -2.15 - 1}, {6, 5, -2.15 - 1});
+    const double full = 2.0 * 201 * 101;
+    const std::vector<Triangle> plane = zmap_mesh(ramp, 0.001);
+    CHECK(plane.size() < full / 5);  // the strip along the outline stays fine: its ring of vertices is level
+    CHECK(worst_read_back(ramp, plane) <= 0.001 + 2e-5);
+    for (double tol : {0.001, 0.01}) {
+      CAPTURE(tol);
+      const std::vector<Triangle> tris = zmap_mesh(z, tol);
+      CHECK(tris.size() < full / 2);
+      CHECK(worst_read_back(z, tris) <= tol + 2e-5);
+    }
   }
 
   TEST_CASE("deflex stock: the finish on the written STL engages as on the stock swept from the same roughing") {

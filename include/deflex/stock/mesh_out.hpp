@@ -9,13 +9,16 @@
 // so it is one solid: every edge is shared by exactly two triangles, with
 // opposite orientations, all normals outward.
 //
-// Reduction: a quadtree over the grid merges squares whose vertex heights lie
-// within `tolerance_mm` of each other (max - min) into one leaf, triangulated
-// as a fan from its centre vertex through every leaf corner on its sides (so no
-// T-junction: neighbouring leaves share the same vertices along a side). Every
-// triangle's vertices lie within its leaf's band, so the surface is within
-// `tolerance_mm` of every cell height it covers. Flat floors and untouched
-// stock become a few large triangles; a scallop field stays fine.
+// Reduction: a quadtree over the grid merges a square into one leaf where its
+// vertex heights lie within `tolerance_mm` of each other (max - min), or where
+// its triangles - two along a diagonal, or a fan from its centre - pass within
+// the tolerance of all of them (the fan within half of it: the proof is at
+// one_leaf() in mesh_out.cpp). A leaf is two triangles where no neighbour puts
+// a vertex on its sides, else a fan from its centre vertex through every leaf
+// corner on its sides (so no T-junction: neighbouring leaves share the same
+// vertices along a side). The surface is within `tolerance_mm` of every cell
+// height it covers. Flat floors, untouched stock and smooth slopes become a
+// few large triangles; a scallop field stays fine.
 #pragma once
 #include <iosfwd>
 #include <vector>
