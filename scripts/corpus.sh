@@ -1,5 +1,5 @@
 #!/bin/sh
-# The CAM corpus (../shared/corpus, programs written by others) run as a shop
+# The CAM corpus (tests/data/corpus, programs written by others) run as a shop
 # would run them: for each finishing program, `deflex rough` generates the
 # roughing (flat D10, 0.5 mm allowance) and a semi-finishing pass (the
 # finishing ball, 0.2 mm, lines 1 mm apart), both are swept into the blank
@@ -10,10 +10,10 @@
 set -eu
 cd "$(dirname "$0")/.."
 out=${1:-bench/out/corpus}
-corpus=../shared/corpus
+corpus=tests/data/corpus
 deflex=build/deflex
 [ -x "$deflex" ] || { echo "corpus.sh: build first (sh scripts/test.sh)" >&2; exit 2; }
-[ -d "$corpus" ] || { echo "corpus.sh: $corpus not found (the shared corpus lies beside the repository)" >&2; exit 2; }
+[ -d "$corpus" ] || { echo "corpus.sh: $corpus not found (a clone holds it)" >&2; exit 2; }
 mkdir -p "$out"
 
 # The blanks (work frame, mm) cover each program's path; the corpus names no
