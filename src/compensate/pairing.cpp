@@ -238,15 +238,17 @@ class Aligner {
   // end of the next than its own. No single line tells them apart, so the
   // reading is the first step of the cheapest alignment of the lines ahead
   // (window_cost): a wrong reading shifts every pairing after it onto a
-  // neighbour's end, far off the path. Cheap cases first: no later line that
-  // could be la's own block within reach, then no question.
+  // neighbour's end, far off the path. Cheap cases first: with no later line
+  // that could be la's own block within reach there is no question.
   bool inserted_before(Line la, Line lb, Line a_end, Line b_end) const {
     if (!insertable(lb, la)) return false;
     if (!pairable(la, lb)) return true;
     const Line slack = (b_end - lb) - (a_end - la);
+    // A later line that could be la's own block ends within reach of la's end
+    // (a compensated end lies within the offsets of its original).
     bool other = false;
     for (Line t = 1; t <= std::min<Line>(slack, kMaxInserts) && !other; ++t) {
-      if (pairable(la, lb + t)) other = true;
+      if (pairable(la, lb + t) && end_distance(la, lb + t) <= o_.near_mm) other = true;
       else if (!insertable(lb + t, la)) break;
     }
     return other && window_cost(la, lb, a_end, b_end, true) < window_cost(la, lb, a_end, b_end, false);
