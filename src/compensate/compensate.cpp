@@ -83,6 +83,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   // The engager's MRR is at the feed its Process was made with (the tool's first
   // cut); the motion's own F gives this point's.
   p.mrr_mm3_per_s = mt.section_mm2 * m.feed_mm_per_min / 60;
+  p.section_mm2 = mt.section_mm2;
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
   const double u = cl.count ? static_cast<double>(cl.index) / cl.count : 1.0;

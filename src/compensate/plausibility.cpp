@@ -208,15 +208,16 @@ void PlausibilityScan::State::add(const Point& p) {
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
     centre.add(p.line, std::max(p.ap_mm, p.stock_depth_mm), id);
   }
-  // 5. Roughing under a finishing tool.
+  // 5. Roughing under a finishing tool: deep, and removing as much as a slot
+  // that deep would (a ball's half disc of radius R; a flat end's D x D/2).
   if (t.type == stiffness::ToolType::ball) {
-    if (!p.air && p.ap_mm > R + 1e-6) {
+    if (!p.air && p.ap_mm > R + 1e-6 && p.section_mm2 > 0.5 * std::numbers::pi * R * R) {
       // a_p stops at the top of the flutes: past them the stock tells the depth.
       rough.add(p.line, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
       rough.f.limit = R;
     }
   } else {
-    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D;
+    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D && p.section_mm2 > 0.5 * D * D;
     const RunPoint q{p.line, p.motion, p.tip_mm, p.ap_mm};
     if (slot && (run.empty() || (run_tool == id && run.back().motion + 1 >= p.motion))) {
       if (!run.empty()) run_mm += (p.tip_mm - run.back().tip_mm).norm();

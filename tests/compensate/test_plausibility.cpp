@@ -148,6 +148,61 @@ TEST_CASE("plausibility: a raw box under a finishing ball end") {
   CHECK(flat.pl.find("roughing")->line == 6);
 }
 
+// An offset pocket 60 x 60 mm in three 3 mm levels with T1 of the sample
+// library (D10 flat): at each level the outer loop first (a full-width slot
+// along the walls the level above left), then inner loops 4 mm apart.
+std::string offset_pocket() {
+  std::string g = "G21 G90 G17\nT1 M6\nS10000 M3\n";
+  for (int z : {-3, -6, -9}) {
+    g += "G0 X-25. Y-25. Z5.\nG1 Z" + std::to_string(z) + ". F300\n";
+    for (int h : {25, 21, 17, 13, 9, 5, 1}) {
+      const std::string p = std::to_string(h) + ".", m = "-" + p;
+      g += "G1 X" + m + " Y" + m + " F1000\nX" + p + "\nY" + p + "\nX" + m + "\nY" + m + "\n";
+    }
+    g += "G0 Z5.\n";
+  }
+  return g + "M30\n";
+}
+
+TEST_CASE("plausibility: a_p of an offset pocket is the level's depth, not the walls the tool grazes") {
+  // The outer loops are lines 6-10, 44-48 and 82-86. Below the first level
+  // the flank passes along the walls of the levels above, which it cut
+  // itself: a_p read 5.7 and 8.1 mm there (the envelope's top) and the
+  // full-width slot under it looked like a raw blank.
+  Run r(offset_pocket(), "box:-40,-40,-20,40,40,0", "C35", "");
+  const double cell_mm = stock::default_cell_mm;
+  for (const std::uint32_t first : {6u, 44u, 82u}) {
+    std::size_t n = 0;
+    for (const compensate::Point& p : r.points) {
+      if (p.air || p.line < first || p.line > first + 4) continue;
+      // Closing on its own plunge (the loop's last 1.5 mm) the tool meets a
+      // crescent it left, then only its own cut: no height cut deeper than a
+      // cell at the end, where the envelope's top stands.
+      if (p.line == first + 4 && p.tip_mm.y() < -23.4) continue;
+      ++n;
+      CHECK_MESSAGE(std::fabs(p.ap_mm - 3.0) <= cell_mm, "line ", p.line, " a_p ", p.ap_mm);
+    }
+    CHECK(n > 300);
+  }
+  CHECK_FALSE(r.pl.find("roughing"));
+  // The graze adds next to nothing to the force: mid-way along the first side
+  // each level is cut as the first.
+  auto force_at = [&](std::uint32_t line) {
+    for (const compensate::Point& p : r.points)
+      if (p.line == line && std::fabs(p.tip_mm.x()) < 0.3) return p.force_N.norm();
+    return 0.0;
+  };
+  REQUIRE(force_at(7) > 0);
+  CHECK(force_at(45) == doctest::Approx(force_at(7)).epsilon(0.01));
+  CHECK(force_at(83) == doctest::Approx(force_at(7)).epsilon(0.01));
+  // A real full-width slot 12 mm deep in one pass still looks like a raw blank.
+  Run deep(slot(1, -12), "box:0,-20,-20,50,20,0", "C35", "");
+  const compensate::Finding* f = deep.pl.find("roughing");
+  REQUIRE(f);
+  CHECK(f->worst == doctest::Approx(12.0).epsilon(0.02));
+  CHECK(f->line == 6);
+}
+
 TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {
   {
     Run r(test::read_file("samples/programs/side_wall.nc"), "box:0,-40,-30,100,0,0", "Al6082-T4", "");

@@ -105,6 +105,7 @@ struct Point {
   double cwe_area_mm2 = 0;      // engaged area of the tool envelope (engage::Metrics)
   double d_eff_mm = 0;          // effective cutting diameter (Bagci Eq. 2)
   double mrr_mm3_per_s = 0;     // material removal rate at the motion's feed (Bagci Eq. 1)
+  double section_mm2 = 0;       // removed cross-section across the travel (mrr / feed; engage::Metrics)
   bool air = true, plunge = false;
   V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
   double peak_N = 0;            // largest |F| over the revolution

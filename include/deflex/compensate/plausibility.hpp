@@ -13,7 +13,11 @@
 //                   centre_cutting is false
 //   roughing        a finishing cut on what looks like a raw blank: a ball end
 //                   deeper than its radius, or another end in a full-width slot
-//                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path
+//                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path,
+//                   removing more than such a slot would (the cross-section
+//                   across the travel, Point::section_mm2: a_p alone also
+//                   rises where a flank grazes a wall, as a steep wall's
+//                   finishing pass does)
 #pragma once
 #include <cstdint>
 #include <memory>
