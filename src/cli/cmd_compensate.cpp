@@ -336,7 +336,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   Recording rec(a, j, true);
   // The figures, the plausibility scan and the report take the points as the
   // simulations produce them; nothing keeps them (a million points are 270 MB).
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.stock_from.empty());
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
@@ -437,7 +437,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   j.physics.consumable_stock = j.stock.get();
   // The points go to the recorder as they are produced; nothing keeps them.
   Recording rec(a, j, false);
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.stock_from.empty());
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
     rec.rec->point(p, report::offset_at(p, intent), p.motion);

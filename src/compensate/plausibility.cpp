@@ -70,12 +70,72 @@ struct RunPoint {
   double ap_mm = 0;
 };
 
+// earlier_cut: runs of cutting points in air with the stock a little below
+// (more than the tolerance, within the tool's radius: a pass meant to cut,
+// not an approach), counted in constant memory: the points of the runs longer
+// than the tool's diameter, the first run's line and tool, the largest gap,
+// the first 12 lines and a count of line changes (lines come in program order).
+struct AirRuns {
+  std::size_t points = 0, cutting = 0, line_count = 0;
+  std::vector<std::uint32_t> lines;
+  std::uint32_t first_line = 0;
+  double gap_mm = 0;
+  std::string tool;
+  // The open run.
+  std::size_t run_points = 0, run_line_count = 0;
+  std::vector<std::uint32_t> run_lines;
+  double run_mm = 0, run_gap_mm = 0, run_min_mm = 0;
+  std::uint32_t run_motion = 0, run_line = 0;
+  V3 last = V3::Zero();
+  std::string run_tool;
+
+  void add(const Point& p, const std::string& id, double tolerance_mm, double D) {
+    ++cutting;
+    const bool air = p.air && !p.plunge && p.stock_gap_mm > tolerance_mm && p.stock_gap_mm <= 0.5 * D;
+    if (!air || (run_points && (id != run_tool || run_motion + 1 < p.motion))) end();
+    if (!air) return;
+    if (run_points) {
+      run_mm += (p.tip_mm - last).norm();
+    } else {
+      run_tool = id;
+      run_min_mm = D;
+    }
+    ++run_points;
+    last = p.tip_mm;
+    run_motion = p.motion;
+    run_gap_mm = std::max(run_gap_mm, p.stock_gap_mm);
+    if (run_lines.empty() || p.line != run_line) {
+      ++run_line_count;
+      if (run_lines.size() < 12) run_lines.push_back(p.line);
+      run_line = p.line;
+    }
+  }
+  void end() {
+    if (run_points && run_mm >= run_min_mm) {
+      if (!points) {
+        first_line = run_lines.front();
+        tool = run_tool;
+      }
+      points += run_points;
+      gap_mm = std::max(gap_mm, run_gap_mm);
+      line_count += run_line_count;
+      for (std::uint32_t l : run_lines)
+        if (lines.size() < 12 && (lines.empty() || lines.back() != l)) lines.push_back(l);
+    }
+    run_points = run_line_count = 0;
+    run_lines.clear();
+    run_mm = run_gap_mm = 0;
+  }
+};
+
 }  // namespace
 
 struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough;
+  bool earlier_stock = false;
+  AirRuns earlier;
   // Cutting points in air or plunging (counted: a set of their lines would
   // grow with the program), the first one's line, and whether any was in material.
   std::size_t air_points = 0;
@@ -107,7 +167,7 @@ struct PlausibilityScan::State {
     return static_cast<std::uint16_t>(tool_names.size() - 1);
   }
 
-  State(const stiffness::ToolLibrary& t, const Settings& st) : tools(t), s(st) {
+  State(const stiffness::ToolLibrary& t, const Settings& st, bool e) : tools(t), s(st), earlier_stock(e) {
     flute.f.kind = "flute_length";
     force.f.kind = "peak_force";
     cap.f.kind = "offset_cap";
@@ -208,6 +268,8 @@ void PlausibilityScan::State::add(const Point& p) {
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
     centre.add(p.line, std::max(p.ap_mm, p.stock_depth_mm), id);
   }
+  // Air over the stock earlier programs cut below this program's surface.
+  if (earlier_stock) earlier.add(p, id, s.tolerance_mm, D);
   // 5. Roughing under a finishing tool: deep, and removing as much as a slot
   // that deep would (a ball's half disc of radius R; a flat end's D x D/2).
   if (t.type == stiffness::ToolType::ball) {
@@ -234,8 +296,8 @@ void PlausibilityScan::State::add(const Point& p) {
   }
 }
 
-PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s)
-    : st_(std::make_unique<State>(tools, s)) {}
+PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock)
+    : st_(std::make_unique<State>(tools, s, earlier_stock)) {}
 PlausibilityScan::~PlausibilityScan() = default;
 void PlausibilityScan::add(const Point& p) { st_->add(p); }
 void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
@@ -246,6 +308,7 @@ void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
 Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
+  z.earlier.end();
   z.fold(true);
   const stiffness::ToolLibrary& tools = z.tools;
   const Settings& s = z.s;
@@ -310,6 +373,24 @@ Plausibility PlausibilityScan::finish(bool compensated) {
                           : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
                     "): the stock looks like a raw blank that needs roughing first");
   }
+  if (z.earlier.points) {
+    const AirRuns& e = z.earlier;
+    Finding f;
+    f.kind = "earlier_cut";
+    f.count = e.points;
+    f.worst = e.gap_mm;
+    f.limit = s.tolerance_mm;
+    f.line = e.first_line;
+    f.tool = e.tool;
+    f.lines = e.lines;
+    f.line_count = e.line_count;
+    const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
+    f.message = num(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
+                std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
+                num(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
+                "neither compensated nor in the predicted error; " + lines_text(f);
+    out.findings.push_back(f);
+  }
   if (!z.material && z.air_points) {
     Finding f;
     f.kind = "no_material";
@@ -326,8 +407,8 @@ Plausibility PlausibilityScan::finish(bool compensated) {
 
 
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines) {
-  PlausibilityScan scan(tools, s);
+                          const std::vector<std::uint32_t>* capped_lines, bool earlier_stock) {
+  PlausibilityScan scan(tools, s, earlier_stock);
   for (const Point& p : points) scan.add(p);
   if (capped_lines) scan.capped(*capped_lines);
   return scan.finish(capped_lines != nullptr);

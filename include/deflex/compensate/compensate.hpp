@@ -120,6 +120,10 @@ struct Point {
   // moves by a batch), 0 where none; the plausibility checks' depth of cut,
   // which a_p (at most the flute length) cannot show.
   double stock_depth_mm = 0;
+  // The same stock's distance below the tip, 0 where it reaches the tip: how
+  // far below the programmed surface an earlier operation left the stock
+  // under a point in air.
+  double stock_gap_mm = 0;
   // Flank cuts: e(z) over the engaged flank at the commanded position (the
   // offset not included), its extremes and their heights above the tip.
   bool flank = false;

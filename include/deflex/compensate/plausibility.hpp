@@ -18,6 +18,12 @@
 //                   across the travel, Point::section_mm2: a_p alone also
 //                   rises where a flank grazes a wall, as a steep wall's
 //                   finishing pass does)
+//   earlier_cut     (the stock came from earlier programs, --stock-from) a
+//                   cutting move runs in air for longer than the tool's
+//                   diameter with the stock a little below it (within the
+//                   tool's radius): an earlier program cut below this
+//                   program's surface there, and those points, in air, are
+//                   neither compensated nor in the predicted error
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -29,7 +35,7 @@
 namespace deflex::compensate {
 
 struct Finding {
-  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material
+  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut
   std::size_t count = 0;             // CL points
   double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
   std::uint32_t line = 0;            // line of the worst point
@@ -62,7 +68,7 @@ ForceLimit force_limit(const stiffness::Tool& t);
 // did bite; offset_cap then counts those and takes the worst |e| of the points
 // on their lines, else it counts the points with gain |e| > max_offset_mm.
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines = nullptr);
+                          const std::vector<std::uint32_t>* capped_lines = nullptr, bool earlier_stock = false);
 
 // The same, point by point as a simulation produces them (program order), so
 // that the points need not be kept: memory is the findings, the distinct lines
@@ -70,7 +76,8 @@ Plausibility plausibility(const std::vector<Point>& points, const stiffness::Too
 // capped state is not known yet.
 class PlausibilityScan {
  public:
-  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s);
+  // earlier_stock: the stock is what earlier programs left (--stock-from).
+  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock = false);
   ~PlausibilityScan();
   void add(const Point& p);
   // compensate: the lines where the cap bit (Result::capped_lines, in program
