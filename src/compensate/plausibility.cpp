@@ -133,7 +133,17 @@ struct AirRuns {
 struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
-  Acc flute, force, cap, centre, rough;
+  Acc flute, force, cap, centre, rough, gouge;
+  // A ball end's roughing points wait for the end of their motion: on a step
+  // of the program steeper than the ball (more than R up or down over less
+  // than R across, a drop-cutter sample off a rim) they are the program
+  // gouging the part, not a raw blank. The step of the worst such motion.
+  std::vector<RunPoint> held;
+  std::string held_tool;
+  std::uint32_t held_motion = 0, end_motion = 0;
+  bool start_known = false, end_known = false;
+  V3 start = V3::Zero(), end = V3::Zero();
+  double gouge_dz_mm = 0, gouge_xy_mm = 0;
   bool earlier_stock = false;
   AirRuns earlier;
   // Cutting points in air or plunging (counted: a set of their lines would
@@ -173,6 +183,7 @@ struct PlausibilityScan::State {
     cap.f.kind = "offset_cap";
     centre.f.kind = "centre_cutting";
     rough.f.kind = "roughing";
+    gouge.f.kind = "gouge";
   }
   void end_run() {
     if (run_mm > 1.0)
@@ -182,6 +193,8 @@ struct PlausibilityScan::State {
   }
   void add(const Point& p);
   void fold(bool all);
+  void motion_step(const Point& p);
+  void judge_held(bool at_end, double R);
 };
 
 // The capped lines whose points are all in (every line before the last
@@ -212,6 +225,35 @@ void PlausibilityScan::State::fold(bool all) {
     line_tool.erase(line_tool.begin(), line_tool.begin() + static_cast<std::ptrdiff_t>(drop));
     base += static_cast<std::uint32_t>(drop);
   }
+}
+
+// The motion's start: the end of the motion before it, when that one cut too.
+void PlausibilityScan::State::motion_step(const Point& p) {
+  if (p.motion == held_motion) return;
+  held_motion = p.motion;
+  start_known = end_known && end_motion + 1 == p.motion;
+  start = end;
+}
+
+// At the end of a motion (at_end) or when it was left without one.
+void PlausibilityScan::State::judge_held(bool at_end, double R) {
+  const std::string& id = held_tool;
+  const V3 d = end - start;
+  const double xy = std::hypot(d.x(), d.y());
+  const bool steep = at_end && start_known && std::fabs(d.z()) > R && xy < R;
+  for (const RunPoint& q : held) {
+    if (!steep) {
+      rough.add(q.line, q.ap_mm, id);
+      continue;
+    }
+    if (!gouge.any || std::fabs(d.z()) > gouge.f.worst) {
+      gouge_dz_mm = d.z();
+      gouge_xy_mm = xy;
+    }
+    gouge.add(q.line, std::fabs(d.z()), id);
+    gouge.f.limit = R;
+  }
+  held.clear();
 }
 
 void PlausibilityScan::State::add(const Point& p) {
@@ -273,10 +315,20 @@ void PlausibilityScan::State::add(const Point& p) {
   // 5. Roughing under a finishing tool: deep, and removing as much as a slot
   // that deep would (a ball's half disc of radius R; a flat end's D x D/2).
   if (t.type == stiffness::ToolType::ball) {
+    if (p.motion != held_motion) judge_held(false, R);
+    motion_step(p);
     if (!p.air && p.ap_mm > R + 1e-6 && p.section_mm2 > 0.5 * std::numbers::pi * R * R) {
       // a_p stops at the top of the flutes: past them the stock tells the depth.
-      rough.add(p.line, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
+      held_tool = id;
+      held.push_back({p.line, p.motion, p.tip_mm,
+                      p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm});
       rough.f.limit = R;
+    }
+    if (p.index == p.count) {
+      end = p.tip_mm;
+      end_known = true;
+      end_motion = p.motion;
+      judge_held(true, R);
     }
   } else {
     const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D && p.section_mm2 > 0.5 * D * D;
@@ -308,6 +360,7 @@ void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
 Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
+  z.judge_held(false, 0);
   z.earlier.end();
   z.fold(true);
   const stiffness::ToolLibrary& tools = z.tools;
@@ -372,6 +425,14 @@ Plausibility PlausibilityScan::finish(bool compensated) {
                     (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"
                           : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
                     "): the stock looks like a raw blank that needs roughing first");
+  }
+  if (z.gouge.any) {
+    Acc& g = z.gouge;
+    const std::uint32_t worst_line = g.f.line;
+    emit(g, std::string("the program ") + (z.gouge_dz_mm < 0 ? "plunges " : "climbs ") + num(g.f.worst, 2) +
+                " mm in one " + num(z.gouge_xy_mm, 2) + " mm step at line " + std::to_string(worst_line) + " under " +
+                g.f.tool + " (a ball end of radius " + num(g.f.limit, 2) +
+                " mm, deeper than it in the stock there): a gouge in the CAM program?");
   }
   if (z.earlier.points) {
     const AirRuns& e = z.earlier;

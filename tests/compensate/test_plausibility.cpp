@@ -203,6 +203,36 @@ TEST_CASE("plausibility: a_p of an offset pocket is the level's depth, not the w
   CHECK(f->line == 6);
 }
 
+TEST_CASE("plausibility: a step of the program that drops a ball end deep into the stock is a gouge, not a raw blank") {
+  // The sample library's T7 (ball D10) rasters along X at Z-0.5 over a box
+  // (1 mm steps, passes 2 mm apart); on the pass at Y10 one sample drops to
+  // Z-11.5 at X20 (line 341), as a drop-cutter sample off a rim would.
+  std::string g = "G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y0. Z5.\nG1 Z-0.5 F1000\n";
+  for (int k = 0, y = 0; y <= 20; ++k, y += 2) {
+    g += "G1 Y" + std::to_string(y) + ".\n";
+    for (int i = 1; i <= 60; ++i) {
+      const int x = k % 2 ? 50 - i : -10 + i;
+      g += "X" + std::to_string(x) + ". Z" + (x == 20 && y == 10 ? "-11.5" : "-0.5") + "\n";
+    }
+  }
+  g += "G0 Z5.\nM30\n";
+  Run r(g, "box:0,0,-20,40,20,0", "C35", "");
+  REQUIRE(test::interpret_text(g).motions.size() > 300);
+  const compensate::Finding* f = r.pl.find("gouge");
+  REQUIRE(f);
+  CHECK(f->line == 341);
+  CHECK(f->lines == std::vector<std::uint32_t>{341});
+  CHECK(f->worst == doctest::Approx(11.0));
+  CHECK(f->message.find("the program plunges 11.00 mm in one 1.00 mm step at line 341") != std::string::npos);
+  CHECK(f->message.find("a gouge in the CAM program?") != std::string::npos);
+  CHECK_FALSE(r.pl.find("roughing"));
+  // The ball at Z-11.5 reached by a gentle ramp (11 mm over 40 mm): a raw blank.
+  Run ramp("G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y10. Z5.\nG1 Z-0.5 F1000\nX0.\nX40. Z-11.5\nG0 Z5.\nM30\n",
+           "box:0,0,-20,40,20,0", "C35", "");
+  CHECK(ramp.pl.find("roughing"));
+  CHECK_FALSE(ramp.pl.find("gouge"));
+}
+
 TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {
   {
     Run r(test::read_file("samples/programs/side_wall.nc"), "box:0,-40,-30,100,0,0", "Al6082-T4", "");

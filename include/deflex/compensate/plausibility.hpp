@@ -18,6 +18,9 @@
 //                   across the travel, Point::section_mm2: a_p alone also
 //                   rises where a flank grazes a wall, as a steep wall's
 //                   finishing pass does)
+//   gouge           a roughing point of a ball end on a motion steeper than the
+//                   ball (|dz| > R over an XY step < R): the program gouges
+//                   (a drop-cutter sample off a rim), not a raw blank
 //   earlier_cut     (the stock came from earlier programs, --stock-from) a
 //                   cutting move runs in air for longer than the tool's
 //                   diameter with the stock a little below it (within the
@@ -35,7 +38,7 @@
 namespace deflex::compensate {
 
 struct Finding {
-  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut
+  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut | gouge
   std::size_t count = 0;             // CL points
   double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
   std::uint32_t line = 0;            // line of the worst point
