@@ -189,6 +189,9 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::held:
       return "moves ending where a block deflex cannot re-target starts (a canned cycle, G28/G30/G53, a subprogram "
              "that runs more than once, a change of work offset, an arc that stays)";
+    case interp::Fixed::gouge:
+      return "moves the gouge check finds cutting into the part (--part): the program gouges there, and compensating "
+             "would move the gouge";
     default: return std::string("moves: ") + interp::to_string(why);
   }
 }
@@ -245,7 +248,10 @@ compensate::PipelineInput pipeline_input(Job& j, const Args& a, Io& io) {
   in.lines_per_read = j.pieces->max_lines();
   in.motions_per_piece = j.pieces->max_lines();
   in.interp = j.setup.interp();
-  in.fix = [&a](interp::Motion& m) { fill_cut_defaults(a, m); };
+  in.fix = [&a, &j](interp::Motion& m) {
+    fill_cut_defaults(a, m);
+    leave_gouge(m, j.gouge_lines);
+  };
   in.physics = &j.physics;
   in.settings = &j.settings;
   in.progress = progress_for(io);

@@ -314,6 +314,9 @@ void PlausibilityScan::State::add(const Point& p) {
   if (earlier_stock) earlier.add(p, id, s.tolerance_mm, D);
   // 5. Roughing under a finishing tool: deep, and removing as much as a slot
   // that deep would (a ball's half disc of radius R; a flat end's D x D/2).
+  // Not on a move the gouge check finds cutting into the part: the program
+  // gouges there, as that check says, and the stock is not to blame.
+  if (p.fixed == interp::Fixed::gouge) return;
   if (t.type == stiffness::ToolType::ball) {
     if (p.motion != held_motion) judge_held(false, R);
     motion_step(p);

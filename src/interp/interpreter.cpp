@@ -21,6 +21,7 @@ const char* to_string(Fixed f) {
     case Fixed::machine_frame: return "machine coordinates (G53/G28/G30)";
     case Fixed::block_delete: return "block delete '/'";
     case Fixed::held: return "ends where a block deflex cannot move starts";
+    case Fixed::gouge: return "cuts into the part (gouge check)";
   }
   return "?";
 }

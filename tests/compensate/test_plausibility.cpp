@@ -2,7 +2,11 @@
 // warning, the default force limit by hand, and the sane samples give none.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "../support.hpp"
@@ -203,10 +207,10 @@ TEST_CASE("plausibility: a_p of an offset pocket is the level's depth, not the w
   CHECK(f->line == 6);
 }
 
-TEST_CASE("plausibility: a step of the program that drops a ball end deep into the stock is a gouge, not a raw blank") {
-  // The sample library's T7 (ball D10) rasters along X at Z-0.5 over a box
-  // (1 mm steps, passes 2 mm apart); on the pass at Y10 one sample drops to
-  // Z-11.5 at X20 (line 341), as a drop-cutter sample off a rim would.
+// The sample library's T7 (ball D10) rasters along X at Z-0.5 over a box
+// (1 mm steps, passes 2 mm apart); on the pass at Y10 one sample drops to
+// Z-11.5 at X20 (line 341), as a drop-cutter sample off a rim would.
+std::string rim_raster() {
   std::string g = "G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y0. Z5.\nG1 Z-0.5 F1000\n";
   for (int k = 0, y = 0; y <= 20; ++k, y += 2) {
     g += "G1 Y" + std::to_string(y) + ".\n";
@@ -215,7 +219,11 @@ TEST_CASE("plausibility: a step of the program that drops a ball end deep into t
       g += "X" + std::to_string(x) + ". Z" + (x == 20 && y == 10 ? "-11.5" : "-0.5") + "\n";
     }
   }
-  g += "G0 Z5.\nM30\n";
+  return g + "G0 Z5.\nM30\n";
+}
+
+TEST_CASE("plausibility: a step of the program that drops a ball end deep into the stock is a gouge, not a raw blank") {
+  const std::string g = rim_raster();
   Run r(g, "box:0,0,-20,40,20,0", "C35", "");
   REQUIRE(test::interpret_text(g).motions.size() > 300);
   const compensate::Finding* f = r.pl.find("gouge");
@@ -231,6 +239,45 @@ TEST_CASE("plausibility: a step of the program that drops a ball end deep into t
            "box:0,0,-20,40,20,0", "C35", "");
   CHECK(ramp.pl.find("roughing"));
   CHECK_FALSE(ramp.pl.find("gouge"));
+}
+
+TEST_CASE("plausibility: with a part model the moves the gouge check flags stay as written and are no raw blank") {
+  std::string t = (std::filesystem::temp_directory_path() / "deflex-gouge-XXXXXX").string();
+  const std::filesystem::path dir = mkdtemp(t.data());
+  const std::string prog = (dir / "rim.nc").string(), part = (dir / "part.stl").string(), out = (dir / "out.nc").string();
+  const std::string g = rim_raster();
+  test::write_file(prog, g);
+  // The part: the box 0..40 x 0..20 with its top at Z-0.5, the raster's surface.
+  const double x[2] = {0, 40}, y[2] = {0, 20}, z[2] = {-20, -0.5};
+  auto v = [&](int i, int j, int k) {
+    return std::to_string(x[i]) + " " + std::to_string(y[j]) + " " + std::to_string(z[k]);
+  };
+  std::string stl = "solid part\n";
+  auto quad = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d) {
+    for (const auto& tri : {std::array<std::string, 3>{a, b, c}, std::array<std::string, 3>{a, c, d}})
+      stl += "facet normal 0 0 0\nouter loop\nvertex " + tri[0] + "\nvertex " + tri[1] + "\nvertex " + tri[2] +
+             "\nendloop\nendfacet\n";
+  };
+  quad(v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0));  // bottom, outward -Z
+  quad(v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1));  // top
+  quad(v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1));  // y = 0
+  quad(v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0));  // y = 20
+  quad(v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0));  // x = 0
+  quad(v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1));  // x = 40
+  test::write_file(part, stl + "endsolid part\n");
+  const auto r = test::run_cli({"compensate", prog, "--stock", "box:0,0,-20,40,20,0", "--part", part, "-o", out});
+  REQUIRE_MESSAGE(r.rc == 0, r.err);
+  CHECK(r.err.find("[roughing]") == std::string::npos);
+  CHECK(r.err.find("stay as written: moves the gouge check finds cutting into the part") != std::string::npos);
+  // Line 341 (the drop) and its neighbours on the gouge are written as they were.
+  const std::string written = test::read_file(out);
+  auto line_of = [](const std::string& text, int n) {
+    std::size_t at = 0;
+    for (int i = 1; i < n; ++i) at = text.find('\n', at) + 1;
+    return text.substr(at, text.find('\n', at) - at);
+  };
+  for (int n : {340, 341, 342}) CHECK(line_of(written, n) == line_of(g, n));
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {

@@ -24,6 +24,10 @@ enum class Fixed : std::uint8_t {
   // Set by compensation, never by the interpreter: a compensable move whose
   // end starts a block the writer cannot re-target (compensate::movable).
   held,
+  // Set from the gouge check (--part, compensate/gouge.hpp), never by the
+  // interpreter: a cutting move that cuts into the part model. Its error is
+  // the program's, not the tool's deflection: moving it would move a gouge.
+  gouge,
 };
 const char* to_string(Fixed f);
 const char* to_string(MotionKind k);  // "G0", "G1", "G2", "G3"
