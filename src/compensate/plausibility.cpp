@@ -134,16 +134,21 @@ struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough, gouge;
-  // A ball end's roughing points wait for the end of their motion: on a step
-  // of the program steeper than the ball (more than R up or down over less
-  // than R across, a drop-cutter sample off a rim) they are the program
-  // gouging the part, not a raw blank. The step of the worst such motion.
-  std::vector<RunPoint> held;
+  // A ball end's roughing points wait for the end of their motion, and those
+  // of a steep drop (more than R down over less than R across) for the end of
+  // the next one. A drop and a climb back of more than R each within 2R
+  // across is a dip no ball of radius R can make on any surface (a hole it
+  // fits into is at least as wide as the dip is deep): a drop-cutter sample
+  // that fell off a rim, the program gouging the part, not a raw blank. A
+  // steep drop alone is a wall in a raster. The drop of the worst dip.
+  std::vector<RunPoint> held, dip;
   std::string held_tool;
-  std::uint32_t held_motion = 0, end_motion = 0;
+  std::uint32_t held_motion = 0, end_motion = 0, end_line = 0, dip_line = 0;
   bool start_known = false, end_known = false;
   V3 start = V3::Zero(), end = V3::Zero();
+  double dip_dz_mm = 0, dip_xy_mm = 0;
   double gouge_dz_mm = 0, gouge_xy_mm = 0;
+  std::uint32_t gouge_line = 0;
   bool earlier_stock = false;
   AirRuns earlier;
   // Cutting points in air or plunging (counted: a set of their lines would
@@ -240,20 +245,35 @@ void PlausibilityScan::State::judge_held(bool at_end, double R) {
   const std::string& id = held_tool;
   const V3 d = end - start;
   const double xy = std::hypot(d.x(), d.y());
-  const bool steep = at_end && start_known && std::fabs(d.z()) > R && xy < R;
-  for (const RunPoint& q : held) {
-    if (!steep) {
-      rough.add(q.line, q.ap_mm, id);
-      continue;
+  const bool known = at_end && start_known && xy < R;
+  auto to = [&](Acc& a, std::vector<RunPoint>& pts, double value) {
+    for (const RunPoint& q : pts) a.add(q.line, value < 0 ? q.ap_mm : value, id);
+    pts.clear();
+  };
+  if (!dip.empty() || dip_line) {
+    if (known && d.z() > R && dip_xy_mm + xy < 2 * R) {
+      if (!gouge.any || -dip_dz_mm > gouge.f.worst) {
+        gouge_dz_mm = dip_dz_mm;
+        gouge_xy_mm = dip_xy_mm;
+        gouge_line = dip_line;
+      }
+      gouge.f.limit = R;
+      to(gouge, dip, -dip_dz_mm);
+      to(gouge, held, -dip_dz_mm);
+      dip_line = 0;
+      return;
     }
-    if (!gouge.any || std::fabs(d.z()) > gouge.f.worst) {
-      gouge_dz_mm = d.z();
-      gouge_xy_mm = xy;
-    }
-    gouge.add(q.line, std::fabs(d.z()), id);
-    gouge.f.limit = R;
+    to(rough, dip, -1);
+    dip_line = 0;
   }
-  held.clear();
+  if (known && d.z() < -R) {
+    dip.swap(held);
+    dip_dz_mm = d.z();
+    dip_xy_mm = xy;
+    dip_line = end_line;
+    return;
+  }
+  to(rough, held, -1);
 }
 
 void PlausibilityScan::State::add(const Point& p) {
@@ -312,15 +332,18 @@ void PlausibilityScan::State::add(const Point& p) {
   }
   // Air over the stock earlier programs cut below this program's surface.
   if (earlier_stock) earlier.add(p, id, s.tolerance_mm, D);
-  // 5. Roughing under a finishing tool: deep, and removing as much as a slot
-  // that deep would (a ball's half disc of radius R; a flat end's D x D/2).
+  // 5. Roughing under a finishing tool. A ball end deeper than its radius (a_p
+  // counts no graze, engage::Metrics); not by its cross-section: a raster on a
+  // raw blank removes a strip one step-over wide, less than a ball slot R deep
+  // would, at every pass but the first. Another end in a full-width slot
+  // deeper than D/2 that also removes what such a slot would (D x D/2).
   // Not on a move the gouge check finds cutting into the part: the program
   // gouges there, as that check says, and the stock is not to blame.
   if (p.fixed == interp::Fixed::gouge) return;
   if (t.type == stiffness::ToolType::ball) {
-    if (p.motion != held_motion) judge_held(false, R);
+    if (p.motion != held_motion && !held.empty()) judge_held(false, R);  // a motion without its end
     motion_step(p);
-    if (!p.air && p.ap_mm > R + 1e-6 && p.section_mm2 > 0.5 * std::numbers::pi * R * R) {
+    if (!p.air && p.ap_mm > R + 1e-6) {
       // a_p stops at the top of the flutes: past them the stock tells the depth.
       held_tool = id;
       held.push_back({p.line, p.motion, p.tip_mm,
@@ -329,6 +352,7 @@ void PlausibilityScan::State::add(const Point& p) {
     }
     if (p.index == p.count) {
       end = p.tip_mm;
+      end_line = p.line;
       end_known = true;
       end_motion = p.motion;
       judge_held(true, R);
@@ -364,6 +388,7 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
   z.judge_held(false, 0);
+  z.judge_held(false, 0);  // a drop left waiting
   z.earlier.end();
   z.fold(true);
   const stiffness::ToolLibrary& tools = z.tools;
@@ -431,11 +456,11 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   }
   if (z.gouge.any) {
     Acc& g = z.gouge;
-    const std::uint32_t worst_line = g.f.line;
-    emit(g, std::string("the program ") + (z.gouge_dz_mm < 0 ? "plunges " : "climbs ") + num(g.f.worst, 2) +
-                " mm in one " + num(z.gouge_xy_mm, 2) + " mm step at line " + std::to_string(worst_line) + " under " +
-                g.f.tool + " (a ball end of radius " + num(g.f.limit, 2) +
-                " mm, deeper than it in the stock there): a gouge in the CAM program?");
+    g.f.line = z.gouge_line;
+    emit(g, "the program plunges " + num(-z.gouge_dz_mm, 2) + " mm in one " + num(z.gouge_xy_mm, 2) +
+                " mm step at line " + std::to_string(z.gouge_line) + " and climbs back at once under " + g.f.tool +
+                " (a ball end of radius " + num(g.f.limit, 2) +
+                " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
   }
   if (z.earlier.points) {
     const AirRuns& e = z.earlier;

@@ -222,14 +222,14 @@ std::string rim_raster() {
   return g + "G0 Z5.\nM30\n";
 }
 
-TEST_CASE("plausibility: a step of the program that drops a ball end deep into the stock is a gouge, not a raw blank") {
+TEST_CASE("plausibility: a ball end dropped deep into the stock and back in two short steps is a gouge, not a raw blank") {
   const std::string g = rim_raster();
   Run r(g, "box:0,0,-20,40,20,0", "C35", "");
   REQUIRE(test::interpret_text(g).motions.size() > 300);
   const compensate::Finding* f = r.pl.find("gouge");
   REQUIRE(f);
   CHECK(f->line == 341);
-  CHECK(f->lines == std::vector<std::uint32_t>{341});
+  CHECK(f->lines == std::vector<std::uint32_t>{341, 342});  // down and back up
   CHECK(f->worst == doctest::Approx(11.0));
   CHECK(f->message.find("the program plunges 11.00 mm in one 1.00 mm step at line 341") != std::string::npos);
   CHECK(f->message.find("a gouge in the CAM program?") != std::string::npos);
@@ -239,6 +239,12 @@ TEST_CASE("plausibility: a step of the program that drops a ball end deep into t
            "box:0,0,-20,40,20,0", "C35", "");
   CHECK(ramp.pl.find("roughing"));
   CHECK_FALSE(ramp.pl.find("gouge"));
+  // A step down that stays down (a wall in a raster): the ball may go there;
+  // on a raw box it is roughing.
+  Run wall("G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y10. Z5.\nG1 Z-0.5 F1000\nX20.\nX21. Z-11.5\nX40.\nG0 Z5.\nM30\n",
+           "box:0,0,-20,40,20,0", "C35", "");
+  CHECK(wall.pl.find("roughing"));
+  CHECK_FALSE(wall.pl.find("gouge"));
 }
 
 TEST_CASE("plausibility: with a part model the moves the gouge check flags stay as written and are no raw blank") {

@@ -15,12 +15,14 @@
 //                   deeper than its radius, or another end in a full-width slot
 //                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path,
 //                   removing more than such a slot would (the cross-section
-//                   across the travel, Point::section_mm2: a_p alone also
-//                   rises where a flank grazes a wall, as a steep wall's
-//                   finishing pass does)
-//   gouge           a roughing point of a ball end on a motion steeper than the
-//                   ball (|dz| > R over an XY step < R): the program gouges
-//                   (a drop-cutter sample off a rim), not a raw blank
+//                   across the travel, Point::section_mm2, over D x D/2). a_p
+//                   counts only the band actually cut, not a wall the flank
+//                   grazes (engage::Metrics::ap_mm)
+//   gouge           a ball end's roughing points on a drop of more than R over
+//                   less than R across followed at once by a climb of more
+//                   than R, both within 2R across: no ball fits a hole that
+//                   deep and narrow, so the program gouges (a drop-cutter
+//                   sample off a rim), not a raw blank. Without a part model.
 //   earlier_cut     (the stock came from earlier programs, --stock-from) a
 //                   cutting move runs in air for longer than the tool's
 //                   diameter with the stock a little below it (within the
