@@ -22,7 +22,7 @@
 //                   less than R across followed at once by a climb of more
 //                   than R, both within 2R across: no ball fits a hole that
 //                   deep and narrow, so the program gouges (a drop-cutter
-//                   sample off a rim), not a raw blank. Without a part model.
+//                   sample off a rim), not a raw blank.
 //   earlier_cut     (the stock came from earlier programs, --stock-from) a
 //                   cutting move runs in air for longer than the tool's
 //                   diameter with the stock a little below it (within the
