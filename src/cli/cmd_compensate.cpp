@@ -196,6 +196,9 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::held:
       return "moves ending where a block deflex cannot re-target starts (a canned cycle, G28/G30/G53, a subprogram "
              "that runs more than once, a change of work offset, an arc that stays)";
+    case interp::Fixed::gouge:
+      return "moves the gouge check finds cutting into the part (--part): the program gouges there, and compensating "
+             "would move the gouge";
     default: return std::string("moves: ") + interp::to_string(why);
   }
 }
@@ -252,7 +255,10 @@ compensate::PipelineInput pipeline_input(Job& j, const Args& a, Io& io) {
   in.lines_per_read = j.pieces->max_lines();
   in.motions_per_piece = j.pieces->max_lines();
   in.interp = j.setup.interp();
-  in.fix = [&a](interp::Motion& m) { fill_cut_defaults(a, m); };
+  in.fix = [&a, &j](interp::Motion& m) {
+    fill_cut_defaults(a, m);
+    leave_gouge(m, j.gouge_lines);
+  };
   in.physics = &j.physics;
   in.settings = &j.settings;
   in.progress = progress_for(io);
@@ -343,7 +349,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   Recording rec(a, j, true);
   // The figures, the plausibility scan and the report take the points as the
   // simulations produce them; nothing keeps them (a million points are 270 MB).
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.stock_from.empty());
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
@@ -444,7 +450,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   j.physics.consumable_stock = j.stock.get();
   // The points go to the recorder as they are produced; nothing keeps them.
   Recording rec(a, j, false);
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings);
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.stock_from.empty());
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
     rec.rec->point(p, report::offset_at(p, intent), p.motion);

@@ -400,6 +400,16 @@ void print_setup(const Job& j, const Args& a, Io& io) {
          << "\n";
 }
 
+// The moves the gouge check finds cutting into the part stay as written (the
+// error there is the program's, not the tool's): their lines, kept sorted.
+void add_gouge_lines(Job& j, const compensate::PartGaps& g) {
+  if (g.overcut.lines.empty()) return;
+  std::vector<std::uint32_t>& v = j.gouge_lines;
+  v.insert(v.end(), g.overcut.lines.begin(), g.overcut.lines.end());
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 }  // namespace
 
 // A whole program's subprograms: --expand-subprograms writes each call
@@ -533,7 +543,10 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
                                    st.part_reach_mm);
     };
     if (!j.pieces) {
-      report_part_gaps(gaps_of(j.motions), j.prog.source(), gap, diags);
+      const compensate::PartGaps g = gaps_of(j.motions);
+      report_part_gaps(g, j.prog.source(), gap, diags);
+      add_gouge_lines(j, g);
+      for (interp::Motion& m : j.motions) leave_gouge(m, j.gouge_lines);
     } else {
       // A pass of its own over the pieces (the part model is read after the checks).
       compensate::PartGaps g;
@@ -546,7 +559,16 @@ Job prepare(Args& a, Io& io, bool compensating, const Job* shared, bool in_piece
       j.pieces->each([&](const gcode::Program& p, bool last) {
         it.feed(p, last);
         for (interp::Motion& m : piece) fill_cut_defaults(a, m);
-        compensate::merge(g, gaps_of(piece));
+        const compensate::PartGaps pg = gaps_of(piece);
+        compensate::merge(g, pg);
+        // The check pass counted these moves as compensable: count them as left.
+        const std::size_t before = j.gouge_lines.size();
+        add_gouge_lines(j, pg);
+        if (j.gouge_lines.size() != before)
+          for (interp::Motion m : piece) {
+            leave_gouge(m, j.gouge_lines);
+            if (m.fixed == interp::Fixed::gouge) j.count_left(m);
+          }
         piece.clear();
       });
       const auto text = lines_of_file(j, {g.overcut.worst_line, g.standoff.worst_line});
@@ -675,6 +697,12 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
   p.emplace_back("date", report::utc_now());
   p.emplace_back("command", command);
   return p;
+}
+
+void leave_gouge(interp::Motion& m, const std::vector<std::uint32_t>& gouge_lines) {
+  if (m.compensable() && m.kind != interp::MotionKind::rapid &&
+      std::binary_search(gouge_lines.begin(), gouge_lines.end(), m.line))
+    m.fixed = interp::Fixed::gouge;
 }
 
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io) {

@@ -63,6 +63,8 @@ struct Job {
     std::uint32_t first_line = 0, last_line = 0;
   };
   std::map<interp::Fixed, LeftMoves> left_moves;
+  // The lines the gouge check finds cutting into the part (--part), sorted.
+  std::vector<std::uint32_t> gouge_lines;
   void count_left(const interp::Motion& m) {
     if (m.kind == interp::MotionKind::rapid || m.fixed == interp::Fixed::no || m.fixed == interp::Fixed::rapid) return;
     LeftMoves& l = left_moves[m.fixed];
@@ -136,6 +138,8 @@ std::vector<std::pair<std::string, std::string>> provenance(const Job& j, const 
 // Plausibility warnings (compensate::PlausibilityScan), compiler style at the
 // line of the worst point, and their summary.json array.
 void print_plausibility(const Job& j, const compensate::Plausibility& pl, Io& io);
+// A cutting move on one of the sorted gouge lines stays as written (Fixed::gouge).
+void leave_gouge(interp::Motion& m, const std::vector<std::uint32_t>& gouge_lines);
 report::Json warnings_json(const compensate::Plausibility& pl);
 // Machining time from the machine's axis limits, one line on stderr.
 void time_line(Io& io, const process::MachiningTime& before, const process::MachiningTime& after);

@@ -83,6 +83,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   // The engager's MRR is at the feed its Process was made with (the tool's first
   // cut); the motion's own F gives this point's.
   p.mrr_mm3_per_s = mt.section_mm2 * m.feed_mm_per_min / 60;
+  p.section_mm2 = mt.section_mm2;
   p.air = mt.air_cut || eng.empty();
   p.plunge = mt.plunge;
   const double u = cl.count ? static_cast<double>(cl.index) / cl.count : 1.0;
@@ -150,10 +151,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   return p;
 }
 
-// Point::stock_depth_mm: the highest stock over the leading half of the disc of
-// radius r around the tip (centre, rings at r/2 and 0.95 r, every 22.5 deg
-// from -90 to +90 deg about the feed direction) above the tip.
-double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r) {
+// The highest stock over the leading half of the disc of radius r around the
+// tip (centre, rings at r/2 and 0.95 r, every 22.5 deg from -90 to +90 deg
+// about the feed direction), less the tip's height: Point::stock_depth_mm
+// above the tip, Point::stock_gap_mm below it.
+double stock_above(const stock::ZMap& z, const engage::CLSample& cl, double r) {
   const auto& t = cl.point.tip_mm;
   const double fx = cl.point.feed_x, fy = cl.point.feed_y;
   double top = -std::numeric_limits<double>::infinity();
@@ -163,7 +165,7 @@ double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r) {
       top = std::max(top, static_cast<double>(z.height_at(t[0] + rr * (fx * c - fy * sn), t[1] + rr * (fy * c + fx * sn))));
       if (rr == 0) break;
     }
-  return top > t[2] ? top - t[2] : 0.0;
+  return top - t[2];
 }
 
 interp::Motion moved(interp::Motion m, const V3& a, const V3& b) {
@@ -219,7 +221,9 @@ struct Simulation::Impl {
     const Held& h = held.front();
     Point p = point_of(cl, mt, eng, *tm, h.design, h.design, gi, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);
-    p.stock_depth_mm = stock_depth(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
+    const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
+    p.stock_depth_mm = std::max(0.0, above_mm);
+    p.stock_gap_mm = std::max(0.0, -above_mm);
     out(p);
   }
 

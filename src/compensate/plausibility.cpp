@@ -70,12 +70,87 @@ struct RunPoint {
   double ap_mm = 0;
 };
 
+// earlier_cut: runs of cutting points in air with the stock a little below
+// (more than the tolerance, within the tool's radius: a pass meant to cut,
+// not an approach), counted in constant memory: the points of the runs longer
+// than the tool's diameter, the first run's line and tool, the largest gap,
+// the first 12 lines and a count of line changes (lines come in program order).
+struct AirRuns {
+  std::size_t points = 0, cutting = 0, line_count = 0;
+  std::vector<std::uint32_t> lines;
+  std::uint32_t first_line = 0;
+  double gap_mm = 0;
+  std::string tool;
+  // The open run.
+  std::size_t run_points = 0, run_line_count = 0;
+  std::vector<std::uint32_t> run_lines;
+  double run_mm = 0, run_gap_mm = 0, run_min_mm = 0;
+  std::uint32_t run_motion = 0, run_line = 0;
+  V3 last = V3::Zero();
+  std::string run_tool;
+
+  void add(const Point& p, const std::string& id, double tolerance_mm, double D) {
+    ++cutting;
+    const bool air = p.air && !p.plunge && p.stock_gap_mm > tolerance_mm && p.stock_gap_mm <= 0.5 * D;
+    if (!air || (run_points && (id != run_tool || run_motion + 1 < p.motion))) end();
+    if (!air) return;
+    if (run_points) {
+      run_mm += (p.tip_mm - last).norm();
+    } else {
+      run_tool = id;
+      run_min_mm = D;
+    }
+    ++run_points;
+    last = p.tip_mm;
+    run_motion = p.motion;
+    run_gap_mm = std::max(run_gap_mm, p.stock_gap_mm);
+    if (run_lines.empty() || p.line != run_line) {
+      ++run_line_count;
+      if (run_lines.size() < 12) run_lines.push_back(p.line);
+      run_line = p.line;
+    }
+  }
+  void end() {
+    if (run_points && run_mm >= run_min_mm) {
+      if (!points) {
+        first_line = run_lines.front();
+        tool = run_tool;
+      }
+      points += run_points;
+      gap_mm = std::max(gap_mm, run_gap_mm);
+      line_count += run_line_count;
+      for (std::uint32_t l : run_lines)
+        if (lines.size() < 12 && (lines.empty() || lines.back() != l)) lines.push_back(l);
+    }
+    run_points = run_line_count = 0;
+    run_lines.clear();
+    run_mm = run_gap_mm = 0;
+  }
+};
+
 }  // namespace
 
 struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
-  Acc flute, force, cap, centre, rough;
+  Acc flute, force, cap, centre, rough, gouge;
+  // A ball end's roughing points wait for the end of their motion, and those
+  // of a steep drop (more than R down over less than R across) for the end of
+  // the next one. A drop and a climb back of more than R each within 2R
+  // across is a dip no ball of radius R can make on any surface (a hole it
+  // fits into is at least as wide as the dip is deep): a drop-cutter sample
+  // that fell off a rim, the program gouging the part, not a raw blank. A
+  // steep drop alone is a wall in a raster. The drop of the worst dip.
+  std::vector<RunPoint> held, dip;
+  std::string held_tool;
+  std::uint32_t held_motion = 0, end_motion = 0, end_line = 0, dip_line = 0;
+  bool start_known = false, end_known = false;
+  V3 start = V3::Zero(), end = V3::Zero();
+  double dip_dz_mm = 0, dip_xy_mm = 0;
+  double gouge_dz_mm = 0, gouge_xy_mm = 0;
+  std::uint32_t gouge_line = 0;
+  bool earlier_stock = false;
+  AirRuns earlier;
   // Cutting points in air or plunging (counted: a set of their lines would
   // grow with the program), the first one's line, and whether any was in material.
   std::size_t air_points = 0;
@@ -107,12 +182,13 @@ struct PlausibilityScan::State {
     return static_cast<std::uint16_t>(tool_names.size() - 1);
   }
 
-  State(const stiffness::ToolLibrary& t, const Settings& st) : tools(t), s(st) {
+  State(const stiffness::ToolLibrary& t, const Settings& st, bool e) : tools(t), s(st), earlier_stock(e) {
     flute.f.kind = "flute_length";
     force.f.kind = "peak_force";
     cap.f.kind = "offset_cap";
     centre.f.kind = "centre_cutting";
     rough.f.kind = "roughing";
+    gouge.f.kind = "gouge";
   }
   void end_run() {
     if (run_mm > 1.0)
@@ -122,6 +198,8 @@ struct PlausibilityScan::State {
   }
   void add(const Point& p);
   void fold(bool all);
+  void motion_step(const Point& p);
+  void judge_held(bool at_end, double R);
 };
 
 // The capped lines whose points are all in (every line before the last
@@ -152,6 +230,50 @@ void PlausibilityScan::State::fold(bool all) {
     line_tool.erase(line_tool.begin(), line_tool.begin() + static_cast<std::ptrdiff_t>(drop));
     base += static_cast<std::uint32_t>(drop);
   }
+}
+
+// The motion's start: the end of the motion before it, when that one cut too.
+void PlausibilityScan::State::motion_step(const Point& p) {
+  if (p.motion == held_motion) return;
+  held_motion = p.motion;
+  start_known = end_known && end_motion + 1 == p.motion;
+  start = end;
+}
+
+// At the end of a motion (at_end) or when it was left without one.
+void PlausibilityScan::State::judge_held(bool at_end, double R) {
+  const std::string& id = held_tool;
+  const V3 d = end - start;
+  const double xy = std::hypot(d.x(), d.y());
+  const bool known = at_end && start_known && xy < R;
+  auto to = [&](Acc& a, std::vector<RunPoint>& pts, double value) {
+    for (const RunPoint& q : pts) a.add(q.line, value < 0 ? q.ap_mm : value, id);
+    pts.clear();
+  };
+  if (!dip.empty() || dip_line) {
+    if (known && d.z() > R && dip_xy_mm + xy < 2 * R) {
+      if (!gouge.any || -dip_dz_mm > gouge.f.worst) {
+        gouge_dz_mm = dip_dz_mm;
+        gouge_xy_mm = dip_xy_mm;
+        gouge_line = dip_line;
+      }
+      gouge.f.limit = R;
+      to(gouge, dip, -dip_dz_mm);
+      to(gouge, held, -dip_dz_mm);
+      dip_line = 0;
+      return;
+    }
+    to(rough, dip, -1);
+    dip_line = 0;
+  }
+  if (known && d.z() < -R) {
+    dip.swap(held);
+    dip_dz_mm = d.z();
+    dip_xy_mm = xy;
+    dip_line = end_line;
+    return;
+  }
+  to(rough, held, -1);
 }
 
 void PlausibilityScan::State::add(const Point& p) {
@@ -208,15 +330,35 @@ void PlausibilityScan::State::add(const Point& p) {
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
     centre.add(p.line, std::max(p.ap_mm, p.stock_depth_mm), id);
   }
-  // 5. Roughing under a finishing tool.
+  // Air over the stock earlier programs cut below this program's surface.
+  if (earlier_stock) earlier.add(p, id, s.tolerance_mm, D);
+  // 5. Roughing under a finishing tool. A ball end deeper than its radius (a_p
+  // counts no graze, engage::Metrics); not by its cross-section: a raster on a
+  // raw blank removes a strip one step-over wide, less than a ball slot R deep
+  // would, at every pass but the first. Another end in a full-width slot
+  // deeper than D/2 that also removes what such a slot would (D x D/2).
+  // Not on a move the gouge check finds cutting into the part: the program
+  // gouges there, as that check says, and the stock is not to blame.
+  if (p.fixed == interp::Fixed::gouge) return;
   if (t.type == stiffness::ToolType::ball) {
+    if (p.motion != held_motion && !held.empty()) judge_held(false, R);  // a motion without its end
+    motion_step(p);
     if (!p.air && p.ap_mm > R + 1e-6) {
       // a_p stops at the top of the flutes: past them the stock tells the depth.
-      rough.add(p.line, p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm, id);
+      held_tool = id;
+      held.push_back({p.line, p.motion, p.tip_mm,
+                      p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm});
       rough.f.limit = R;
     }
+    if (p.index == p.count) {
+      end = p.tip_mm;
+      end_line = p.line;
+      end_known = true;
+      end_motion = p.motion;
+      judge_held(true, R);
+    }
   } else {
-    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D;
+    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D && p.section_mm2 > 0.5 * D * D;
     const RunPoint q{p.line, p.motion, p.tip_mm, p.ap_mm};
     if (slot && (run.empty() || (run_tool == id && run.back().motion + 1 >= p.motion))) {
       if (!run.empty()) run_mm += (p.tip_mm - run.back().tip_mm).norm();
@@ -233,8 +375,8 @@ void PlausibilityScan::State::add(const Point& p) {
   }
 }
 
-PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s)
-    : st_(std::make_unique<State>(tools, s)) {}
+PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock)
+    : st_(std::make_unique<State>(tools, s, earlier_stock)) {}
 PlausibilityScan::~PlausibilityScan() = default;
 void PlausibilityScan::add(const Point& p) { st_->add(p); }
 void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
@@ -245,6 +387,9 @@ void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
 Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
+  z.judge_held(false, 0);
+  z.judge_held(false, 0);  // a drop left waiting
+  z.earlier.end();
   z.fold(true);
   const stiffness::ToolLibrary& tools = z.tools;
   const Settings& s = z.s;
@@ -309,6 +454,32 @@ Plausibility PlausibilityScan::finish(bool compensated) {
                           : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
                     "): the stock looks like a raw blank that needs roughing first");
   }
+  if (z.gouge.any) {
+    Acc& g = z.gouge;
+    g.f.line = z.gouge_line;
+    emit(g, "the program plunges " + num(-z.gouge_dz_mm, 2) + " mm in one " + num(z.gouge_xy_mm, 2) +
+                " mm step at line " + std::to_string(z.gouge_line) + " and climbs back at once under " + g.f.tool +
+                " (a ball end of radius " + num(g.f.limit, 2) +
+                " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
+  }
+  if (z.earlier.points) {
+    const AirRuns& e = z.earlier;
+    Finding f;
+    f.kind = "earlier_cut";
+    f.count = e.points;
+    f.worst = e.gap_mm;
+    f.limit = s.tolerance_mm;
+    f.line = e.first_line;
+    f.tool = e.tool;
+    f.lines = e.lines;
+    f.line_count = e.line_count;
+    const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
+    f.message = num(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
+                std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
+                num(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
+                "neither compensated nor in the predicted error; " + lines_text(f);
+    out.findings.push_back(f);
+  }
   if (!z.material && z.air_points) {
     Finding f;
     f.kind = "no_material";
@@ -325,8 +496,8 @@ Plausibility PlausibilityScan::finish(bool compensated) {
 
 
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines) {
-  PlausibilityScan scan(tools, s);
+                          const std::vector<std::uint32_t>* capped_lines, bool earlier_stock) {
+  PlausibilityScan scan(tools, s, earlier_stock);
   for (const Point& p : points) scan.add(p);
   if (capped_lines) scan.capped(*capped_lines);
   return scan.finish(capped_lines != nullptr);

@@ -11,6 +11,7 @@
 #endif
 
 #include "deflex/diag/diagnostics.hpp"
+#include "band.hpp"
 
 namespace deflex::engage {
 
@@ -54,11 +55,11 @@ struct LocalStock {
 };
 
 // The definition: the point (x, y, z) is in material when it is inside the
-// Z-map column and outside every pending swept volume.
-inline bool in_material(const LocalStock& s, double x, double y, double z) {
+// Z-map column and outside every pending swept volume (but `skip`).
+inline bool in_material(const LocalStock& s, double x, double y, double z, const stock::LineSweep* skip = nullptr) {
   if (!(z < s.zmap->height_smooth(x, y)) || z < s.base) return false;
   for (const NearSweep& n : *s.near)
-    if (n.s->lower_height(x, y) <= z) return false;
+    if (n.s != skip && n.s->lower_height(x, y) <= z) return false;
   return true;
 }
 
@@ -66,7 +67,8 @@ inline bool in_material(const LocalStock& s, double x, double y, double z) {
 // three contexts: the samples of one slice circle (scan_slice, then on_slice for
 // the refinement of its transitions, at the same height and radius), and points
 // of a region (begin_region, then in_region) within `reach` of the axis at
-// heights up to z_top (the a_p bisection, the flat bottom).
+// heights up to z_top (the a_p bisection, the flat bottom); in_region_before
+// answers for the stock before the current move (the depth of the cut).
 
 // The definition, point by point (evaluate_reference).
 class PlainProbe {
@@ -84,6 +86,9 @@ class PlainProbe {
   bool on_slice(double x, double y) const { return in_material(s_, x, y, z_); }
   void begin_region(double, double) {}
   bool in_region(double x, double y, double z) const { return in_material(s_, x, y, z); }
+  bool in_region_before(double x, double y, double z, const stock::LineSweep* current) const {
+    return in_material(s_, x, y, z, current);
+  }
 
  private:
   const LocalStock& s_;
@@ -188,6 +193,9 @@ class CulledProbe {
   bool in_region(double x, double y, double z) const {
     return below(s_.zmap->height_smooth(x, y), z) && outside_sweeps(x, y, z);
   }
+  bool in_region_before(double x, double y, double z, const stock::LineSweep* current) const {
+    return below(s_.zmap->height_smooth(x, y), z) && outside_sweeps(x, y, z, current);
+  }
 
  private:
   // The kept sweeps as arrays for the two-at-a-time pre-test: the nearest
@@ -264,12 +272,12 @@ class CulledProbe {
     k.reach2[n] = -1;
   }
 
-  bool outside_sweeps(double x, double y, double z) const {
+  bool outside_sweeps(double x, double y, double z, const stock::LineSweep* skip = nullptr) const {
     Kept& k = kept();
     const std::size_t n = k.n;
     if (n == 0) return true;
     // The nearest alone first: in the wake of the current move it decides at once.
-    if (segment_distance2(k.ax[0], k.ay[0], k.ex[0], k.ey[0], k.len[0], x, y) <= k.reach2[0] &&
+    if (segment_distance2(k.ax[0], k.ay[0], k.ex[0], k.ey[0], k.len[0], x, y) <= k.reach2[0] && k.s[0] != skip &&
         k.s[0]->lower_height(x, y) <= z)
       return false;
     // The others whose front is not behind the point.
@@ -293,10 +301,10 @@ class CulledProbe {
       k.pass[i + 1] = m >> 1;
     }
     for (std::size_t i = 1; i < c; ++i)
-      if (k.pass[i] && k.s[i]->lower_height(x, y) <= z) return false;
+      if (k.pass[i] && k.s[i] != skip && k.s[i]->lower_height(x, y) <= z) return false;
 #else
     for (std::size_t i = 1; i < c; ++i)
-      if (segment_distance2(k.ax[i], k.ay[i], k.ex[i], k.ey[i], k.len[i], x, y) <= k.reach2[i] &&
+      if (segment_distance2(k.ax[i], k.ay[i], k.ex[i], k.ey[i], k.len[i], x, y) <= k.reach2[i] && k.s[i] != skip &&
           k.s[i]->lower_height(x, y) <= z)
         return false;
 #endif
@@ -322,55 +330,6 @@ class CulledProbe {
   double z_ = 0, reach_ = 0;
   bool built_ = false;
 };
-
-// What the engaged intervals contribute to the per-point quantities.
-struct Accum {
-  double cwe = 0, mrr_h = 0, mrr_v = 0, up = 0, down = 0;
-  double y_hi = -std::numeric_limits<double>::infinity();
-  double y_lo = std::numeric_limits<double>::infinity();
-};
-
-// Integral of the profile radius from the tip to height z, mm^2 (exact: the
-// corner arc integrates to circular-segment areas).
-double radius_integral(const stock::ToolProfile& t, double z) {
-  if (z <= 0) return 0;
-  const double R = t.radius_mm, rc = stock::corner_of(t);
-  auto G = [rc](double u) { return 0.5 * (u * std::sqrt(std::max(0.0, rc * rc - u * u)) + rc * rc * std::asin(std::clamp(u / rc, -1.0, 1.0))); };
-  if (rc <= 0) return R * z;
-  const double zc = std::min(z, rc);
-  double f = (R - rc) * zc + G(zc - rc) - G(-rc);
-  if (z > rc) f += R * (z - rc);
-  return f;
-}
-
-// Interval [a, b] of slice s, whose band of height h carries int r dz = rdz.
-void accumulate(const force::Slice& s, double a, double b, double h, double rdz, double dz, Accum& acc) {
-  const double r = s.r_mm, w = s.width_mm * h / dz;
-  acc.cwe += r * (b - a) * w;
-  // Bagci Eq. 1: removal rate = integral over the engaged envelope of v . N_s,
-  // with the outward normal N_s = (sin k sin phi, sin k cos phi, -cos k) in the
-  // feed frame and dA = r dphi db (db sin k = dz); horizontal and vertical parts
-  // of v apart. The horizontal part uses the exact int r dz of the band.
-  acc.mrr_v += -s.cos_kappa * (b - a) * r * w;
-  // Horizontal part split at multiples of pi/2: up-milling where cos(phi) > 0.
-  const double lo = std::floor(a / (pi / 2)) * (pi / 2);
-  for (double p = lo; p < b; p += pi / 2) {
-    const double u = std::max(p, a), v = std::min(p + pi / 2, b);
-    if (v <= u) continue;
-    const double part = (std::cos(u) - std::cos(v)) * rdz;
-    acc.mrr_h += part;
-    if (part <= 0) continue;
-    (std::cos(0.5 * (u + v)) > 0 ? acc.up : acc.down) += part;
-  }
-  // Extent along Y' of r cos(phi) over [a, b].
-  auto contains = [&](double phi0) {  // some phi0 + 2 pi k in [a, b]
-    const double k = std::ceil((a - phi0) / two_pi);
-    return phi0 + k * two_pi <= b;
-  };
-  const double ca = std::cos(a), cb = std::cos(b);
-  acc.y_hi = std::max(acc.y_hi, contains(0) ? r : r * std::max(ca, cb));
-  acc.y_lo = std::min(acc.y_lo, contains(pi) ? -r : r * std::min(ca, cb));
-}
 
 }  // namespace
 
@@ -445,6 +404,49 @@ Metrics Engager::evaluate(const StockView& stock, const CLPoint& p, const Proces
 Metrics Engager::evaluate_reference(const StockView& stock, const CLPoint& p, const Process& proc,
                                     force::Engagement& out) const {
   return evaluate_with<PlainProbe>(stock, p, proc, out);
+}
+
+// A flank passing along a wall the tool cut itself (the levels above in an
+// offset pocket or a waterline, a corner of the tool's own radius) touches it
+// over an arc at every height of the wall, up to a quadrant in such a corner,
+// while nothing comes off: the envelope's top then counts a wall that is not
+// cut. A height cuts when the stock before this move has material depth_mm
+// inside the envelope along one of its engaged directions, i.e. the radial
+// depth of cut there exceeds depth_mm. One Z-map cell: the Z-map holds a wall
+// to within a cell (cell-centre heights interpolated across the cell,
+// ZMap::height_smooth), so a thinner band cannot be told from the tool meeting
+// its own wall, and a real cut that thin is below what the Z-map resolves.
+// Where no height cuts that deep, the envelope's top stands.
+template <class Probe>
+double Engager::cut_top(const Probe& probe, const CLPoint& p, const stock::LineSweep* current,
+                        const force::Engagement& out, std::size_t top_slice, double envelope_top_mm,
+                        double depth_mm) const {
+  const double tx = p.tip_mm[0], ty = p.tip_mm[1], tz = p.tip_mm[2], fx = p.feed_x, fy = p.feed_y;
+  auto cuts = [&](double z, double phi) {
+    const double r = std::max(0.0, stock::profile_radius(tool_, z) - depth_mm), sp = std::sin(phi), cp = std::cos(phi);
+    return probe.in_region_before(tx + r * (sp * fx - cp * fy), ty + r * (sp * fy + cp * fx), tz + z, current);
+  };
+  const double dphi = two_pi / o_.angle_samples;
+  for (std::size_t i = top_slice + 1; i-- > 0;) {
+    const double z = cs_.slices[i].z_mm;
+    for (const force::AngleInterval& iv : out.slices[i]) {
+      // The middle of the interval first (it decides a real cut at once), then
+      // its samples one angle step apart.
+      double phi = 0.5 * (iv.start + iv.end);
+      bool hit = cuts(z, phi);
+      for (double a = iv.start + 0.5 * dphi; !hit && a < iv.end; a += dphi) hit = cuts(z, phi = a);
+      if (!hit) continue;
+      if (i == top_slice) return envelope_top_mm;
+      // Between this slice and the graze above, along the direction that cuts.
+      double lo = z, hi = cs_.slices[i + 1].z_mm;
+      for (int k = 0; k < o_.refine_steps + 6; ++k) {
+        const double zm = 0.5 * (lo + hi);
+        (cuts(zm, phi) ? lo : hi) = zm;
+      }
+      return 0.5 * (lo + hi);
+    }
+  }
+  return envelope_top_mm;
 }
 
 template <class Probe>
@@ -576,13 +578,16 @@ Metrics Engager::evaluate_with(const StockView& stock, const CLPoint& p, const P
       ap = std::max(ap, 0.5 * (lo + hi));
     }
   }
+  const double envelope_top = ap;
+  if (top_slice != npos)
+    ap = cut_top(probe, p, stock.current, out, top_slice, envelope_top, stock.zmap->grid().cell_mm);
 
   // Slice i stands for the band [i dz, (i+1) dz]; the highest engaged one for
   // [i dz, a_p], so the removal rate does not depend on where a_p falls in a slice.
   const double dz = cs_.dz_mm;
   for (std::size_t i = 0; i < n_slices && top_slice != npos && i <= top_slice; ++i) {
     if (out.slices[i].empty()) continue;
-    const double z0 = static_cast<double>(i) * dz, z1 = i == top_slice ? std::max(ap, z0) : z0 + dz;
+    const double z0 = static_cast<double>(i) * dz, z1 = i == top_slice ? std::max(envelope_top, z0) : z0 + dz;
     const double rdz = i == top_slice ? radius_integral(tool_, z1) - radius_integral(tool_, z0) : band_rdz_[i];
     for (const force::AngleInterval& iv : out.slices[i]) accumulate(cs_.slices[i], iv.start, iv.end, z1 - z0, rdz, dz, acc);
   }

@@ -22,6 +22,7 @@ const char* to_string(Fixed f) {
     case Fixed::block_delete: return "block delete '/'";
     case Fixed::held: return "ends where a block deflex cannot move starts";
     case Fixed::no_normal: return "surface normal not determined";
+    case Fixed::gouge: return "cuts into the part (gouge check)";
   }
   return "?";
 }

@@ -2,7 +2,11 @@
 // warning, the default force limit by hand, and the sane samples give none.
 #include <doctest/doctest.h>
 
+#include <unistd.h>
+
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 #include "../support.hpp"
@@ -146,6 +150,140 @@ TEST_CASE("plausibility: a raw box under a finishing ball end") {
   Run flat(slot(2, -7), "box:0,-20,-20,50,20,0");
   REQUIRE(flat.pl.find("roughing"));
   CHECK(flat.pl.find("roughing")->line == 6);
+}
+
+// An offset pocket 60 x 60 mm in three 3 mm levels with T1 of the sample
+// library (D10 flat): at each level the outer loop first (a full-width slot
+// along the walls the level above left), then inner loops 4 mm apart.
+std::string offset_pocket() {
+  std::string g = "G21 G90 G17\nT1 M6\nS10000 M3\n";
+  for (int z : {-3, -6, -9}) {
+    g += "G0 X-25. Y-25. Z5.\nG1 Z" + std::to_string(z) + ". F300\n";
+    for (int h : {25, 21, 17, 13, 9, 5, 1}) {
+      const std::string p = std::to_string(h) + ".", m = "-" + p;
+      g += "G1 X" + m + " Y" + m + " F1000\nX" + p + "\nY" + p + "\nX" + m + "\nY" + m + "\n";
+    }
+    g += "G0 Z5.\n";
+  }
+  return g + "M30\n";
+}
+
+TEST_CASE("plausibility: a_p of an offset pocket is the level's depth, not the walls the tool grazes") {
+  // The outer loops are lines 6-10, 44-48 and 82-86. Below the first level
+  // the flank passes along the walls of the levels above, which it cut
+  // itself: a_p read 5.7 and 8.1 mm there (the envelope's top) and the
+  // full-width slot under it looked like a raw blank.
+  Run r(offset_pocket(), "box:-40,-40,-20,40,40,0", "C35", "");
+  const double cell_mm = stock::default_cell_mm;
+  for (const std::uint32_t first : {6u, 44u, 82u}) {
+    std::size_t n = 0;
+    for (const compensate::Point& p : r.points) {
+      if (p.air || p.line < first || p.line > first + 4) continue;
+      // Closing on its own plunge (the loop's last 1.5 mm) the tool meets a
+      // crescent it left, then only its own cut: no height cut deeper than a
+      // cell at the end, where the envelope's top stands.
+      if (p.line == first + 4 && p.tip_mm.y() < -23.4) continue;
+      ++n;
+      CHECK_MESSAGE(std::fabs(p.ap_mm - 3.0) <= cell_mm, "line ", p.line, " a_p ", p.ap_mm);
+    }
+    CHECK(n > 300);
+  }
+  CHECK_FALSE(r.pl.find("roughing"));
+  // The graze adds next to nothing to the force: mid-way along the first side
+  // each level is cut as the first.
+  auto force_at = [&](std::uint32_t line) {
+    for (const compensate::Point& p : r.points)
+      if (p.line == line && std::fabs(p.tip_mm.x()) < 0.3) return p.force_N.norm();
+    return 0.0;
+  };
+  REQUIRE(force_at(7) > 0);
+  CHECK(force_at(45) == doctest::Approx(force_at(7)).epsilon(0.01));
+  CHECK(force_at(83) == doctest::Approx(force_at(7)).epsilon(0.01));
+  // A real full-width slot 12 mm deep in one pass still looks like a raw blank.
+  Run deep(slot(1, -12), "box:0,-20,-20,50,20,0", "C35", "");
+  const compensate::Finding* f = deep.pl.find("roughing");
+  REQUIRE(f);
+  CHECK(f->worst == doctest::Approx(12.0).epsilon(0.02));
+  CHECK(f->line == 6);
+}
+
+// The sample library's T7 (ball D10) rasters along X at Z-0.5 over a box
+// (1 mm steps, passes 2 mm apart); on the pass at Y10 one sample drops to
+// Z-11.5 at X20 (line 341), as a drop-cutter sample off a rim would.
+std::string rim_raster() {
+  std::string g = "G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y0. Z5.\nG1 Z-0.5 F1000\n";
+  for (int k = 0, y = 0; y <= 20; ++k, y += 2) {
+    g += "G1 Y" + std::to_string(y) + ".\n";
+    for (int i = 1; i <= 60; ++i) {
+      const int x = k % 2 ? 50 - i : -10 + i;
+      g += "X" + std::to_string(x) + ". Z" + (x == 20 && y == 10 ? "-11.5" : "-0.5") + "\n";
+    }
+  }
+  return g + "G0 Z5.\nM30\n";
+}
+
+TEST_CASE("plausibility: a ball end dropped deep into the stock and back in two short steps is a gouge, not a raw blank") {
+  const std::string g = rim_raster();
+  Run r(g, "box:0,0,-20,40,20,0", "C35", "");
+  REQUIRE(test::interpret_text(g).motions.size() > 300);
+  const compensate::Finding* f = r.pl.find("gouge");
+  REQUIRE(f);
+  CHECK(f->line == 341);
+  CHECK(f->lines == std::vector<std::uint32_t>{341, 342});  // down and back up
+  CHECK(f->worst == doctest::Approx(11.0));
+  CHECK(f->message.find("the program plunges 11.00 mm in one 1.00 mm step at line 341") != std::string::npos);
+  CHECK(f->message.find("a gouge in the CAM program?") != std::string::npos);
+  CHECK_FALSE(r.pl.find("roughing"));
+  // The ball at Z-11.5 reached by a gentle ramp (11 mm over 40 mm): a raw blank.
+  Run ramp("G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y10. Z5.\nG1 Z-0.5 F1000\nX0.\nX40. Z-11.5\nG0 Z5.\nM30\n",
+           "box:0,0,-20,40,20,0", "C35", "");
+  CHECK(ramp.pl.find("roughing"));
+  CHECK_FALSE(ramp.pl.find("gouge"));
+  // A step down that stays down (a wall in a raster): the ball may go there;
+  // on a raw box it is roughing.
+  Run wall("G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y10. Z5.\nG1 Z-0.5 F1000\nX20.\nX21. Z-11.5\nX40.\nG0 Z5.\nM30\n",
+           "box:0,0,-20,40,20,0", "C35", "");
+  CHECK(wall.pl.find("roughing"));
+  CHECK_FALSE(wall.pl.find("gouge"));
+}
+
+TEST_CASE("plausibility: with a part model the moves the gouge check flags stay as written and are no raw blank") {
+  std::string t = (std::filesystem::temp_directory_path() / "deflex-gouge-XXXXXX").string();
+  const std::filesystem::path dir = mkdtemp(t.data());
+  const std::string prog = (dir / "rim.nc").string(), part = (dir / "part.stl").string(), out = (dir / "out.nc").string();
+  const std::string g = rim_raster();
+  test::write_file(prog, g);
+  // The part: the box 0..40 x 0..20 with its top at Z-0.5, the raster's surface.
+  const double x[2] = {0, 40}, y[2] = {0, 20}, z[2] = {-20, -0.5};
+  auto v = [&](int i, int j, int k) {
+    return std::to_string(x[i]) + " " + std::to_string(y[j]) + " " + std::to_string(z[k]);
+  };
+  std::string stl = "solid part\n";
+  auto quad = [&](const std::string& a, const std::string& b, const std::string& c, const std::string& d) {
+    for (const auto& tri : {std::array<std::string, 3>{a, b, c}, std::array<std::string, 3>{a, c, d}})
+      stl += "facet normal 0 0 0\nouter loop\nvertex " + tri[0] + "\nvertex " + tri[1] + "\nvertex " + tri[2] +
+             "\nendloop\nendfacet\n";
+  };
+  quad(v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0));  // bottom, outward -Z
+  quad(v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1));  // top
+  quad(v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1));  // y = 0
+  quad(v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0));  // y = 20
+  quad(v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0));  // x = 0
+  quad(v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1));  // x = 40
+  test::write_file(part, stl + "endsolid part\n");
+  const auto r = test::run_cli({"compensate", prog, "--stock", "box:0,0,-20,40,20,0", "--part", part, "-o", out});
+  REQUIRE_MESSAGE(r.rc == 0, r.err);
+  CHECK(r.err.find("[roughing]") == std::string::npos);
+  CHECK(r.err.find("stay as written: moves the gouge check finds cutting into the part") != std::string::npos);
+  // Line 341 (the drop) and its neighbours on the gouge are written as they were.
+  const std::string written = test::read_file(out);
+  auto line_of = [](const std::string& text, int n) {
+    std::size_t at = 0;
+    for (int i = 1; i < n; ++i) at = text.find('\n', at) + 1;
+    return text.substr(at, text.find('\n', at) - at);
+  };
+  for (int n : {340, 341, 342}) CHECK(line_of(written, n) == line_of(g, n));
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("plausibility: the side-wall and six-surface samples are sane") {

@@ -63,4 +63,48 @@ TEST_SUITE("engage") {
     CHECK(run({"--stock-from", "-"}, "stdin").rc == 2);
     fs::remove_all(dir);
   }
+
+  TEST_CASE("--stock-from: a finish in air over an earlier cut below its surface is named, with share, line and depth") {
+    std::string t = (fs::temp_directory_path() / "deflex-earliercut-XXXXXX").string();
+    const fs::path dir = mkdtemp(t.data());
+    // T7 (ball D10) at Z-3 along X, passes 2 mm apart from Y0 to Y30, on a
+    // 40 x 30 box; lines 7, 9, ... 35 are the passes.
+    std::string finish = "G21 G90 G17\nT7 M6\nS10000 M3\nG0 X-10. Y0. Z5.\nG1 Z-3. F1200\n";
+    for (int y = 0; y <= 30; y += 2) finish += "G1 Y" + std::to_string(y) + ".\nX" + (y % 4 ? "-10.\n" : "50.\n");
+    finish += "G0 Z5.\nM30\n";
+    test::write_file((dir / "finish.nc").string(), finish);
+    // T4 (flat D20) faces Y -10..15 at Z-3.5 (0.5 mm below the finish) or Z-2.8 (0.2 mm above it).
+    auto earlier = [&](const std::string& z) {
+      const std::string f = (dir / ("face" + z + ".nc")).string();
+      test::write_file(f, "G21 G90 G17\nT4 M6\nS6000 M3\nG0 X-15. Y-5. Z5.\nG1 Z" + z +
+                              " F800\nX55.\nY5.\nX-15.\nG0 Z5.\nM30\n");
+      return test::run_cli({"simulate", (dir / "finish.nc").string(), "--stock", "box:0,0,-10,40,30,0",
+                            "--stock-from", f});
+    };
+    const auto below = earlier("-3.5");
+    REQUIRE(below.rc == 0);
+    const std::string name = (dir / "finish.nc").string();
+    const std::size_t at = below.err.find(name + ":7:1: warning: ");
+    REQUIRE_MESSAGE(at != std::string::npos, below.err);
+    const std::string w = below.err.substr(at, below.err.find('\n', at) - at);
+    CHECK(w.find("[earlier_cut]") != std::string::npos);
+    CHECK(w.find("up to 0.500 mm below the tool") != std::string::npos);
+    // The passes up to Y10 lie in air (the ball's leading half reaches 4.75 mm
+    // to the side: Y12 meets the box), of 16 passes and the steps between.
+    const std::size_t pct = w.find("% of the cutting points");
+    REQUIRE(pct != std::string::npos);
+    const int share = std::stoi(w.substr(w.rfind(' ', pct - 1) + 1));
+    CHECK(share >= 25);
+    CHECK(share <= 40);
+    CHECK(w.find("lines (7, 9, 11, 13, 15, 17)") != std::string::npos);
+    CHECK(below.err.find("[no_material]") == std::string::npos);
+    // Left 0.2 mm above the finish: the finish cuts everywhere, nothing to say.
+    const auto above = earlier("-2.8");
+    REQUIRE(above.rc == 0);
+    CHECK(above.err.find("[earlier_cut]") == std::string::npos);
+    // The same finish on the box alone: no earlier program, no such warning.
+    const auto box = test::run_cli({"simulate", name, "--stock", "box:0,0,-10,40,30,0"});
+    CHECK(box.err.find("[earlier_cut]") == std::string::npos);
+    fs::remove_all(dir);
+  }
 }

@@ -105,6 +105,7 @@ struct Point {
   double cwe_area_mm2 = 0;      // engaged area of the tool envelope (engage::Metrics)
   double d_eff_mm = 0;          // effective cutting diameter (Bagci Eq. 2)
   double mrr_mm3_per_s = 0;     // material removal rate at the motion's feed (Bagci Eq. 1)
+  double section_mm2 = 0;       // removed cross-section across the travel (mrr / feed; engage::Metrics)
   bool air = true, plunge = false;
   V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
   double peak_N = 0;            // largest |F| over the revolution
@@ -119,6 +120,10 @@ struct Point {
   // moves by a batch), 0 where none; the plausibility checks' depth of cut,
   // which a_p (at most the flute length) cannot show.
   double stock_depth_mm = 0;
+  // The same stock's distance below the tip, 0 where it reaches the tip: how
+  // far below the programmed surface an earlier operation left the stock
+  // under a point in air.
+  double stock_gap_mm = 0;
   // Flank cuts: e(z) over the engaged flank at the commanded position (the
   // offset not included), its extremes and their heights above the tip.
   bool flank = false;

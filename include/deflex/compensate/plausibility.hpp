@@ -13,7 +13,22 @@
 //                   centre_cutting is false
 //   roughing        a finishing cut on what looks like a raw blank: a ball end
 //                   deeper than its radius, or another end in a full-width slot
-//                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path
+//                   (a_e >= 0.98 D) deeper than D/2 over more than 1 mm of path,
+//                   removing more than such a slot would (the cross-section
+//                   across the travel, Point::section_mm2, over D x D/2). a_p
+//                   counts only the band actually cut, not a wall the flank
+//                   grazes (engage::Metrics::ap_mm)
+//   gouge           a ball end's roughing points on a drop of more than R over
+//                   less than R across followed at once by a climb of more
+//                   than R, both within 2R across: no ball fits a hole that
+//                   deep and narrow, so the program gouges (a drop-cutter
+//                   sample off a rim), not a raw blank.
+//   earlier_cut     (the stock came from earlier programs, --stock-from) a
+//                   cutting move runs in air for longer than the tool's
+//                   diameter with the stock a little below it (within the
+//                   tool's radius): an earlier program cut below this
+//                   program's surface there, and those points, in air, are
+//                   neither compensated nor in the predicted error
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -25,7 +40,7 @@
 namespace deflex::compensate {
 
 struct Finding {
-  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material
+  std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut | gouge
   std::size_t count = 0;             // CL points
   double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
   std::uint32_t line = 0;            // line of the worst point
@@ -58,7 +73,7 @@ ForceLimit force_limit(const stiffness::Tool& t);
 // did bite; offset_cap then counts those and takes the worst |e| of the points
 // on their lines, else it counts the points with gain |e| > max_offset_mm.
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines = nullptr);
+                          const std::vector<std::uint32_t>* capped_lines = nullptr, bool earlier_stock = false);
 
 // The same, point by point as a simulation produces them (program order), so
 // that the points need not be kept: memory is the findings, the distinct lines
@@ -66,7 +81,8 @@ Plausibility plausibility(const std::vector<Point>& points, const stiffness::Too
 // capped state is not known yet.
 class PlausibilityScan {
  public:
-  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s);
+  // earlier_stock: the stock is what earlier programs left (--stock-from).
+  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock = false);
   ~PlausibilityScan();
   void add(const Point& p);
   // compensate: the lines where the cap bit (Result::capped_lines, in program

@@ -72,8 +72,11 @@ struct Metrics {
   bool air_cut = true;           // nothing engaged
   bool plunge = false;           // no XY travel
   double ramp_angle = 0;         // rad, travel above the horizontal (< 0: descending)
-  // Axial depth: height above the tip where the flank leaves the material (the
-  // highest engaged slice, refined by bisection). 0 when only a flat bottom cuts.
+  // Axial depth of cut: height above the tip where the flank leaves the material
+  // it cuts (the highest engaged slice, refined by bisection), not counting a
+  // band above where the engaged edge only grazes a wall (material less than a
+  // Z-map cell deep inside the envelope: the tool's own earlier cut; the force
+  // and the area still count it). 0 when only a flat bottom cuts.
   double ap_mm = 0;
   double ae_mm = 0;              // radial width: extent of the engaged edge points along Y'
   double cwe_area_mm2 = 0;       // engaged area of the tool envelope (flanks + flat bottom)
@@ -117,6 +120,11 @@ class Engager {
   template <class Probe>
   Metrics evaluate_with(const StockView& stock, const CLPoint& p, const Process& proc,
                         force::Engagement& out) const;
+  // a_p: the top of the band where the radial depth of cut exceeds depth_mm
+  // (engagement.cpp), at most the envelope's top.
+  template <class Probe>
+  double cut_top(const Probe& probe, const CLPoint& p, const stock::LineSweep* current, const force::Engagement& out,
+                 std::size_t top_slice, double envelope_top_mm, double depth_mm) const;
 };
 
 // The Z-map's view of a cutter's lower surface.

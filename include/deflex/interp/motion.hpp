@@ -28,6 +28,10 @@ enum class Fixed : std::uint8_t {
   // without a part model whose surface normal the program's points do not
   // determine (compensate::NormalSource::undetermined): not moved.
   no_normal,
+  // Set from the gouge check (--part, compensate/gouge.hpp), never by the
+  // interpreter: a cutting move that cuts into the part model. Its error is
+  // the program's, not the tool's deflection: moving it would move a gouge.
+  gouge,
 };
 const char* to_string(Fixed f);
 const char* to_string(MotionKind k);  // "G0", "G1", "G2", "G3"
