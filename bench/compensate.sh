@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issues 5, 10 and 14 benchmark: end-to-end compensation (read, the as-written
+# Benchmark: end-to-end compensation (read, the as-written
 # simulation beside the mirror pass, write, read-back check; a program longer
 # than a piece runs in pieces). 1) the six-surface sample (41,010 blocks, STL
 # stock, D16 ball); 2) a generated raster finishing program of each size in
@@ -31,11 +31,11 @@ run() {  # name, program, stock, extra options
   tail -n 1 "bench/out/${name}_time.txt"
 }
 run six_surfaces samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl
-# Issue 10: with the part model (normals and the gouge check from the design
+# With the part model (normals and the gouge check from the design
 # surface): at most 25% slower than without it.
 run six_surfaces_part samples/programs/six_surfaces.nc samples/stock/six_surfaces_stock.stl --part samples/parts/six_surfaces.stl
 [ -n "${PART_ONLY:-}" ] && exit 0
-# Issue 14: the raster at each size of SIZES (default: BLOCKS, else 100000;
+# The raster at each size of SIZES (default: BLOCKS, else 100000;
 # SIZES="100000 1000000 10000000" for the issue's table). 10,000,000 blocks
 # are 10 spring passes over the 1,000,000-block raster's area and stock
 # (gen_program.sh LAYERS), so peak memory compares program lengths on the
@@ -58,7 +58,7 @@ for n in ${SIZES:-${BLOCKS:-100000}}; do
     run "raster_$n" "$f" "$st" --tool T5 --tolerance 0.002
   fi
 done
-# Issue 14's criterion: the 10M peak within 10% of the 1M one.
+# The criterion: the 10M peak within 10% of the 1M one.
 if [ -f bench/out/raster_1000000_time.txt ] && [ -f bench/out/raster_10000000_time.txt ]; then
   a=$(sed -n 's/.*peak memory \([0-9]*\) KiB.*/\1/p' bench/out/raster_1000000_time.txt)
   b=$(sed -n 's/.*peak memory \([0-9]*\) KiB.*/\1/p' bench/out/raster_10000000_time.txt)

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Engagement + force speed benchmark (issue 4 item 8): ball-end D10 finishing on
+# Engagement + force speed benchmark: ball-end D10 finishing on
 # the default Z-map (long passes, CAM-like short moves, 0.1 mm cells), and the
 # short moves with a bull nose D10 r1. On a shared machine run it twice: the
 # figures vary by 2x with the load. Usage: bench/engage.sh [BUILD_DIR]   (default: build)

@@ -13,7 +13,7 @@
 
 using namespace deflex;
 
-// Issue 3: the whole C(h) table of the paper-001 tool on the sample machine (target < 10 ms).
+// The whole C(h) table of the paper-001 tool on the sample machine (target < 10 ms).
 static void BM_beam_table_T5_mill3(benchmark::State& st) {
   const auto lib = stiffness::load_tool_library("samples/tools.yaml");
   const auto m = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
@@ -22,7 +22,7 @@ static void BM_beam_table_T5_mill3(benchmark::State& st) {
 }
 BENCHMARK(BM_beam_table_T5_mill3)->Unit(benchmark::kMillisecond);
 
-// Issue 4: forces over one revolution at a ball-end finishing point (D10, a_p 0.5, a_e 0.5).
+// Forces over one revolution at a ball-end finishing point (D10, a_p 0.5, a_e 0.5).
 static void BM_forces_ball_D10_finish(benchmark::State& st) {
   force::Cutter c;
   c.type = force::CutterType::ball;

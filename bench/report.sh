@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issue 12 benchmark: the report of a 1,000,000-block program. 1) how long
+# Benchmark: the report of a 1,000,000-block program. 1) how long
 # `simulate --report` takes beyond `simulate` (points.csv, cusp heights,
 # summary.json, report.html); 2) how long headless Chromium takes to load
 # report.html and run its scripts (3D views, top views, plots) beyond loading

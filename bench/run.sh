@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issue 2 and 14 benchmark: a generated 1,000,000-block finishing program (~25 MB, not
+# Benchmark: a generated 1,000,000-block finishing program (~25 MB, not
 # committed) through `deflex path`, `deflex check`, `deflex rewrite` (read + interpret + write)
 # and LinuxCNC's standalone rs274 on the same file; medians by hyperfine, peak
 # memory by GNU time. Run from anywhere; results in bench/out/.
@@ -9,7 +9,7 @@ sh scripts/install-deps.sh --bench
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j2 --target deflex
 mkdir -p bench/out
-# Issue 14: SIZES="1000000 10000000" reads both (10M: 10 passes over the 1M area).
+# SIZES="1000000 10000000" reads both (10M: 10 passes over the 1M area).
 for n in ${SIZES:-${BLOCKS:-1000000}}; do
   f=bench/data/finish_$n.nc
   layers=1; [ "$n" -gt 1000000 ] && layers=$((n / 1000000))

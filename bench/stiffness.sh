@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issue 3 benchmark: C(h) of every sample tool on the sample machine, by the
+# Benchmark: C(h) of every sample tool on the sample machine, by the
 # beam model (target < 10 ms for the table) and the solid model at the default
 # mesh (target < 60 s; a second run comes from the cache). Whole-process times
 # by hyperfine: they bound the model's own time from above.

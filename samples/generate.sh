@@ -1,5 +1,5 @@
 #!/bin/sh
-# Regenerates the compensation samples of issue 5 item 8 (POSIX sh + awk only):
+# Regenerates the compensation samples (POSIX sh + awk only):
 #
 #   programs/six_surfaces.nc      ball D16 finishing of the six-surface part of
 #                                 Smaoui et al. 2011 (paper 001), C35 steel
@@ -420,7 +420,7 @@ stock: freeform_stock.stl
 YAML
 
 # ---------------------------------------------------------------------------
-# 4. Strategies (issue 12, after Bagci & Yuncuoglu 2017, paper 000, Table 4):
+# 4. Strategies (after Bagci & Yuncuoglu 2017, paper 000, Table 4):
 #    the freeform part of section 3 finished four ways from the same stock with
 #    the same tool and cutting data, so `deflex compare` can rank them:
 #      strategies/zigzag_0.nc    zig-zag along X (passes at 0 deg), stepping in +Y

@@ -1,4 +1,4 @@
-// G41/G42 (issue 16, item 2): the tool-centre path the control computes,
+// G41/G42: the tool-centre path the control computes,
 // against LinuxCNC's rs274 (which computes cutter compensation itself), and
 // the Fanuc corners against their closed form.
 #include <doctest/doctest.h>

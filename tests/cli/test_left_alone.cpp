@@ -1,4 +1,4 @@
-// Every move left alone says why (issue 16 item 5): points outside the
+// Every move left alone says why: points outside the
 // tolerance on moves deflex does not move are counted per reason and named at
 // the first line, never silently missing from "N points compensated".
 #include <doctest/doctest.h>
@@ -47,7 +47,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 }  // namespace
 
 TEST_SUITE("cli") {
-  TEST_CASE("G91 (issue 16 item 1): walls, arcs and a pocket cut in increments are compensated as the same cuts in G90; every later position is the original's") {
+  TEST_CASE("G91: walls, arcs and a pocket cut in increments are compensated as the same cuts in G90; every later position is the original's") {
     const fs::path dir = fs::temp_directory_path() / ("deflex-g91-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     // The first pass as an increment from X-10, its block setting G91 itself.

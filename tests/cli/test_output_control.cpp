@@ -1,4 +1,4 @@
-// Output control (issue 15 item 5): --quiet keeps errors and warnings only,
+// Output control: --quiet keeps errors and warnings only,
 // --verbose adds the setup and each stage's time, --progress forces the
 // progress line on or off; every --help lists them and shows its defaults as
 // a user would type them.

@@ -1,4 +1,4 @@
-// Many programs at once (issue 14 item 4): two compensations run as two
+// Many programs at once: two compensations run as two
 // processes at the same time, as GNU parallel runs them, write exactly what
 // each writes alone. Nothing in a run depends on another process, the clock
 // (outside report.html's provenance) or the thread schedule.

@@ -1,4 +1,4 @@
-// deflex rough (issue 13): a roughing program generated from a finishing
+// deflex rough: a roughing program generated from a finishing
 // program, swept with --stock-from before it. The plan itself is checked in
 // tests/plan; here the command: its checks, its output, and what the
 // finishing program meets afterwards.

@@ -1,4 +1,4 @@
-// Subprograms (issue 16, item 3): --expand-subprograms writes each call
+// Subprograms: --expand-subprograms writes each call
 // inline so each pass gets its own compensation; without it, a subprogram
 // that runs more than once stays as written and is named with its calls; one
 // that runs once is compensated in place.

@@ -1,4 +1,4 @@
-// Speed benchmark (issue 4 item 8), skipped by default. Run with
+// Speed benchmark, skipped by default. Run with
 //   build/deflex_tests -tc="bench*" --no-skip      (bench/engage.sh)
 // A ball-end D10 finishing pass on the default Z-map (0.05 mm): zig-zag along X
 // over a 100 x 60 mm box, a_p 0.3 mm, step-over 0.5 mm; forces over one

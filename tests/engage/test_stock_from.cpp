@@ -1,5 +1,5 @@
-// --stock-from: earlier operations swept into the stock before the program
-// (issue 13 item 1). A flat D20 faces the box at Z-2; a ball D10 then runs at
+// --stock-from: earlier operations swept into the stock before the program.
+// A flat D20 faces the box at Z-2; a ball D10 then runs at
 // Z-3: a_p is 3 mm on the box and 3 - 2 = 1 mm on the faced stock.
 #include <doctest/doctest.h>
 

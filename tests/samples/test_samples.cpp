@@ -1,4 +1,4 @@
-// The compensation samples of issue 5 item 8 (samples/generate.sh): the committed
+// The compensation samples (samples/generate.sh): the committed
 // files are what the script writes; each program reads, interprets and checks
 // clean on the sample machine and rewrites byte for byte; the ball-end CL points
 // lie on the ball offset of the design surface (independent brute-force

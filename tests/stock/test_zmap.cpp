@@ -55,7 +55,7 @@ double brute_lower(const ToolProfile& tool, const Point3& a, const Point3& b, do
 TEST_SUITE("stock") {
 
 TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above the stock from above") {
-  // The two bounds sweep_rows uses to leave a row alone (issue 14): checked
+  // The two bounds sweep_rows uses to leave a row alone: checked
   // against lower_height at every cell of random rows and the cells themselves.
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> u(0, 1);

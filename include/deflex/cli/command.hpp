@@ -32,16 +32,16 @@ int cmd_path(const std::vector<std::string>& args, Io& io);
 int cmd_check(const std::vector<std::string>& args, Io& io);
 int cmd_diff(const std::vector<std::string>& args, Io& io);
 int cmd_rewrite(const std::vector<std::string>& args, Io& io);
-int cmd_stiffness(const std::vector<std::string>& args, Io& io);   // issue 3
-int cmd_forces(const std::vector<std::string>& args, Io& io);      // issue 4
-int cmd_calibrate(const std::vector<std::string>& args, Io& io);   // issue 4
-int cmd_compensate(const std::vector<std::string>& args, Io& io);  // issue 5
-int cmd_simulate(const std::vector<std::string>& args, Io& io);    // issue 5
-int cmd_compare(const std::vector<std::string>& args, Io& io);     // issue 12
-int cmd_tools(const std::vector<std::string>& args, Io& io);       // issue 13
-int cmd_list(const std::vector<std::string>& args, Io& io);        // issue 15
-int cmd_stock(const std::vector<std::string>& args, Io& io);       // issue 13
-int cmd_rough(const std::vector<std::string>& args, Io& io);       // issue 13
+int cmd_stiffness(const std::vector<std::string>& args, Io& io);
+int cmd_forces(const std::vector<std::string>& args, Io& io);
+int cmd_calibrate(const std::vector<std::string>& args, Io& io);
+int cmd_compensate(const std::vector<std::string>& args, Io& io);
+int cmd_simulate(const std::vector<std::string>& args, Io& io);
+int cmd_compare(const std::vector<std::string>& args, Io& io);
+int cmd_tools(const std::vector<std::string>& args, Io& io);
+int cmd_list(const std::vector<std::string>& args, Io& io);
+int cmd_stock(const std::vector<std::string>& args, Io& io);
+int cmd_rough(const std::vector<std::string>& args, Io& io);
 
 // Runs `deflex ARGS...` in-process (what main() does); used by golden tests.
 int run(const std::vector<std::string>& argv, Io& io);

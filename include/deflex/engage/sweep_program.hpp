@@ -1,4 +1,4 @@
-// The stock left by earlier operations (issue 13 item 1): their motions swept
+// The stock left by earlier operations: their motions swept
 // into the Z-map in order, geometry only (no engagement, no forces), at the
 // speed of the sweep kernels. Rapids sweep too: a rapid through material
 // removes it on the machine as well (and the plausibility checks of that

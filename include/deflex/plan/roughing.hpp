@@ -1,4 +1,4 @@
-// Roughing and semi-finishing programs over a target surface (issue 13): what
+// Roughing and semi-finishing programs over a target surface: what
 // a shop ran before the finishing program, when the shop has only the
 // finishing program. deflex needs the stock the finishing tool meets; a box
 // makes bear.nc a 17 mm deep cut under a finishing ball. The target is the

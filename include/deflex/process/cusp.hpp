@@ -1,4 +1,4 @@
-// Cusp height of ball-end finishing (issue 12 item 2): Mikó, Beňo, Maňková,
+// Cusp height of ball-end finishing: Mikó, Beňo, Maňková,
 // "Experimental verification of cusp heights when 3D milling rounded surfaces"
 // (seeds/002_..., Eq. 1-7).
 //

@@ -1,5 +1,5 @@
 // Machining time of a program from the machine's axis limits, as a control
-// with look-ahead runs it (issue 12 item 3).
+// with look-ahead runs it.
 //
 // Model (each decision is one a real control makes one way or another; these
 // are the ones stated here and tested in tests/process/test_machining_time.cpp):

@@ -71,7 +71,7 @@ struct MachineProfile {
   std::map<std::string, std::array<double, 3>> work_offsets_mm;
   // G28/G30 reference points in machine coordinates, mm; 1 = G28.
   std::map<int, std::array<double, 3>> reference_points_mm;
-  double max_offset_mm = 0.1;  // largest compensation offset (issue 5)
+  double max_offset_mm = 0.1;  // largest compensation offset
   // G41/G42 radius registers (tool_offsets: in the profile), by D number:
   // the radius (geometry) and its wear, mm; the control offsets by their sum.
   struct ToolOffset { double radius_mm = 0, wear_mm = 0; };

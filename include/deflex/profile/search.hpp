@@ -1,5 +1,5 @@
 // Where deflex finds its files, installed or not, never in the source tree
-// (issue 15; README "Configuration"). The config file in use is the first of
+// (README "Configuration"). The config file in use is the first of
 //   --config FILE
 //   ./deflex.yaml, ./config.yaml                (the folder deflex runs in)
 //   $XDG_CONFIG_HOME/deflex/config.yaml         (~/.config when unset)

@@ -1,5 +1,5 @@
 // deflex compare: several programs for the same part (strategies) simulated on
-// the same stock, one row each (issue 12 item 4; Bagci & Yüncüoğlu 2017,
+// the same stock, one row each (Bagci & Yüncüoğlu 2017,
 // seeds/000_..., Fig. 15 and Table 4 compare strategies by these figures).
 #pragma once
 #include <string>

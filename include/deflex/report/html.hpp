@@ -2,7 +2,7 @@
 // show: provenance, the summary as written -> compensated, the machined surface
 // in 3D coloured by the surface error (three.js), top views with ticks and a
 // colour bar, plots along the program (dygraphs), a histogram and the worst
-// lines with their source text (issue 12 item 1).
+// lines with their source text.
 //
 // The numbers are those of points.csv and summary.json; only the drawing is
 // decimated (report::Page). The libraries (Debian's libjs-three and

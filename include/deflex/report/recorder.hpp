@@ -1,5 +1,5 @@
 // What a report says about each CL point, gathered as the simulations produce
-// the points (issue 14 item 1): points.csv and flank_profile.csv are written
+// the points: points.csv and flank_profile.csv are written
 // row by row, the figures of summary.json accumulate, and what report.html
 // draws goes to a Spill on disk, read back once at the end. Memory does not
 // grow with the program.

@@ -1,4 +1,4 @@
-// Tool libraries from what a shop has (issue 13 item 3): a Fusion 360 / HSM
+// Tool libraries from what a shop has: a Fusion 360 / HSM
 // tool library exported as JSON, and a LinuxCNC tool table (.tbl), converted to
 // deflex's tool library YAML. `--tool-file` reads both directly (through this
 // conversion, so one reader checks every library); `deflex tools import`

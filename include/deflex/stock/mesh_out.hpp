@@ -1,4 +1,4 @@
-// The Z-map as a closed triangle mesh (issue 13 item 2: the in-process stock
+// The Z-map as a closed triangle mesh (the in-process stock
 // for the next operation, a CAM system or a viewer).
 //
 // The top surface runs through the cell centres at their heights, extended by
