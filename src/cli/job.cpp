@@ -194,7 +194,7 @@ void warn_meaningless(const compensate::Settings& st, bool strict, Io& io) {
   char buf[400];
   if (st.tolerance_mm >= st.max_offset_mm) {
     std::snprintf(buf, sizeof buf,
-                  "--tolerance %g mm is not below the offset cap max_offset_mm = %g mm: only points whose predicted "
+                  "the tolerance %g mm (--tolerance, or tolerance_mm in the config) is not below the offset cap max_offset_mm = %g mm: only points whose predicted "
                   "error exceeds %g mm are moved, and by %g mm at most; finishing tolerances are a few um (0.01 mm)",
                   st.tolerance_mm, st.max_offset_mm, st.tolerance_mm, st.max_offset_mm);
     why.push_back(buf);

@@ -257,7 +257,8 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
         } else {
           carried[a] = end[a];
         }
-      } else if (!(std::fabs(carried[a] - written_mm(want, m.inch, d)) <= 1e-9)) {
+      } else if (!(std::fabs(carried[a] - want) <= 1e-9) &&  // the cheap test first: most blocks hold it
+                 !(std::fabs(carried[a] - written_mm(want, m.inch, d)) <= 1e-9)) {
         // The block relies on the modal value, which the previous block moved
         // (or which is unknown): say what this block means, unless the
         // number written would be the one the control holds.
