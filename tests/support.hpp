@@ -86,7 +86,7 @@ struct CliResult {
 inline CliResult run_cli(const std::vector<std::string>& args, const std::string& stdin_text = "") {
   std::istringstream in(stdin_text);
   std::ostringstream out, err;
-  cli::Io io{in, out, err, false};
+  cli::Io io{{in, out, err}};
   int rc = cli::run(args, io);
   return {rc, out.str(), err.str()};
 }

@@ -14,7 +14,8 @@
 #include "deflex/report/summary.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/writer/writer.hpp"
-#include "job.hpp"
+#include "deflex/job/earlier.hpp"
+#include "deflex/job/run.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -32,8 +33,7 @@ std::vector<interp::Motion> read_back(const std::string& text, const std::string
   std::ostringstream err;
   Diagnostics diags(&err, 0);
   std::vector<interp::Motion> motions;
-  Collect c;
-  c.out = &motions;
+  interp::MotionList c(motions);
   interp::interpret(prog, s.interp(), diags, c);
   for (const interp::Motion& m : motions) interp::check_travel(m, s.machine->travel, prog.source(), diags);
   if (diags.errors() || diags.warnings())
@@ -96,7 +96,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   if (rough_tool.size() < 2 || rough_tool.size() > 6 || rough_tool[0] != 'T' ||
       rough_tool.find_first_not_of("0123456789", 1) != std::string::npos)
     throw Error(Exit::usage, "--rough-tool must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
-  o.tool = profile_of(rt);
+  o.tool = job::profile_of(rt);
   o.tool_number = std::stoi(rough_tool.substr(1));
   o.stepdown_mm = stepdown ? *stepdown : rt.diameter_mm / 2;
   o.stepover_mm = stepover ? *stepover : 0.4 * rt.diameter_mm;
@@ -108,7 +108,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   stock::ZMap target = stock::make_stock(spec, so);
   const stock::GridSpec& g = target.grid();
   const double top = target.max_height_in(g.x0_mm, g.y0_mm, g.x0_mm + g.nx * g.cell_mm, g.y0_mm + g.ny * g.cell_mm);
-  sweep_earlier(finish, target, lib, cl_spacing_mm, finish_tool);
+  job::sweep_earlier(finish, target, lib, cl_spacing_mm, finish_tool);
   const plan::RoughingPlan p = plan::plan_roughing(target, top, o);
 
   // The lines are spread evenly over the stock's width (plan/roughing.hpp), so

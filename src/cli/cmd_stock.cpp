@@ -7,7 +7,8 @@
 #include "deflex/stock/mesh_out.hpp"
 #include "deflex/stock/zmap_file.hpp"
 #include "deflex/writer/writer.hpp"
-#include "job.hpp"
+#include "deflex/job/earlier.hpp"
+#include "deflex/job/run.hpp"
 
 namespace deflex::cli {
 
@@ -50,11 +51,11 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
   const Setup s = resolve_with_machine(read);
   const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-  const std::vector<EarlierRun> earlier = read_earlier_all(stock_from, s, lib, io);
+  const std::vector<job::EarlierRun> earlier = read_earlier_all(stock_from, s, lib, io);
   stock::SolidOptions so;
   so.cell_mm = cell_mm;
   stock::ZMap z = stock::make_stock(spec, so);
-  sweep_earlier_all(earlier, z, lib, cl_spacing_mm);
+  job::sweep_earlier_all(earlier, z, lib, cl_spacing_mm);
   const stock::GridSpec& g = z.grid();
   if (stock::is_zmap_path(output)) {
     writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });

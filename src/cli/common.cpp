@@ -1,27 +1,10 @@
 #include "common.hpp"
 
-#include <charconv>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <mutex>
 #include <ostream>
-#include <sys/stat.h>
-
-#include "deflex/diag/plural.hpp"
-#include "deflex/force/material.hpp"
-#include "deflex/profile/search.hpp"
-#include "deflex/gcode/reader.hpp"
-#include "deflex/profile/yaml.hpp"
-#ifndef DEFLEX_PENDING_STIFFNESS
-#include "deflex/stiffness/machine.hpp"
-#include "deflex/stiffness/tool.hpp"
-#endif
 
 namespace deflex::cli {
 
-void add_read_options(po::options_description& d, ReadOptions& r, bool with_machine) {
+void add_read_options(po::options_description& d, job::ReadSettings& r, bool with_machine) {
   d.add_options()
     ("dialect", po::value(&r.dialect), "control dialect: fanuc (default), haas, linuxcnc, siemens-iso, "
                                        "heidenhain-iso, or a dialect .yaml file; overrides the machine's")
@@ -39,59 +22,6 @@ void add_read_options(po::options_description& d, ReadOptions& r, bool with_mach
   if (with_machine)
     d.add_options()("machine", po::value(&r.machine), "machine profile: a .yaml file, or a name NAME for NAME.yaml in ./machines, ./samples/machines, "
                                                        "$XDG_CONFIG_HOME/deflex/machines, /etc/deflex/machines or the installed ones");
-}
-
-Setup resolve(const ReadOptions& r) {
-  Setup s;
-  s.config = profile::load_config(r.config);
-  std::string machine = !r.machine.empty() ? r.machine : s.config.machine;
-  if (!machine.empty()) s.machine = profile::load_machine(machine);
-#ifndef DEFLEX_PENDING_STIFFNESS
-  // Its holder: and stiffness: sections too, so a typo there is found by every
-  // command, not only by the ones that compute deflections.
-  if (s.machine) stiffness::parse_machine_stiffness(s.machine->root, s.machine->file);
-#endif
-  std::string dialect = !r.dialect.empty() ? r.dialect
-                        : !s.config.dialect.empty() ? s.config.dialect
-                        : s.machine ? s.machine->dialect : "fanuc";
-  s.dialect = profile::load_dialect(dialect);
-  s.strict = r.strict;
-  s.max_errors = r.max_errors >= 0 ? r.max_errors : s.config.max_errors;
-  if (r.block_delete != "on" && r.block_delete != "off")
-    throw Error(Exit::usage, "--block-delete takes on or off");
-  s.block_delete_switch = r.block_delete == "on";
-  if (r.max_blocks == 0) throw Error(Exit::usage, "--max-blocks must be at least 1");
-  s.max_blocks = r.max_blocks;
-  return s;
-}
-
-interp::Options Setup::interp() const {
-  interp::Options o;
-  o.dialect = dialect;
-  o.machine = machine ? &*machine : nullptr;
-  o.block_delete_switch = block_delete_switch;
-  o.max_blocks = max_blocks;
-  o.repeated_lines = repeated_lines.get();
-  // Shared by the copies of the options (the safety check reads back on another thread).
-  struct Cache {
-    std::mutex mu;
-    std::optional<stiffness::ToolLibrary> lib;
-  };
-  auto lib = std::make_shared<Cache>();
-  const std::string file = tool_library_path(tool_file, config);
-  const profile::MachineProfile* m = o.machine;
-  o.cutter_radius_mm = [lib, file, m](int d) -> std::optional<double> {
-    if (m) {
-      auto it = m->tool_offsets.find(d);
-      if (it != m->tool_offsets.end()) return it->second.radius_mm + it->second.wear_mm;
-    }
-    std::lock_guard<std::mutex> hold(lib->mu);
-    if (!lib->lib) lib->lib = stiffness::load_tool_library(file);
-    auto t = lib->lib->tools.find("T" + std::to_string(d));
-    if (t == lib->lib->tools.end()) return std::nullopt;
-    return t->second.diameter_mm / 2;
-  };
-  return o;
 }
 
 po::variables_map parse(const std::vector<std::string>& args, const po::options_description& desc,
@@ -125,24 +55,7 @@ void parse_with_files(const std::vector<std::string>& args, const po::options_de
   refuse_output_onto_input(inputs);
 }
 
-void refuse_output_onto_input(const std::vector<std::string>& inputs) {
-  struct stat out {};
-  if (::fstat(1, &out) != 0 || !S_ISREG(out.st_mode)) return;  // a terminal, a pipe: nothing to overwrite
-  for (const std::string& f : inputs) {
-    struct stat in {};
-    if (f.empty() || (f == "-" ? ::fstat(0, &in) : ::stat(f.c_str(), &in)) != 0) continue;
-    if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) continue;
-    const std::string name = f == "-" ? std::string("<stdin>") : f;
-    // `>` truncates the file before deflex starts: what it held is gone already.
-    throw Error(Exit::usage, name + ": error: input file is output file (standard output is redirected to it)" +
-                                 (in.st_size == 0 ? std::string("; the shell emptied it before deflex ran: "
-                                                                "restore it (a backup, or export it again)")
-                                                  : std::string()) +
-                                 "; write the output to another file, or with -o OUT");
-  }
-}
-
-void add_material_options(po::options_description& d, MaterialOptions& m) {
+void add_material_options(po::options_description& d, job::MaterialSettings& m) {
   auto opt = [](std::optional<double>& dst) {
     return po::value<double>()->notifier([&dst](double v) { dst = v; });
   };
@@ -156,113 +69,13 @@ void add_material_options(po::options_description& d, MaterialOptions& m) {
       ("kre", opt(m.kre), "K_re, radial edge coefficient, N/mm (default 0)")
       ("kae", opt(m.kae), "K_ae, axial edge coefficient, N/mm (default 0)");
 }
-
-std::string config_string(const profile::Config& c, const char* key) {
-  if (c.root && c.root[key]) return yaml::text(c.root[key], key, c.file);
-  return {};
-}
-std::string config_path(const profile::Config& c, const char* key) {
-  std::string v = config_string(c, key);
-  if (v.empty() || std::filesystem::path(v).is_absolute() || v.starts_with("box:")) return v;
-  const std::string here = (std::filesystem::path(c.file).parent_path() / v).lexically_normal().string();
-  // A copy of the installed config (in ~/.config/deflex or /etc/deflex) keeps
-  // naming the installed libraries: samples/tools.yaml from the data folder.
-  std::error_code ec;
-  if (!std::filesystem::exists(here, ec)) {
-    const std::filesystem::path installed = std::filesystem::path(profile::data_dir()) / v;
-    if (std::filesystem::exists(installed, ec)) return installed.lexically_normal().string();
-  }
-  return here;
-}
-double config_number(const profile::Config& c, const char* key, double dflt) {
-  if (c.root && c.root[key]) return yaml::number(c.root[key], key, c.file);
-  return dflt;
-}
-
-void add_part_options(po::options_description& d, PartOptions& p) {
+void add_part_options(po::options_description& d, job::PartSettings& p) {
   d.add_options()
       ("part", po::value(&p.part), "the part model (design surface): STL, STEP or IGES, work frame, mm (default: config part). "
        "Gives the surface normals and the gouge check")
       ("part-gap", po::value<double>()->notifier([&p](double v) { p.gap_mm = v; }),
        "warn where the programmed cutter cuts into the part or stands off a face of it by more than this, mm "
        "(default: config part_gap_mm, else 0.02)");
-}
-
-std::string tool_library_path(const std::string& option, const profile::Config& c) {
-  if (!option.empty()) return option;
-  const std::string f = config_path(c, "tool_file");
-  return f.empty() ? default_library("samples/tools.yaml") : f;
-}
-
-std::string material_library_path(const std::string& option, const profile::Config& c) {
-  if (!option.empty()) return option;
-  const std::string f = config_path(c, "material_file");
-  return f.empty() ? default_library("samples/materials.yaml") : f;
-}
-
-void report_part_gaps(const compensate::PartGaps& g, const SourceText& src, double gap_mm, Diagnostics& diags) {
-  report_part_gaps(g, [&src](std::uint32_t) -> SourceText { return src; }, gap_mm, diags);
-}
-
-void report_part_gaps(const compensate::PartGaps& g, const std::function<SourceText(std::uint32_t)>& line_of,
-                      double gap_mm, Diagnostics& diags) {
-  auto lines = [](const std::vector<std::uint32_t>& l) {
-    std::string s;
-    for (std::size_t i = 0; i < l.size() && i < 12; ++i) s += (i ? ", " : "") + std::to_string(l[i]);
-    return l.size() > 12 ? s + ", ..." : s;
-  };
-  char buf[256];
-  if (g.overcut.points) {
-    // The depth of a cutter through more than half the part is only a lower bound (part::Contact).
-    const char* bound = g.overcut.worst_at_least ? "at least " : "";
-    const char* why = g.overcut.worst_at_least ? " (through more than half the part's thickness there)" : "";
-    std::snprintf(buf, sizeof buf, "the programmed cutter cuts %s%.4f mm into the part model here%s, the deepest of %s "
-                  "beyond the %.4f mm gap", bound, g.overcut.worst_mm, why, plural(g.overcut.points, "CL point").c_str(),
-                  gap_mm);
-    diags.report(Severity::warning, line_of(g.overcut.worst_line), g.overcut.worst_line, 1,
-                 std::string(buf) + " (" + plural(g.overcut.lines.size(), "line") + ": " + lines(g.overcut.lines) + ")");
-  }
-  if (g.standoff.points) {
-    std::snprintf(buf, sizeof buf, "the programmed cutter stands %.4f mm off a face of the part model here, the largest of %s "
-                  "beyond the %.4f mm gap", g.standoff.worst_mm, plural(g.standoff.points, "CL point").c_str(), gap_mm);
-    diags.report(Severity::warning, line_of(g.standoff.worst_line), g.standoff.worst_line, 1,
-                 std::string(buf) + " (" + plural(g.standoff.lines.size(), "line") + ": " + lines(g.standoff.lines) + ")");
-  }
-}
-
-std::string default_library(const char* name) { return profile::data_dir() + "/" + name; }
-
-force::Coefficients coefficients_of(const MaterialOptions& a, const std::string& fallback_material,
-                                    std::string* described) {
-  const bool by_k = a.kt || a.kr || a.ka;
-  const bool edge = a.kte || a.kre || a.kae;
-  if (!a.material.empty() && (by_k || edge))
-    throw Error(Exit::usage, "give either --material or --kt/--kr/--ka, not both");
-  const std::string material = !a.material.empty() ? a.material : by_k ? std::string() : fallback_material;
-  if (material.empty() && !by_k) throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
-  if (!material.empty()) {
-    const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml") : a.material_file;
-    const force::MaterialLibrary lib = force::load_material_library(file);
-    const force::MaterialEntry& m = force::find_material(lib, material);
-    if (described) *described = m.name + " (" + file + (m.source.empty() ? "" : "; source: " + m.source) + ")";
-    return m.k;
-  }
-  if (!a.material_file.empty()) throw Error(Exit::usage, "--material-file needs --material");
-  if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
-  force::Coefficients k;
-  k.Ktc_N_per_mm2 = *a.kt;
-  k.Krc_N_per_mm2 = *a.kr;
-  k.Kac_N_per_mm2 = *a.ka;
-  k.Kte_N_per_mm = a.kte.value_or(0);
-  k.Kre_N_per_mm = a.kre.value_or(0);
-  k.Kae_N_per_mm = a.kae.value_or(0);
-  if (described) {
-    char buf[240];
-    std::snprintf(buf, sizeof buf, "given: K_tc %g, K_rc %g, K_ac %g N/mm^2; K_te %g, K_re %g, K_ae %g N/mm",
-                  k.Ktc_N_per_mm2, k.Krc_N_per_mm2, k.Kac_N_per_mm2, k.Kte_N_per_mm, k.Kre_N_per_mm, k.Kae_N_per_mm);
-    *described = buf;
-  }
-  return k;
 }
 
 void print_help(std::ostream& out, const std::string& usage, const std::string& text,
@@ -275,15 +88,80 @@ void print_help(std::ostream& out, const std::string& usage, const std::string& 
          "                        elapsed time and ETA: auto (on a terminal), always, never\n\n";
 }
 
-std::uint32_t piece_lines() {
-  const char* v = std::getenv("DEFLEX_CHUNK_LINES");
-  if (!v || !*v) return gcode::kPieceLines;
-  std::uint32_t n = 0;
-  const char* end = v + std::strlen(v);
-  const auto r = std::from_chars(v, end, n);
-  if (r.ec != std::errc() || r.ptr != end)
-    throw Error(Exit::usage, std::string("DEFLEX_CHUNK_LINES must be a whole number of lines (0: read whole), not '") + v + "'");
-  return n;
+
+namespace {
+
+// --stock-from and --stock-from-tools keep their order: Boost stores each
+// option's values apart, which loses which library follows which program, but
+// its store() parses the occurrences in command-line order, each through this
+// semantic's xparse, so each is appended to the list as it is parsed.
+class EarlierOption : public po::typed_value<std::vector<std::string>> {
+ public:
+  EarlierOption(std::vector<EarlierOp>& ops, bool tools)
+      : po::typed_value<std::vector<std::string>>(nullptr), ops_(ops), tools_(tools) {}
+  void xparse(boost::any& store, const std::vector<std::string>& tokens) const override {
+    po::typed_value<std::vector<std::string>>::xparse(store, tokens);
+    for (const std::string& t : tokens) {
+      if (!tools_) {
+        ops_.push_back({t, ""});
+      } else if (ops_.empty() || !ops_.back().tool_file.empty()) {
+        throw po::error("--stock-from-tools " + t + " follows no --stock-from, or one that has its library already: " +
+                        "it names the tool library of the --stock-from just before it");
+      } else {
+        ops_.back().tool_file = t;
+      }
+    }
+  }
+
+ private:
+  std::vector<EarlierOp>& ops_;
+  bool tools_;
+};
+
+}  // namespace
+
+void add_stock_from_options(po::options_description& d, std::vector<EarlierOp>& ops) {
+  d.add_options()
+      ("stock-from", (new EarlierOption(ops, false))->composing()->value_name("FILE"),
+       "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; "
+       "repeat for several, in order")
+      ("stock-from-tools", (new EarlierOption(ops, true))->composing()->value_name("LIB"),
+       "the tool library of the --stock-from just before it (YAML, Fusion 360 JSON or LinuxCNC .tbl), where that "
+       "program's T numbers name another library than --tool-file's");
+}
+
+void describe(po::options_description& d, job::Settings& a, bool& help, std::string& job_file, bool compensating) {
+  auto opt = [](std::optional<double>& dst) { return po::value<double>()->notifier([&dst](double v) { dst = v; }); };
+  d.add_options()("help,h", po::bool_switch(&help), "show this help");
+  if (compensating)
+    d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout")
+        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N")
+        ("expand-subprograms", po::bool_switch(&a.expand_subprograms),
+         "write each subprogram call (M98) inline, with a comment naming it, so each pass gets its own compensation "
+         "(messages then name lines of the expanded program); without it a subprogram that runs more than once stays as written");
+  else d.add_options()("reference", po::value(&a.reference), "judge against this program's path (the design intent), e.g. the original of a compensated program");
+  d.add_options()
+      ("tool-file", po::value(&a.tool_file), "tool library (default: config tool_file, else the installed samples/tools.yaml)")
+      ("tool", po::value(&a.tool), "use this tool for every cut (default: the program's T words, as T<n>)")
+      ("spindle", opt(a.spindle_rpm), "spindle speed, rpm, for cutting moves the program gives no S (or S0)")
+      ("feed", opt(a.feed_mm_per_min), "feed, mm/min, for cutting moves the program gives no F")
+      ("stock", po::value(&a.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid, a .zmap (deflex stock), or auto[:MARGIN] "
+                                     "(a blank box round the cutting moves and the tool, MARGIN mm beyond them, default 1; "
+                                     "its top at the highest cutting point) (default: config stock)")
+      ("job", po::value(&job_file), "a job file (YAML): program, machine, tool_file, material, stock, stock_from, part, tolerance ... for one part; the command line overrides it");
+  add_stock_from_options(d, a.stock_from);
+  d.add_options()
+      ("tolerance", opt(a.tolerance_mm), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
+      ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
+      ("report", po::value(&a.report_dir), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
+      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
+      ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
+      ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
+      ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
+      ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
+  add_part_options(d, a.part);
+  add_material_options(d, a.material);
+  add_read_options(d, a.read);
 }
 
 }  // namespace deflex::cli

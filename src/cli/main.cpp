@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
   std::ios::sync_with_stdio(false);
   deflex::cli::remove_temporaries_on_signals();
   std::vector<std::string> args(argv + 1, argv + argc);
-  deflex::cli::Io io{std::cin, std::cout, std::cerr, static_cast<bool>(::isatty(2))};
+  deflex::cli::Io io{{std::cin, std::cout, std::cerr}};
+  io.err_is_terminal = ::isatty(2);
   int rc = deflex::cli::run(args, io);
   // A failed write to standard output (a full disk, a closed descriptor) is
   // lost data: an I/O error, never exit 0.

@@ -110,11 +110,6 @@ std::string data_line() {
 
 }  // namespace
 
-std::ostream& Io::info() {
-  static std::ostream none(nullptr);  // a stream without a buffer writes nothing
-  return quiet ? none : err;
-}
-
 int run(const std::vector<std::string>& argv, Io& io) {
   try {
     if (argv.empty() || argv[0] == "--help" || argv[0] == "-h" || argv[0] == "help") {

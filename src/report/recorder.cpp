@@ -32,12 +32,12 @@ struct Row {
 // them (same motion, or the next one).
 bool continuous(std::uint32_t a, std::uint32_t b) { return b - a <= 1; }
 
-const char* kHeader =
+}  // namespace
+
+const char* const kPointsCsvHeader =
     "line,x_mm,y_mm,z_mm,path_mm,ap_mm,ae_mm,d_eff_mm,cwe_area_mm2,mrr_mm3_per_s,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,"
     "dz_mm,surface_error_mm,surface_error_as_written_mm,offset_mm,nx,ny,nz,normal_source,part_gap_mm,"
     "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm\n";
-
-}  // namespace
 
 struct Recorder::Impl {
   explicit Impl(RecorderOptions o)
@@ -46,7 +46,7 @@ struct Recorder::Impl {
         err(opt.tolerance_mm, opt.percentiles, opt.spill_dir),
         err_as_written(opt.tolerance_mm, opt.percentiles && opt.as_written, opt.spill_dir) {
     if (opt.page) page = std::make_unique<PageSink>(opt.spill_dir, opt.as_written ? 2 : 1, opt.tolerance_mm);
-    if (opt.points_csv) *opt.points_csv << kHeader;
+    if (opt.points_csv) *opt.points_csv << kPointsCsvHeader;
     if (opt.flank_csv) *opt.flank_csv << "line,x_mm,y_mm,z_tip_mm,z_mm,error_mm\n";
   }
 
@@ -178,7 +178,7 @@ struct Recorder::Impl {
       as_written = kNone;  // no sample as written on its move (or no pairing asked for)
     }
     const double offset_n = offset.dot(p.normal);
-    if (opt.points_csv && !p.air) csv_row(p, error, as_written, offset_n, c);
+    if ((opt.points_csv || opt.rows) && !p.air) csv_row(p, error, as_written, offset_n, c);
     if (p.air || p.plunge) return;
     err.add(error);
     const interp::Fixed why =
@@ -201,26 +201,47 @@ struct Recorder::Impl {
   }
 
   void csv_row(const compensate::Point& p, double error, double as_written, double on, const process::CuspResult& c) {
+    PointRow r;
+    r.line = p.line;
+    r.tip_mm = p.tip_mm;
+    r.path_mm = path_mm;
+    r.ap_mm = p.ap_mm, r.ae_mm = p.ae_mm, r.d_eff_mm = p.d_eff_mm, r.cwe_area_mm2 = p.cwe_area_mm2;
+    r.mrr_mm3_per_s = p.mrr_mm3_per_s;
+    r.force_N = p.force_N, r.delta_mm = p.delta_mm;
+    r.surface_error_mm = error, r.surface_error_as_written_mm = as_written, r.offset_mm = on;
+    r.normal = p.normal;
+    r.normal_source = compensate::to_string(p.normal_source);
+    if (p.normal_source == compensate::NormalSource::part) r.part_gap_mm = p.part_gap_mm;
+    if (p.flank) {
+      r.flank_min_mm = on + p.flank_min_mm, r.flank_max_mm = on + p.flank_max_mm;
+      r.flank_z_min_mm = p.flank_z_min_mm, r.flank_z_max_mm = p.flank_z_max_mm;
+    }
+    r.stepover_mm = c.stepover_mm, r.cusp_height_mm = c.height_mm;
+    if (opt.rows) opt.rows(r);
+    if (opt.points_csv) write_csv(r);
+  }
+
+  void write_csv(const PointRow& r) {
     TextOut o(*opt.points_csv);
     auto f = [&](double v, int decimals) {
       o << ',';
       if (!std::isnan(v)) o.fixed(v, decimals);
     };
-    o.integer(p.line);
-    for (int k = 0; k < 3; ++k) f(p.tip_mm[k], 4);
-    f(path_mm, 3);
-    f(p.ap_mm, 4), f(p.ae_mm, 4), f(p.d_eff_mm, 4), f(p.cwe_area_mm2, 4), f(p.mrr_mm3_per_s, 2);
-    for (int k = 0; k < 3; ++k) f(p.force_N[k], 2);
-    for (int k = 0; k < 3; ++k) f(p.delta_mm[k], 6);
-    f(error, 6);
-    f(as_written, 6);
-    f(on, 6);
-    for (int k = 0; k < 3; ++k) f(p.normal[k], 6);
-    o << ',' << compensate::to_string(p.normal_source);
-    f(p.normal_source == compensate::NormalSource::part ? p.part_gap_mm : kNone, 6);
-    f(p.flank ? on + p.flank_min_mm : kNone, 6), f(p.flank ? on + p.flank_max_mm : kNone, 6);
-    f(p.flank ? p.flank_z_min_mm : kNone, 4), f(p.flank ? p.flank_z_max_mm : kNone, 4);
-    f(c.stepover_mm, 4), f(c.height_mm, 6);
+    o.integer(r.line);
+    for (int k = 0; k < 3; ++k) f(r.tip_mm[k], 4);
+    f(r.path_mm, 3);
+    f(r.ap_mm, 4), f(r.ae_mm, 4), f(r.d_eff_mm, 4), f(r.cwe_area_mm2, 4), f(r.mrr_mm3_per_s, 2);
+    for (int k = 0; k < 3; ++k) f(r.force_N[k], 2);
+    for (int k = 0; k < 3; ++k) f(r.delta_mm[k], 6);
+    f(r.surface_error_mm, 6);
+    f(r.surface_error_as_written_mm, 6);
+    f(r.offset_mm, 6);
+    for (int k = 0; k < 3; ++k) f(r.normal[k], 6);
+    o << ',' << r.normal_source;
+    f(r.part_gap_mm, 6);
+    f(r.flank_min_mm, 6), f(r.flank_max_mm, 6);
+    f(r.flank_z_min_mm, 4), f(r.flank_z_max_mm, 4);
+    f(r.stepover_mm, 4), f(r.cusp_height_mm, 6);
     o << '\n';
   }
 

@@ -30,7 +30,7 @@ struct Run {
 Run forces(std::vector<std::string> args, bool calibrate = false) {
   std::istringstream in;
   std::ostringstream out, err;
-  deflex::cli::Io io{in, out, err};
+  deflex::cli::Io io{{in, out, err}};
   Run r;
   r.code = calibrate ? deflex::cli::cmd_calibrate(args, io) : deflex::cli::cmd_forces(args, io);
   r.out = out.str();

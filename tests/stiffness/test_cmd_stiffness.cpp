@@ -24,7 +24,7 @@ struct Run {
 Run run(const std::vector<std::string>& args) {
   std::istringstream in;
   std::ostringstream out, err;
-  cli::Io io{in, out, err};
+  cli::Io io{{in, out, err}};
   Run r;
   r.code = cli::cmd_stiffness(args, io);
   r.out = out.str();

@@ -1,27 +1,21 @@
 // The subcommand interface. src/cli/ is the only place that knows
-// Boost.Program_options; each subcommand parses its own arguments.
+// Boost.Program_options; each subcommand parses its own arguments and runs
+// the job API (deflex/job/).
 #pragma once
-#include <iosfwd>
 #include <string>
 #include <vector>
 
+#include "deflex/job/io.hpp"
+
 namespace deflex::cli {
 
-// Streams a command writes to; tests pass string streams.
 // Output control (deflex COMMAND ... --quiet | --verbose, --progress=WHEN).
 enum class ProgressWhen { automatic, always, never };
 
-struct Io {
-  std::istream& in;
-  std::ostream& out;
-  std::ostream& err;
+// Streams a command writes to (tests pass string streams), and how.
+struct Io : job::Io {
   bool err_is_terminal = false;  // --progress=auto: a progress line only on a terminal
-  bool quiet = false;            // errors and warnings only: no notes, summaries or progress
-  bool verbose = false;          // also the setup and each stage's time
   ProgressWhen progress = ProgressWhen::automatic;
-  // Where notes and summaries go: err, or nowhere with --quiet (warnings and
-  // errors always go to err: what a machinist must know is never silenced).
-  std::ostream& info();
 };
 
 // A subcommand: args are the words after the subcommand name. Returns the exit

@@ -2,6 +2,7 @@
 // the spirit of LinuxCNC's canonical machining functions, each carrying its
 // source line and whether deflex may change it.
 #pragma once
+#include <vector>
 #include <array>
 #include <cstdint>
 
@@ -80,6 +81,17 @@ class MotionSink {
  public:
   virtual ~MotionSink() = default;
   virtual void motion(const Motion& m) = 0;
+};
+
+// The motions into a list (a whole program's: see gcode::ProgramPasses for
+// one that does not fit in memory).
+class MotionList : public MotionSink {
+ public:
+  explicit MotionList(std::vector<Motion>& out) : out_(out) {}
+  void motion(const Motion& m) override { out_.push_back(m); }
+
+ private:
+  std::vector<Motion>& out_;
 };
 
 }  // namespace deflex::interp

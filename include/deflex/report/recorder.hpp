@@ -50,12 +50,31 @@ inline V3 offset_at(const compensate::Point& p, const std::vector<V3>& offsets) 
   return start + u * (end - start);
 }
 
+// One row of points.csv: a reported CL point, in mm, N, mm^3/s (NaN: empty
+// in the CSV, e.g. a cusp with no neighbouring pass). The CSV writes these
+// values with a fixed number of decimals; a row sink gets them unrounded.
+struct PointRow {
+  std::uint32_t line = 0;
+  V3 tip_mm = V3::Zero();
+  double path_mm = 0, ap_mm = 0, ae_mm = 0, d_eff_mm = 0, cwe_area_mm2 = 0, mrr_mm3_per_s = 0;
+  V3 force_N = V3::Zero(), delta_mm = V3::Zero();
+  double surface_error_mm = 0, surface_error_as_written_mm = 0, offset_mm = 0;
+  V3 normal = V3::UnitZ();
+  const char* normal_source = "";
+  double part_gap_mm = kNone;
+  double flank_min_mm = kNone, flank_max_mm = kNone, flank_z_min_mm = kNone, flank_z_max_mm = kNone;
+  double stepover_mm = kNone, cusp_height_mm = kNone;
+};
+// The header of points.csv: its columns, in the order of PointRow's values.
+extern const char* const kPointsCsvHeader;
+
 struct RecorderOptions {
   double tolerance_mm = 0.01;
   // compensate: as_written() gives the program as written beside the points.
   bool as_written = false;
   std::ostream* points_csv = nullptr;  // null: no points.csv
   std::ostream* flank_csv = nullptr;   // null: no flank_profile.csv (the rows as written)
+  std::function<void(const PointRow&)> rows;  // each points.csv row as it comes (null: none)
   bool page = false;                   // keep what report.html draws
   bool percentiles = false;            // ErrorStats' p50, p95, p99
   // The cusp and, in a compensation, the sample as written of each row (the

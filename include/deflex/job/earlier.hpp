@@ -1,5 +1,5 @@
-// The earlier operations a stock is swept from (--stock-from, stock_from: in a
-// job), each with the tool library its T words name: a roughing programmed
+// The earlier operations a stock is swept from (Settings::stock_from), each
+// with the tool library its T words name: a roughing programmed
 // against the shop's roughing library keeps it, beside a finish of another.
 #pragma once
 #include <functional>
@@ -7,27 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "common.hpp"
+#include "deflex/job/io.hpp"
+#include "deflex/job/settings.hpp"
+#include "deflex/job/setup.hpp"
 #include "deflex/interp/motion.hpp"
-#include "deflex/profile/yaml.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/zmap.hpp"
 
-namespace deflex::cli {
-
-// An earlier program and its tool library (empty: the run's, --tool-file).
-struct EarlierOp {
-  std::string program, tool_file;
-};
-
-// --stock-from FILE, repeatable, each optionally followed by --stock-from-tools
-// LIB (the library of that program's tools), appended to `ops` in the order given.
-void add_stock_from_options(po::options_description& d, std::vector<EarlierOp>& ops);
-
-// `stock_from:` of a job: a list of paths or {program: P, tool_file: T} maps,
-// in the order they ran; `path` makes a job's path relative to its folder.
-// Throws Error(config) at the line and column of a bad entry.
-std::vector<EarlierOp> earlier_of_job(const yaml::Map& job, const std::function<std::string(const std::string&)>& path);
+namespace deflex::job {
 
 // An earlier operation read and checked, with its own library where it has one.
 struct EarlierRun {
@@ -58,4 +45,4 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
 void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, const stiffness::ToolLibrary& lib,
                    double cl_spacing_mm, const std::string& tool_override = "");
 
-}  // namespace deflex::cli
+}  // namespace deflex::job

@@ -1,70 +1,14 @@
 // The earlier operations (earlier.hpp).
-#include "earlier.hpp"
+#include "deflex/job/earlier.hpp"
 
 #include "deflex/engage/path.hpp"
 #include "deflex/engage/sweep_program.hpp"
 #include "deflex/interp/interpreter.hpp"
 #include "deflex/interp/travel.hpp"
-#include "job.hpp"
+#include "deflex/job/run.hpp"
+#include "internal.hpp"
 
-namespace deflex::cli {
-namespace {
-
-// --stock-from and --stock-from-tools keep their order: Boost stores each
-// option's values apart, which loses which library follows which program, but
-// its store() parses the occurrences in command-line order, each through this
-// semantic's xparse, so each is appended to the list as it is parsed.
-class EarlierOption : public po::typed_value<std::vector<std::string>> {
- public:
-  EarlierOption(std::vector<EarlierOp>& ops, bool tools)
-      : po::typed_value<std::vector<std::string>>(nullptr), ops_(ops), tools_(tools) {}
-  void xparse(boost::any& store, const std::vector<std::string>& tokens) const override {
-    po::typed_value<std::vector<std::string>>::xparse(store, tokens);
-    for (const std::string& t : tokens) {
-      if (!tools_) {
-        ops_.push_back({t, ""});
-      } else if (ops_.empty() || !ops_.back().tool_file.empty()) {
-        throw po::error("--stock-from-tools " + t + " follows no --stock-from, or one that has its library already: " +
-                        "it names the tool library of the --stock-from just before it");
-      } else {
-        ops_.back().tool_file = t;
-      }
-    }
-  }
-
- private:
-  std::vector<EarlierOp>& ops_;
-  bool tools_;
-};
-
-}  // namespace
-
-void add_stock_from_options(po::options_description& d, std::vector<EarlierOp>& ops) {
-  d.add_options()
-      ("stock-from", (new EarlierOption(ops, false))->composing()->value_name("FILE"),
-       "an earlier program (roughing, semi-finishing) swept into the stock first with its own tools, geometry only; "
-       "repeat for several, in order")
-      ("stock-from-tools", (new EarlierOption(ops, true))->composing()->value_name("LIB"),
-       "the tool library of the --stock-from just before it (YAML, Fusion 360 JSON or LinuxCNC .tbl), where that "
-       "program's T numbers name another library than --tool-file's");
-}
-
-std::vector<EarlierOp> earlier_of_job(const yaml::Map& job, const std::function<std::string(const std::string&)>& path) {
-  const YAML::Node list = job.get("stock_from");
-  if (!list.IsSequence())
-    job.fail("stock_from", "stock_from is a list of programs, in the order they ran: a path, or {program: P, "
-                           "tool_file: T} for a program whose tools are in a library of its own");
-  std::vector<EarlierOp> ops;
-  for (const YAML::Node& n : list) {
-    if (!n.IsMap()) {
-      ops.push_back({path(yaml::text(n, "stock_from", job.file())), ""});
-      continue;
-    }
-    const yaml::Map e(n, "stock_from entry", job.file(), {"program", "tool_file"});
-    ops.push_back({path(e.text("program")), e.has("tool_file") ? path(e.text("tool_file")) : ""});
-  }
-  return ops;
-}
+namespace deflex::job {
 
 std::vector<EarlierRun> read_earlier_all(const std::vector<EarlierOp>& ops, const Setup& setup,
                                          const stiffness::ToolLibrary& run_tools, Io& io) {
@@ -100,8 +44,7 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
   const gcode::Program prog(gcode::read_source(file, &io.in));
   Diagnostics diags(&io.err, setup.max_errors);
   std::vector<interp::Motion> motions;
-  Collect c;
-  c.out = &motions;
+  interp::MotionList c(motions);
   interp::interpret(prog, setup.interp(), diags, c);
   for (const interp::Motion& m : motions) interp::check_travel(m, setup.machine->travel, prog.source(), diags);
   for (const interp::Motion& m : motions) {
@@ -148,4 +91,4 @@ void sweep_earlier(const std::vector<interp::Motion>& motions, stock::ZMap& z, c
   }, po);
 }
 
-}  // namespace deflex::cli
+}  // namespace deflex::job

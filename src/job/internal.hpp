@@ -1,0 +1,54 @@
+// What simulate, compensate and compare share inside src/job: the report
+// folder's files, the progress with cancellation, the messages on findings.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "deflex/compensate/pipeline.hpp"
+#include "deflex/job/job.hpp"
+#include "deflex/report/recorder.hpp"
+#include "deflex/writer/writer.hpp"
+
+namespace deflex::job::detail {
+
+// What the pipeline in pieces (compensate/pipeline.hpp) needs of a run read in pieces.
+compensate::PipelineInput pipeline_input(Run& j, const compensate::Progress& progress);
+
+// The recorder of a run's points and, with Settings::report_dir, the report
+// folder's files it streams: points.csv and flank_profile.csv, each renamed
+// into place when the run ends well (flank_profile.csv only when a flank
+// point has a profile). The folder gets summary.json and report.html at the
+// end (finish). An observer that wants rows gets each points.csv row.
+struct Recording {
+  Recording(const Run& j, bool as_written, Observer* obs);
+  // points.csv and flank_profile.csv into place; summary.json and report.html.
+  void finish(const Run& j, const report::RunFigures& f, const report::Json& summary,
+              std::vector<std::vector<std::string>> facts, const char* what, const std::string& command);
+
+  std::string dir;
+  std::unique_ptr<writer::AtomicFile> points, flank;
+  std::unique_ptr<report::Recorder> rec;
+};
+
+// The observer's progress, polling its cancellation (null without an observer).
+compensate::Progress progress_of(Observer* obs);
+// After the last stage: the stage "" (a progress line is cleared).
+void end_progress(const compensate::Progress& p);
+
+// Plausibility warnings (compensate::PlausibilityScan), compiler style at the
+// line of the worst point, and their summary.json array.
+void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io);
+report::Json warnings_json(const compensate::Plausibility& pl);
+
+// The cutting moves a compensation leaves as written, once per reason with
+// a count and the first line (a note); and the points they leave outside the
+// tolerance (a warning at the first such line): "N points compensated" is
+// never silently smaller than the points outside the tolerance.
+void print_left_alone(const Run& j, const report::RunFigures& f, Io& io);
+report::Json left_alone_json(const report::RunFigures& f);
+// The warnings and notes of the mirror pass: lowered feeds, plausibility,
+// capped offsets, linearised and non-uniform arcs, convergence.
+void print_compensation(const Run& j, const compensate::Result& r, const compensate::Plausibility& pl, Io& io);
+
+}  // namespace deflex::job::detail
