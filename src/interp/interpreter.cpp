@@ -134,7 +134,7 @@ bool Run::execute() {
   }
   if (codes[g_length] >= 0) {
     length_ = codes[g_length];
-    // H may stand anywhere in the block (REFERENCE §2.6); it names an offset register.
+    // H may stand anywhere in the block (docs/physics.md, 'H anywhere'); it names an offset register.
     if (wH && !whole(wH, 0, 99999999, h_, "offset register H")) return false;
     if (length_ != 490 && !wH) warn(cw[g_length], gname(length_) + " without H: offset H" + std::to_string(h_) + " stays active");
   }
@@ -291,7 +291,7 @@ bool Run::do_arc(bool cw) {
     }
     double h = half >= ar ? 0.0 : std::sqrt(ar * ar - half * half);
     // Centre left of the chord for a short counter-clockwise arc; R<0 (> 180°)
-    // and clockwise each flip the side (REFERENCE §2.4).
+    // and clockwise each flip the side (docs/physics.md, 'R-form arcs').
     double side = (cw ? -1.0 : 1.0) * (r < 0 ? -1.0 : 1.0);
     ca = sa + dx / 2 - side * h * dy / chord;
     cb = sb + dy / 2 + side * h * dx / chord;
@@ -301,7 +301,7 @@ bool Run::do_arc(bool cw) {
       ca = wa ? length_mm(*wa) : sa;
       cb = wb ? length_mm(*wb) : sb;
     } else {
-      // I/J/K are incremental from the start point in G90 and G91 alike (REFERENCE §2.3).
+      // I/J/K are incremental from the start point in G90 and G91 alike (docs/physics.md, 'Arcs and planes').
       ca = sa + (wa ? length_mm(*wa) : 0.0);
       cb = sb + (wb ? length_mm(*wb) : 0.0);
     }

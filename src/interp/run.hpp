@@ -189,7 +189,7 @@ class Run {
 
   // ---- numbers -----------------------------------------------------------
   double to_mm(double v) const { return inch_ ? v * 25.4 : v; }
-  // A length word under the dialect's decimal-point rule (REFERENCE §2.1).
+  // A length word under the dialect's decimal-point rule (docs/physics.md, 'The decimal point').
   double length_mm(const Word& w) const {
     double v = w.value;
     if (!w.has_point && d_.decimal_rule == profile::DecimalRule::least_input_increment)

@@ -67,7 +67,7 @@ void measure(const char* name, const std::vector<interp::Motion>& path, SimOptio
   const force::CutterSlices cs = force::make_slices(c, 0.05, 20);
   const force::AngleGrid grid = force::make_angle_grid(360);
   force::Coefficients k;
-  k.Ktc_N_per_mm2 = 3600;  // Smaoui 2011 C35 (REFERENCE.md section 3)
+  k.Ktc_N_per_mm2 = 3600;  // Smaoui 2011 C35 (docs/physics.md, 'Cutting coefficients')
   k.Krc_N_per_mm2 = 3400;
   k.Kac_N_per_mm2 = 500;
   const Process proc{0.1, 8000};

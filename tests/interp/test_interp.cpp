@@ -1,4 +1,4 @@
-// Interpreter tests: one or more per trap of REFERENCE.md §2, plus cycles,
+// Interpreter tests: one or more per trap of docs/physics.md, 'G-code traps', plus cycles,
 // subprograms and frames. Expected positions are worked out by hand from the
 // Fanuc/ISO rules, never read back from deflex's own output.
 #include <doctest/doctest.h>

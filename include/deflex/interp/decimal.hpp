@@ -1,4 +1,4 @@
-// The decimal-point trap (REFERENCE.md §2.1): on a Fanuc-style control `X76`
+// The decimal-point trap (docs/physics.md, 'The decimal point'): on a Fanuc-style control `X76`
 // is 76 least input increments (0.076 mm), on LinuxCNC 76 mm. deflex reads it
 // as the dialect says and never guesses; but a program that writes most axis
 // words with a decimal point and some without was almost surely written for

@@ -26,8 +26,8 @@ struct ToolShape {
   double length_mm = 0;
 };
 
-// The fluted part (cap included) is a solid of flute_diameter_ratio * D (REFERENCE
-// §4: flutes behave like a cylinder of about 0.75-0.85 D); above it the neck,
+// The fluted part (cap included) is a solid of flute_diameter_ratio * D (docs/physics.md,
+// 'Flutes': flutes behave like a cylinder of about 0.75-0.85 D); above it the neck,
 // then the shank, cut at the holder face.
 ToolShape tool_shape(const Tool& t);
 
