@@ -123,9 +123,11 @@ struct Csv {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   // The number in `column` of row i (throws std::out_of_range on an unknown column).
-  double num(std::size_t i, const std::string& column) const {
+  double num(std::size_t i, const std::string& column) const { return std::stod(rows.at(i).at(col(column))); }
+  // The index of `column` (throws std::out_of_range on an unknown one).
+  std::size_t col(const std::string& column) const {
     for (std::size_t c = 0; c < header.size(); ++c)
-      if (header[c] == column) return std::stod(rows.at(i).at(c));
+      if (header[c] == column) return c;
     throw std::out_of_range("no column " + column);
   }
 };

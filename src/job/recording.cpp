@@ -14,7 +14,10 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
   o.tolerance_mm = j.settings.tolerance_mm;
   o.as_written = as_written;
   o.tool_of = tool_of(j);
-  // Without a report nothing needs the cusp or the pairing: the figures only.
+  // The summary's percentiles of |e| always (its |e| go to a spill file in
+  // the temporary folder: 8 bytes a point); without a report or an observer
+  // that wants rows nothing needs the cusp or the pairing: the figures only.
+  o.percentiles = true;
   o.cusp = !dir.empty() || (obs && obs->wants_rows());
   if (obs && obs->wants_rows()) o.rows = [obs](const report::PointRow& r) { obs->row(r); };
   if (!dir.empty()) {
@@ -25,7 +28,7 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
     flank = std::make_unique<writer::AtomicFile>((fs::path(dir) / "flank_profile.csv").string(), "");
     o.points_csv = &points->stream();
     o.flank_csv = &flank->stream();
-    o.page = o.percentiles = true;
+    o.page = true;
     o.spill_dir = dir;
   }
   rec = std::make_unique<report::Recorder>(std::move(o));
