@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "deflex/job/check.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/report/text_out.hpp"
 #include "deflex/compensate/compensate.hpp"
@@ -35,6 +36,18 @@ class PathPrinter : public interp::MotionSink {
   bool lines_, centre_;
 };
 
+const char* kCheckHelp =
+    "Reads and interprets the program as the control would and reports every problem\n"
+    "as FILE:LINE:COL: error|warning: MESSAGE with the source line, on stderr. With a\n"
+    "machine profile, every motion (arcs by their extent) is checked against the\n"
+    "travel limits of the tool tip in machine coordinates (work offsets from the\n"
+    "profile; tool length not included). With --part, the gouge check: at every CL\n"
+    "point of every cutting move (0.5 mm apart) the programmed cutter is measured\n"
+    "against the part model, and where it cuts into the part or stands off a face of\n"
+    "it by more than --part-gap a warning names the lines and the largest gap (no\n"
+    "stock, no simulation). A summary goes to stdout. Exit 0 when there is no error,\n"
+    "1 otherwise.\n";
+
 const char* kPathHelp =
     "Prints one line per tool motion: KIND X Y Z, where KIND is G0, G1, G2 or G3 and\n"
     "X Y Z is the end point in mm (6 decimals) in the active work coordinate frame\n"
@@ -60,19 +73,6 @@ int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(
 // The file read in pieces (memory does not grow with its length) unless it
 // is one piece anyway, may call subprograms or comes from standard input.
 gcode::ProgramPasses load(const std::string& file, Io& io) { return gcode::ProgramPasses(file, &io.in, piece_lines()); }
-
-// The checks of the file as text (shape, decimal points): a pass of their own,
-// so their findings come first, as they would on the whole file.
-void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags) {
-  interp::ShapeCheck shape;
-  interp::DecimalCheck dec(s.dialect);
-  src.each([&](const gcode::Program& p, bool) {
-    shape.add(p);
-    dec.add(p);
-  });
-  shape.finish(diags);
-  dec.finish(diags, s.strict);
-}
 
 // One pass of the interpreter over the pieces; `sink` may follow the piece
 // being read (set_source).
@@ -108,7 +108,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   s.tool_file = tool_file;
   gcode::ProgramPasses prog = load(file, io);
   Diagnostics diags(&io.err, s.max_errors);
-  check_text(prog, s, diags);
+  job::check_text(prog, s, diags);
   if (diags.errors()) return finish(diags);  // --strict: nothing printed
   // Two passes: the first reports every diagnostic and prints nothing, so a
   // program with an error (past --max-blocks included) prints no path at all
@@ -126,124 +126,45 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
 
 namespace {
 
-// The travel check as a sink of the interpreter, keeping the motions when asked.
-class TravelCheck : public interp::MotionSink {
- public:
-  TravelCheck(const profile::Travel& t, const std::string& name, Diagnostics& d)
-      : t_(t), d_(d), spindle_(none_, d), none_(name, "") {}
-  std::vector<interp::Motion>* keep = nullptr;  // collects the motions (the gouge check's)
-  void motion(const interp::Motion& m) override {
-    if (keep) keep->push_back(m);
-    ++count_;
-    interp::check_travel(m, t_, *src_, d_);
-    spindle_.motion(m);
-    if (m.comp && !cutter_comp_.first_line())
-      cutter_comp_ = SourceText(none_.name(), std::string(src_->line_text(m.line)), m.line);
-  }
-  // The line of the first motion under G41/G42 (its piece may be gone).
-  const SourceText& cutter_comp_line() const { return cutter_comp_; }
-  void set_source(const SourceText& piece) {  // the piece being read
-    src_ = &piece;
-    spindle_.set_source(piece);
-  }
-  std::uint64_t count_ = 0;
-
- private:
-  const profile::Travel& t_;
-  const SourceText* src_ = &none_;
-  Diagnostics& d_;
-  interp::SpindleCheck spindle_;
-  SourceText none_;
-  SourceText cutter_comp_{"", "", 0};
-};
-
 }  // namespace
 
 int cmd_check(const std::vector<std::string>& args, Io& io) {
-  ReadOptions r;
-  PartOptions part;
-  std::string file, format = "text", tool_file, tool;
+  job::CheckSettings cs;
+  std::string format = "text";
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json")
-                    ("tool-file", po::value(&tool_file), "tool library for the gouge check (default: config tool_file, else the installed samples/tools.yaml)")
-                    ("tool", po::value(&tool), "with --part: check every cut with this tool (default: the program's T words)");
-  add_part_options(desc, part);
-  add_read_options(desc, r);
+                    ("tool-file", po::value(&cs.tool_file), "tool library for the gouge check (default: config tool_file, else the installed samples/tools.yaml)")
+                    ("tool", po::value(&cs.tool), "with --part: check every cut with this tool (default: the program's T words)");
+  add_part_options(desc, cs.part);
+  add_read_options(desc, cs.read);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
-  if (!files.empty()) file = files[0];
+  if (!files.empty()) cs.program = files[0];
   if (help) {
-    print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]",
-               "Reads and interprets the program as the control would and reports every problem\n"
-               "as FILE:LINE:COL: error|warning: MESSAGE with the source line, on stderr. With a\n"
-               "machine profile, every motion (arcs by their extent) is checked against the\n"
-               "travel limits of the tool tip in machine coordinates (work offsets from the\n"
-               "profile; tool length not included). With --part, the gouge check: at every CL\n"
-               "point of every cutting move (0.5 mm apart) the programmed cutter is measured\n"
-               "against the part model, and where it cuts into the part or stands off a face of\n"
-               "it by more than --part-gap a warning names the lines and the largest gap (no\n"
-               "stock, no simulation). A summary goes to stdout. Exit 0 when there is no error,\n"
-               "1 otherwise.\n", desc);
+    print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]", kCheckHelp, desc);
     return 0;
   }
   if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
-  if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
-  Setup s = resolve(r);
-  s.tool_file = tool_file;
-  const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
-  // The gouge check keeps the motions and names lines of the whole file: it reads it whole.
-  gcode::ProgramPasses prog(file, &io.in, part_file.empty() ? piece_lines() : 0);
-  // A whole program: which lines run more than once, so that the count of
-  // compensable motions is compensate's (a subprogram run once is).
-  const gcode::Program* whole = prog.whole_program();
-  if (whole && gcode::may_need_whole_file(whole->bytes())) {
-    Diagnostics quiet(nullptr, 0);
-    auto calls = std::make_shared<const interp::CallStructure>(interp::call_structure(*whole, s.interp(), quiet));
-    s.repeated_lines = std::shared_ptr<const std::vector<std::uint8_t>>(calls, &calls->repeated);
-  }
-  Diagnostics diags(&io.err, s.max_errors);
-  diags.set_keep(format == "json");  // only JSON lists them again; a text run may report millions
-  profile::Travel none;
-  TravelCheck tc(s.machine ? s.machine->travel : none, prog.name(), diags);
-  std::vector<interp::Motion> motions;
-  tc.keep = part_file.empty() ? nullptr : &motions;
-  check_text(prog, s, diags);
-  const interp::Options opt = s.interp();
-  const interp::Stats st = interpret_all(prog, opt, diags, tc);
-  if (!part_file.empty() && !st.stopped) {
-    const double gap = part.gap_mm ? *part.gap_mm : config_number(s.config, "part_gap_mm", 0.02);
-    if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
-    const part::PartModel pm = part::PartModel::load(part_file);
-    const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-    compensate::Settings cs;  // the tool choice and part reach of compensate
-    cs.tool_override = !tool.empty() ? tool : config_string(s.config, "tool");
-    const compensate::PartGaps g = compensate::part_gaps(
-        motions, pm, lib, [&cs](const interp::Motion& m) { return compensate::tool_id(m, cs); }, {}, gap,
-        cs.part_reach_mm);
-    report_part_gaps(g, prog.whole_program()->source(), gap, diags);
-  }
-  if (st.cutter_comp_motions)
-    diags.report(Severity::note, tc.cutter_comp_line(), st.first_cutter_comp_line, 1,
-                 plural(st.cutter_comp_motions, "motion") + (st.cutter_comp_motions == 1 ? " runs" : " run") +
-                     " under G41/G42 cutter compensation (first here): deflex simulates the tool "
-                     "centre's path and compensates the programmed contour (not the start-up moves)");
+  if (cs.program.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
+  cs.keep_diagnostics = format == "json";  // only JSON lists them again
+  const job::CheckResult r = job::check(cs, io);
+  const interp::Stats& st = r.stats;
   if (format == "json") {
-    io.out << report::line({{"file", prog.name()}, {"lines", st.lines}, {"blocks", st.blocks},
+    io.out << report::line({{"file", r.name}, {"lines", st.lines}, {"blocks", st.blocks},
                             {"motions", st.motions}, {"compensable_motions", st.compensable},
-                            {"cutter_comp_motions", st.cutter_comp_motions}, {"errors", diags.errors()},
-                            {"warnings", diags.warnings()}, {"dialect", s.dialect.name},
-                            {"machine", s.machine ? s.machine->name : ""},
+                            {"cutter_comp_motions", st.cutter_comp_motions}, {"errors", r.errors},
+                            {"warnings", r.warnings}, {"dialect", r.dialect}, {"machine", r.machine},
                             {"interpretation_stopped_at_line", st.stopped_line},
-                            {"diagnostics", report::to_json(diags.all())}});
+                            {"diagnostics", report::to_json(r.diagnostics)}});
   } else {
-    io.out << prog.name() << ": " << plural(st.lines, "line") << ", " << plural(st.blocks, "block") << ", "
-           << plural(st.motions, "motion") << " (" << st.compensable << " compensable), " << plural(diags.errors(), "error")
-           << ", " << plural(diags.warnings(), "warning") << " [dialect " << s.dialect.name
-           << (s.machine ? ", machine " + s.machine->name : std::string()) << "]\n";
+    io.out << r.name << ": " << plural(st.lines, "line") << ", " << plural(st.blocks, "block") << ", "
+           << plural(st.motions, "motion") << " (" << st.compensable << " compensable), " << plural(r.errors, "error")
+           << ", " << plural(r.warnings, "warning") << " [dialect " << r.dialect
+           << (r.machine.empty() ? std::string() : ", machine " + r.machine) << "]\n";
   }
-  return finish(diags);
+  return r.errors ? static_cast<int>(Exit::input) : 0;
 }
 
 int cmd_rewrite(const std::vector<std::string>& args, Io& io) {

@@ -1,4 +1,4 @@
-// deflex stock: the stock after earlier operations, as a .zmap (every cell's
+// deflex stock: the stock after earlier operations (job::rest_stock), as a .zmap (every cell's
 // height, compact: stock/zmap_file.hpp) for the next operation, or as a closed
 // binary STL (stock/mesh_out.hpp) for a CAM system or a viewer.
 #include <sstream>
@@ -7,27 +7,25 @@
 #include "deflex/stock/mesh_out.hpp"
 #include "deflex/stock/zmap_file.hpp"
 #include "deflex/writer/writer.hpp"
-#include "deflex/job/earlier.hpp"
-#include "deflex/job/run.hpp"
+#include "deflex/job/stock.hpp"
 
 namespace deflex::cli {
 
 int cmd_stock(const std::vector<std::string>& args, Io& io) {
-  ReadOptions read;
-  std::string stock_given, tool_file, output;
-  std::vector<EarlierOp> stock_from;
-  double cell_mm = 0.05, tol_mm = 0.001, cl_spacing_mm = 0.5;
+  job::StockSettings s;
+  std::string output;
+  double tol_mm = 0.001;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
       "output,o", po::value(&output), "the stock to write (atomically): FILE.zmap, every cell's height; any other name, a binary STL")(
-      "stock", po::value(&stock_given), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid or a .zmap (default: config stock)")(
-      "tool-file", po::value(&tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
-      "cell-mm", po::value(&cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
+      "stock", po::value(&s.stock), "box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), an STL/STEP/IGES solid or a .zmap (default: config stock)")(
+      "tool-file", po::value(&s.tool_file), "tool library (YAML, Fusion 360 JSON or LinuxCNC .tbl)")(
+      "cell-mm", po::value(&s.cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm")(
       "mesh-tolerance", po::value(&tol_mm)->default_value(0.001, "0.001"),
       "how far the STL's surface may pass from a cell's height where triangles are merged, mm (0: only exactly flat or planar cells)");
-  add_stock_from_options(desc, stock_from);
-  add_read_options(desc, read);
+  add_stock_from_options(desc, s.stock_from);
+  add_read_options(desc, s.read);
   std::vector<std::string> none;
   parse_with_files(args, desc, none, 0);
   if (help) {
@@ -47,15 +45,8 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
     throw Error(Exit::usage, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
   writer::check_output_path(output, "");
   if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(Exit::usage, "--mesh-tolerance must be in [0, 10] mm");
-  if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
-  const Setup s = resolve_with_machine(read);
-  const std::string spec = stock_spec(stock_given, s.config);
-  const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
-  const std::vector<job::EarlierRun> earlier = read_earlier_all(stock_from, s, lib, io);
-  stock::SolidOptions so;
-  so.cell_mm = cell_mm;
-  stock::ZMap z = stock::make_stock(spec, so);
-  job::sweep_earlier_all(earlier, z, lib, cl_spacing_mm);
+  std::string spec;
+  const stock::ZMap z = job::rest_stock(s, io, &spec);
   const stock::GridSpec& g = z.grid();
   if (stock::is_zmap_path(output)) {
     writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });

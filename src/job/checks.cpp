@@ -1,6 +1,8 @@
 // The checks of job::open() (checks.hpp).
 #include "checks.hpp"
 
+#include "deflex/job/check.hpp"
+
 #include <algorithm>
 
 #include <cstdio>
@@ -193,17 +195,9 @@ void check_stock_reached(const Run& j, Diagnostics& diags) {
 void check_in_pieces(Run& j, Diagnostics& diags) {
   const Settings& a = j.given;
   gcode::ProgramPasses& src = *j.pieces;
-  interp::ShapeCheck shape;
-  interp::DecimalCheck dec(j.setup.dialect);
   report::Sha256 sha;
-  src.each([&](const gcode::Program& p, bool) {
-    shape.add(p);
-    dec.add(p);
-    sha.add(p.source().bytes());
-  });
+  check_text(src, j.setup, diags, [&sha](const gcode::Program& p) { sha.add(p.source().bytes()); });
   j.sha256 = sha.hex();
-  shape.finish(diags);
-  dec.finish(diags, j.setup.strict);
   const interp::Options opt = j.setup.interp();
   struct Count : interp::MotionSink {
     std::size_t n = 0;
@@ -346,8 +340,7 @@ void check_gouges(Run& j, Diagnostics& diags) {
   // program stands off the part on purpose (the reference is the design).
   if (!j.physics.part || !j.given.reference.empty()) return;
   const compensate::Settings& st = j.settings;
-  const double gap = j.given.part.gap_mm ? *j.given.part.gap_mm : config_number(j.setup.config, "part_gap_mm", 0.02);
-  if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+  const double gap = part_gap_mm(j.given.part, j.setup.config);
   engage::PathOptions po;
   po.cl_spacing_mm = st.cl_spacing_mm;
   auto gaps_of = [&](const std::vector<interp::Motion>& ms) {

@@ -1,0 +1,49 @@
+// `deflex check` as a call: a program read and interpreted as the control
+// would, its diagnostics, the machine's travel, and with a part model the
+// gouge check (the programmed cutter against the design surface; no stock,
+// no simulation).
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/gcode/reader.hpp"
+#include "deflex/interp/interpreter.hpp"
+#include "deflex/job/io.hpp"
+#include "deflex/job/settings.hpp"
+#include "deflex/job/setup.hpp"
+
+namespace deflex::job {
+
+struct CheckSettings {
+  std::string program;   // a file, "-" for the input stream
+  ReadSettings read;
+  PartSettings part;     // the gouge check where a part model is given (or config part)
+  std::string tool_file; // the tool library of the gouge check and of G41/G42 radii
+  std::string tool;      // the gouge check's tool for every cut ("": the program's T words)
+  bool keep_diagnostics = false;  // CheckResult::diagnostics (a text run may report millions)
+};
+
+struct CheckResult {
+  std::string name;      // the program's
+  std::string dialect, machine;
+  interp::Stats stats;
+  int errors = 0, warnings = 0;
+  std::vector<Diagnostic> diagnostics;  // with keep_diagnostics
+};
+
+// Every diagnostic goes to io.err as it is found; the result counts them.
+CheckResult check(const CheckSettings& s, Io& io);
+
+// The checks of a program's text (its shape, its decimal points): a pass of
+// their own over the pieces, so their findings come first, as on the whole
+// file; `also` (may be null) sees each piece in the same pass.
+void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
+                const std::function<void(const gcode::Program&)>& also = {});
+
+// The gouge check's gap: the one given, else config part_gap_mm, else 0.02 mm;
+// a settings Error when it is not > 0.
+double part_gap_mm(const PartSettings& p, const profile::Config& cfg);
+
+}  // namespace deflex::job
