@@ -9,9 +9,9 @@
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/search.hpp"
+#include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/machine.hpp"
-#include "deflex/stiffness/report.hpp"
 #include "deflex/stiffness/solid.hpp"
 #include "deflex/stiffness/tool.hpp"
 
@@ -141,14 +141,14 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
   }
   const auto rows = st::sample(table, hs);
   if (format == "json") {
-    io.out << st::compliance_json(rows);
+    io.out << report::compliance_json(rows);
     return 0;
   }
   std::string title = describe(tool) + "\nmethod: " + method + "; " +
                       (tool_only ? std::string("tool only, clamped rigidly at the holder face")
                                  : "tool in holder on machine " + resolve_machine(machine)) +
                       "\n" + note;
-  io.out << st::compliance_text(rows, title);
+  io.out << report::compliance_text(rows, title);
   return 0;
 }
 

@@ -8,8 +8,8 @@
 
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/beam.hpp"
-#include "deflex/stiffness/report.hpp"
 #include "helpers.hpp"
 
 using namespace deflex;
@@ -92,7 +92,7 @@ TEST_SUITE("stiffness") {
   TEST_CASE("report: JSON has exactly the documented shape") {
     Compliance c;
     c << 1e-4, 2e-6, 0, 2e-6, 1e-4, 0, 0, 0, 3e-6;
-    const std::string j = compliance_json({{1.5, c}});
+    const std::string j = deflex::report::compliance_json({{1.5, c}});
     CHECK(j == "{\"compliance\":[{\"height_mm\":1.5,\"matrix_mm_per_N\":[[0.0001,2e-06,0.0],"
                "[2e-06,0.0001,0.0],[0.0,0.0,3e-06]]}]}\n");
     const auto parsed = nlohmann::json::parse(j);
