@@ -73,11 +73,11 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
                kCompareHelp, desc);
     return 0;
   }
-  if (files.size() < 2) throw Error(Exit::usage, "compare: give two or more programs");
-  if (!a.reference.empty()) throw Error(Exit::usage, "compare: --reference is for simulate");
+  if (files.size() < 2) throw Error(ErrorKind::settings, "compare: give two or more programs");
+  if (!a.reference.empty()) throw Error(ErrorKind::settings, "compare: --reference is for simulate");
   if (format != "text" && format != "csv" && format != "json")
-    throw Error(Exit::usage, "--format must be text, csv or json");
-  if (std::count(files.begin(), files.end(), "-") > 1) throw Error(Exit::usage, "compare: standard input (-) can be read once");
+    throw Error(ErrorKind::settings, "--format must be text, csv or json");
+  if (std::count(files.begin(), files.end(), "-") > 1) throw Error(ErrorKind::settings, "compare: standard input (-) can be read once");
   if (!a.report.empty()) writer::check_output_folder(a.report);
   // Every program read and checked before anything is simulated; the first
   // builds the stock and part model, the others share them.
@@ -110,7 +110,7 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
   if (!a.report.empty()) {
     std::error_code ec;
     fs::create_directories(a.report, ec);
-    if (ec) throw Error(Exit::io, a.report + ": error: cannot create the report folder: " + ec.message());
+    if (ec) throw Error(ErrorKind::io, a.report + ": error: cannot create the report folder: " + ec.message());
     const fs::path d(a.report);
     writer::write_file_atomically((d / "compare.csv").string(), "", [&](std::ostream& o) { o << report::compare_csv(rows); });
     writer::write_file_atomically((d / "compare.json").string(), "",

@@ -89,7 +89,7 @@ struct Recording {
     if (!dir.empty()) {
       std::error_code ec;
       fs::create_directories(dir, ec);
-      if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+      if (ec) throw Error(ErrorKind::io, dir + ": error: cannot create the report folder: " + ec.message());
       points = std::make_unique<writer::AtomicFile>((fs::path(dir) / "points.csv").string(), "");
       flank = std::make_unique<writer::AtomicFile>((fs::path(dir) / "flank_profile.csv").string(), "");
       o.points_csv = &points->stream();
@@ -339,7 +339,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
                kCompensateHelp, desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "compensate: a program IN (or - for stdin) is required");
+  if (files.empty()) throw Error(ErrorKind::settings, "compensate: a program IN (or - for stdin) is required");
   a.file = files[0];
   // Every check of the command line before any computation.
   if (!a.output.empty() && a.output != "-") writer::check_output_path(a.output, a.file);
@@ -406,7 +406,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
+  if (files.empty()) throw Error(ErrorKind::settings, "simulate: a program IN (or - for stdin) is required");
   a.file = files[0];
   if (!a.report.empty()) writer::check_output_folder(a.report);
   // Without --reference a long program is read in pieces.
@@ -423,7 +423,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
     interp::Options ro = j.setup.interp();
     ro.repeated_lines = nullptr;  // another program's lines
     interp::interpret(ref, ro, diags, c);
-    if (diags.errors()) throw Error(Exit::input, a.reference + ": error: the reference program has errors");
+    if (diags.errors()) throw Error(ErrorKind::input, a.reference + ": error: the reference program has errors");
     // Paired by the program structure (compensate/pairing.hpp): a motion the
     // compensation left alone has an intent offset of exactly zero; a block
     // deflex inserted is meant to lie on the move or arc it splits. F words

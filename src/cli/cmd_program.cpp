@@ -103,7 +103,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   parse_with_files(args, desc, files, 1);
   if (!files.empty()) file = files[0];
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines] [--centre]", kPathHelp, desc); return 0; }
-  if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
+  if (file.empty()) throw Error(ErrorKind::settings, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   s.tool_file = tool_file;
   gcode::ProgramPasses prog = load(file, io);
@@ -188,8 +188,8 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
                "1 otherwise.\n", desc);
     return 0;
   }
-  if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
-  if (file.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
+  if (format != "text" && format != "json") throw Error(ErrorKind::settings, "--format takes text or json");
+  if (file.empty()) throw Error(ErrorKind::settings, "check: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   s.tool_file = tool_file;
   const std::string part_file = !part.part.empty() ? part.part : config_path(s.config, "part");
@@ -214,7 +214,7 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   const interp::Stats st = interpret_all(prog, opt, diags, tc);
   if (!part_file.empty() && !st.stopped) {
     const double gap = part.gap_mm ? *part.gap_mm : config_number(s.config, "part_gap_mm", 0.02);
-    if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+    if (!(gap > 0)) throw Error(ErrorKind::settings, "--part-gap must be > 0 mm");
     const part::PartModel pm = part::PartModel::load(part_file);
     const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
     compensate::Settings cs;  // the tool choice and part reach of compensate
@@ -265,7 +265,7 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
                "use it to check that deflex reads a program. A program with errors is not written.\n", desc);
     return 0;
   }
-  if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
+  if (file.empty()) throw Error(ErrorKind::settings, "rewrite: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   if (!output.empty() && output != "-") writer::check_output_path(output, file);
   gcode::ProgramPasses prog = load(file, io);

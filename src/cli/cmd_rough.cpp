@@ -37,7 +37,7 @@ std::vector<interp::Motion> read_back(const std::string& text, const std::string
   interp::interpret(prog, s.interp(), diags, c);
   for (const interp::Motion& m : motions) interp::check_travel(m, s.machine->travel, prog.source(), diags);
   if (diags.errors() || diags.warnings())
-    throw Error(Exit::usage, "the roughing program does not fit this machine (nothing written):\n" + err.str());
+    throw Error(ErrorKind::settings, "the roughing program does not fit this machine (nothing written):\n" + err.str());
   return motions;
 }
 
@@ -83,11 +83,11 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
                desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "rough: give the finishing program (see deflex rough --help)");
-  if (files[0] == "-") throw Error(Exit::usage, "rough: the finishing program must be a file, not standard input");
-  if (rough_tool.empty()) throw Error(Exit::usage, "rough: --rough-tool T<n> is required (a flat, bull-nose or ball end mill of the library)");
+  if (files.empty()) throw Error(ErrorKind::settings, "rough: give the finishing program (see deflex rough --help)");
+  if (files[0] == "-") throw Error(ErrorKind::settings, "rough: the finishing program must be a file, not standard input");
+  if (rough_tool.empty()) throw Error(ErrorKind::settings, "rough: --rough-tool T<n> is required (a flat, bull-nose or ball end mill of the library)");
   if (!output.empty() && output != "-") writer::check_output_path(output, files[0]);
-  if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
+  if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
   const Setup s = resolve_with_machine(read);
   const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));
@@ -95,7 +95,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   if (!finish_tool.empty()) (void)stiffness::find_tool(lib, finish_tool);
   if (rough_tool.size() < 2 || rough_tool.size() > 6 || rough_tool[0] != 'T' ||
       rough_tool.find_first_not_of("0123456789", 1) != std::string::npos)
-    throw Error(Exit::usage, "--rough-tool must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
+    throw Error(ErrorKind::settings, "--rough-tool must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
   o.tool = profile_of(rt);
   o.tool_number = std::stoi(rough_tool.substr(1));
   o.stepdown_mm = stepdown ? *stepdown : rt.diameter_mm / 2;

@@ -43,10 +43,10 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (output.empty() || output == "-")
-    throw Error(Exit::usage, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
+    throw Error(ErrorKind::settings, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
   writer::check_output_path(output, "");
-  if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(Exit::usage, "--mesh-tolerance must be in [0, 10] mm");
-  if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
+  if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(ErrorKind::settings, "--mesh-tolerance must be in [0, 10] mm");
+  if (!(cell_mm >= 0.005 && cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
   const Setup s = resolve_with_machine(read);
   const std::string spec = stock_spec(stock_given, s.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(tool_file, s.config));

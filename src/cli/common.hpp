@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/compensate/gouge.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/coefficients.hpp"

@@ -109,7 +109,7 @@ Dialect load_dialect(const std::string& name_or_path) {
   }
   std::string list;
   for (auto& n : dialect_names()) list += (list.empty() ? "" : ", ") + n;
-  throw Error(Exit::usage, "unknown dialect '" + name_or_path + "' (built in: " + list + "; or give a .yaml file)");
+  throw Error(ErrorKind::settings, "unknown dialect '" + name_or_path + "' (built in: " + list + "; or give a .yaml file)");
 }
 
 namespace {
@@ -174,7 +174,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
     if (file.empty()) {
       std::string where;
       for (const std::string& d : machine_folders()) where += (where.empty() ? "" : ", ") + d;
-      throw Error(Exit::config, "machine profile '" + name_or_path + "' not found (looked for " + name_or_path +
+      throw Error(ErrorKind::config, "machine profile '" + name_or_path + "' not found (looked for " + name_or_path +
                                     ".yaml in " + where + ")");
     }
   }

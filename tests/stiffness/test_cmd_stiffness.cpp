@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/beam.hpp"
@@ -31,13 +32,13 @@ Run run(const std::vector<std::string>& args) {
   r.err = err.str();
   return r;
 }
-Exit usage_code(const std::vector<std::string>& args) {
+cli::Exit usage_code(const std::vector<std::string>& args) {
   try {
     run(args);
   } catch (const Error& e) {
-    return e.code();
+    return cli::exit_code(e.kind());
   }
-  return Exit::ok;
+  return cli::Exit::ok;
 }
 }  // namespace
 
@@ -80,12 +81,12 @@ TEST_SUITE("stiffness") {
 
   TEST_CASE("cmd: bad usage is Exit::usage, a bad library Exit::io") {
     const std::string lib = sample_path("samples/tools.yaml");
-    CHECK(usage_code({"--tool", "T1"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--method", "fem"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--at", "99"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--bogus"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T9"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", "/nonexistent/tools.yaml", "--tool", "T1"}) == Exit::io);
+    CHECK(usage_code({"--tool", "T1"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--method", "fem"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--at", "99"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--bogus"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T9"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", "/nonexistent/tools.yaml", "--tool", "T1"}) == cli::Exit::io);
     CHECK(run({"--help"}).out.find("usage: deflex stiffness") == 0);
   }
 

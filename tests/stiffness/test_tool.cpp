@@ -19,7 +19,7 @@ std::string tool_error(const std::string& yaml) {
   try {
     parse_tool_library(yaml, "lib.yaml");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     return e.what();
   }
   return "";
@@ -28,7 +28,7 @@ std::string machine_error(const std::string& yaml) {
   try {
     parse_machine_stiffness(YAML::Load(yaml), "m.yaml");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     return e.what();
   }
   return "";

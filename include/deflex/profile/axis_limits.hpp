@@ -38,7 +38,7 @@ struct AxisLimits {
 };
 
 // Reads the `axis_limits:` section (the node of that key). Throws
-// Error(Exit::config, "file:line:col: error: ...") on an unknown key, a
+// Error(ErrorKind::config, "file:line:col: error: ...") on an unknown key, a
 // missing axis, a value that is not a finite number > 0.
 AxisLimits parse_axis_limits(const YAML::Node& section, const std::string& file);
 

@@ -1,5 +1,5 @@
 // Control dialects (postproc/*.yaml), machine profiles (samples/machines/*.yaml)
-// and config.yaml. Every YAML error is a deflex::Error(Exit::config) whose text
+// and config.yaml. Every YAML error is a deflex::Error(ErrorKind::config) whose text
 // starts with `file:line:col: error:`.
 #pragma once
 #include <array>

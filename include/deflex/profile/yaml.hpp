@@ -1,6 +1,6 @@
 // The one strict YAML reader of deflex: config.yaml, machine profiles (every
 // section), dialects, tool and material libraries all go through it, so each
-// error is a deflex::Error(Exit::config) whose text starts `file:line:col: error:`,
+// error is a deflex::Error(ErrorKind::config) whose text starts `file:line:col: error:`,
 // an unknown key is always an error (a typo never passes silently), and no
 // number becomes an integer or a limit without being checked first.
 #pragma once
@@ -16,7 +16,7 @@ namespace deflex::yaml {
 std::string where(const std::string& file, const YAML::Mark& mark);  // yaml-cpp marks are 0-based
 [[noreturn]] void fail(const std::string& file, const YAML::Mark& mark, const std::string& msg);
 
-std::string read_file(const std::string& path);  // Error(Exit::io) when it cannot be read
+std::string read_file(const std::string& path);  // Error(ErrorKind::io) when it cannot be read
 YAML::Node load_file(const std::string& path);
 YAML::Node load_text(const std::string& text, const std::string& file);
 

@@ -63,9 +63,9 @@ struct MachineStiffness {
 };
 
 // Reads the `holder:` and `stiffness:` sections of a machine profile's root map.
-// Throws Error(Exit::config, "file:line:col: error: ...").
+// Throws Error(ErrorKind::config, "file:line:col: error: ...").
 MachineStiffness parse_machine_stiffness(const YAML::Node& profile_root, const std::string& file);
-// Reads a machine profile file (Exit::io if unreadable).
+// Reads a machine profile file (ErrorKind::io if unreadable).
 MachineStiffness load_machine_stiffness(const std::string& path);
 
 }  // namespace deflex::stiffness
