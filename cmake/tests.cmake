@@ -8,10 +8,6 @@ set(DEFLEX_SUITES gcode interp writer profile cli diag stiffness force stock eng
 # program is missing the case carries doctest::skip(), the entry runs nothing
 # and ctest reports it skipped, not passed.
 set(DEFLEX_TOOL_SUITES report_browser cli_completion)
-foreach(m ${DEFLEX_EXCLUDE_MODULES})
-  list(REMOVE_ITEM DEFLEX_SUITES ${m})
-  list(FILTER DEFLEX_TOOL_SUITES EXCLUDE REGEX "^${m}_")
-endforeach()
 foreach(suite ${DEFLEX_SUITES} ${DEFLEX_TOOL_SUITES})
   add_test(NAME ${suite} COMMAND deflex_tests --test-suite=${suite} --no-version)
   set_tests_properties(${suite} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

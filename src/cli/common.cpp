@@ -14,10 +14,8 @@
 #include "deflex/profile/search.hpp"
 #include "deflex/gcode/reader.hpp"
 #include "deflex/profile/yaml.hpp"
-#ifndef DEFLEX_PENDING_STIFFNESS
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/tool.hpp"
-#endif
 
 namespace deflex::cli {
 
@@ -46,11 +44,9 @@ Setup resolve(const ReadOptions& r) {
   s.config = profile::load_config(r.config);
   std::string machine = !r.machine.empty() ? r.machine : s.config.machine;
   if (!machine.empty()) s.machine = profile::load_machine(machine);
-#ifndef DEFLEX_PENDING_STIFFNESS
   // Its holder: and stiffness: sections too, so a typo there is found by every
   // command, not only by the ones that compute deflections.
   if (s.machine) stiffness::parse_machine_stiffness(s.machine->root, s.machine->file);
-#endif
   std::string dialect = !r.dialect.empty() ? r.dialect
                         : !s.config.dialect.empty() ? s.config.dialect
                         : s.machine ? s.machine->dialect : "fanuc";
