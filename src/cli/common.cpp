@@ -154,7 +154,7 @@ void add_material_options(po::options_description& d, MaterialOptions& m) {
 }
 
 std::string config_string(const profile::Config& c, const char* key) {
-  if (c.root && c.root[key]) return yaml::text(c.root[key], key, c.file);
+  if (const YAML::Node root = yaml::node(c.root); root && root[key]) return yaml::text(root[key], key, c.file);
   return {};
 }
 std::string config_path(const profile::Config& c, const char* key) {
@@ -171,7 +171,7 @@ std::string config_path(const profile::Config& c, const char* key) {
   return here;
 }
 double config_number(const profile::Config& c, const char* key, double dflt) {
-  if (c.root && c.root[key]) return yaml::number(c.root[key], key, c.file);
+  if (const YAML::Node root = yaml::node(c.root); root && root[key]) return yaml::number(root[key], key, c.file);
   return dflt;
 }
 

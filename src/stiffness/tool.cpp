@@ -6,6 +6,7 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "tool_yaml.hpp"
 
 namespace deflex::stiffness {
 

@@ -5,8 +5,6 @@
 #include <optional>
 #include <string>
 
-#include <yaml-cpp/yaml.h>
-
 namespace deflex::stiffness {
 
 enum class ToolType { ball, flat, bull };
@@ -69,10 +67,6 @@ ToolLibrary load_tool_library(const std::string& path);
 // The same from YAML text (`file` names it in messages; relative step_file
 // paths are resolved against the folder of `file`).
 ToolLibrary parse_tool_library(const std::string& yaml_text, const std::string& file);
-// `material:` as a preset name or {E_MPa, poisson} (tools and holders).
-Material parse_material(const YAML::Node& node, const std::string& file);
-// One tool entry (a YAML map).
-Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string& file);
 
 // Throws Error(ErrorKind::settings) naming the known tools when `id` is missing.
 const Tool& find_tool(const ToolLibrary& lib, const std::string& id);
