@@ -8,10 +8,6 @@ set(DEFLEX_SUITES gcode interp writer profile job cli diag stiffness force stock
 # program is missing the case carries doctest::skip(), the entry runs nothing
 # and ctest reports it skipped, not passed.
 set(DEFLEX_TOOL_SUITES report_browser cli_completion)
-foreach(m ${DEFLEX_EXCLUDE_MODULES})
-  list(REMOVE_ITEM DEFLEX_SUITES ${m})
-  list(FILTER DEFLEX_TOOL_SUITES EXCLUDE REGEX "^${m}_")
-endforeach()
 foreach(suite ${DEFLEX_SUITES} ${DEFLEX_TOOL_SUITES})
   add_test(NAME ${suite} COMMAND deflex_tests --test-suite=${suite} --no-version)
   set_tests_properties(${suite} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})
@@ -28,3 +24,10 @@ endif()
 string(REPLACE ";" "," DEFLEX_SUITES_COMMA "${DEFLEX_SUITES};${DEFLEX_TOOL_SUITES}")
 add_test(NAME suites COMMAND deflex_tests --count --no-skip --no-version --test-suite-exclude=${DEFLEX_SUITES_COMMA})
 set_tests_properties(suites PROPERTIES PASS_REGULAR_EXPRESSION "passing the current filters: 0\n")
+# A program built on the installed library as another project builds it
+# (tests/consumer): cmake --install into a new prefix, find_package(deflex),
+# build and run it.
+add_test(NAME consumer COMMAND ${CMAKE_COMMAND} -DBUILD=${CMAKE_BINARY_DIR} -DSRC=${CMAKE_SOURCE_DIR}
+  -DWORK=${CMAKE_BINARY_DIR}/consumer -DDEFLEX=$<TARGET_FILE:deflex> "-DGENERATOR=${CMAKE_GENERATOR}"
+  -DLAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER} -P ${CMAKE_SOURCE_DIR}/cmake/consumer_test.cmake)
+set_tests_properties(consumer PROPERTIES TIMEOUT 300)

@@ -38,9 +38,9 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
                kCompareHelp, desc);
     return 0;
   }
-  if (!s.reference.empty()) throw Error(Exit::usage, "compare: --reference is for simulate");
+  if (!s.reference.empty()) throw Error(ErrorKind::settings, "compare: --reference is for simulate");
   if (format != "text" && format != "csv" && format != "json")
-    throw Error(Exit::usage, "--format must be text, csv or json");
+    throw Error(ErrorKind::settings, "--format must be text, csv or json");
   const job::CompareResult c = job::compare(s, files, io, command_of("compare", args));
   if (format == "csv") io.out << report::compare_csv(c.rows);
   else if (format == "json") io.out << report::line(report::compare_json(c.rows, c.tolerance_mm));

@@ -109,7 +109,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
                kCompensateHelp, desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "compensate: a program IN (or - for stdin) is required");
+  if (files.empty()) throw Error(ErrorKind::settings, "compensate: a program IN (or - for stdin) is required");
   s.program = files[0];
   ProgressLine progress(io);
   job::Run run = job::open(s, job::Purpose::compensate, io);
@@ -138,7 +138,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "simulate: a program IN (or - for stdin) is required");
+  if (files.empty()) throw Error(ErrorKind::settings, "simulate: a program IN (or - for stdin) is required");
   s.program = files[0];
   ProgressLine progress(io);
   job::Run run = job::open(s, job::Purpose::simulate, io);

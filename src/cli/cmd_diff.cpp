@@ -150,8 +150,8 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
                "Exit 0 when only coordinates of motion blocks differ, 1 otherwise.\n", desc);
     return 0;
   }
-  if (files.size() != 2) throw Error(Exit::usage, "diff: two programs A and B are required");
-  if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
+  if (files.size() != 2) throw Error(ErrorKind::settings, "diff: two programs A and B are required");
+  if (format != "text" && format != "json") throw Error(ErrorKind::settings, "--format takes text or json");
   Setup s = resolve(r);
   Diagnostics diags(&io.err, s.max_errors);
   Side a = read_side(files[0], s, diags, io);
@@ -160,7 +160,7 @@ int cmd_diff(const std::vector<std::string>& args, Io& io) {
     io.err << "deflex: error: the programs have errors; no comparison made\n";
     return static_cast<int>(Exit::input);
   }
-  if (!(pair_mm > 0)) throw Error(Exit::usage, "--pair-mm must be > 0");
+  if (!(pair_mm > 0)) throw Error(ErrorKind::settings, "--pair-mm must be > 0");
   const compensate::LinePairing pairing = compensate::pair_lines(a.lines, b.lines, {pair_mm});
   Report rep = compare(a, b, pairing, files);
   const std::vector<Change>& changes = rep.changes;

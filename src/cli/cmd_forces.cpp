@@ -87,7 +87,7 @@ std::string shortest(double v) {
 
 void require_positive(const char* opt, double v, bool allow_zero = false) {
   if (!std::isfinite(v) || v < 0 || (!allow_zero && v == 0))
-    throw Error(Exit::usage, std::string("--") + opt + " must be " + (allow_zero ? ">= 0" : "> 0"));
+    throw Error(ErrorKind::settings, std::string("--") + opt + " must be " + (allow_zero ? ">= 0" : "> 0"));
 }
 
 struct ForcesArgs {
@@ -149,15 +149,15 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   for (const char* req : {"tool-file", "tool", "ae", "ap", "fz"})
-    if (!vm.count(req)) throw Error(Exit::usage, std::string("forces: --") + req + " is required (see --help)");
-  if (a.up == a.down) throw Error(Exit::usage, "forces: give exactly one of --up and --down");
+    if (!vm.count(req)) throw Error(ErrorKind::settings, std::string("forces: --") + req + " is required (see --help)");
+  if (a.up == a.down) throw Error(ErrorKind::settings, "forces: give exactly one of --up and --down");
   if (a.format != "csv" && a.format != "json")
-    throw Error(Exit::usage, "forces: --format must be csv or json");
+    throw Error(ErrorKind::settings, "forces: --format must be csv or json");
   require_positive("ae", a.ae);
   require_positive("ap", a.ap);
   require_positive("fz", a.fz, true);
   require_positive("dz", a.dz);
-  if (a.steps < 4 || a.steps > 1000000) throw Error(Exit::usage, "--steps must be between 4 and 1000000");
+  if (a.steps < 4 || a.steps > 1000000) throw Error(ErrorKind::settings, "--steps must be between 4 and 1000000");
 
   // The material library: --material-file, else the config's (search order
   // of profile/search.hpp), else the installed one.
@@ -165,7 +165,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   const fo::Coefficients k = coefficients_of(a.mat);
   const fo::Cutter cutter = fo::cutter_of(stiffness::find_tool(stiffness::load_tool_library(a.tool_file), a.tool));
   if (a.ap > cutter.flute_length_mm)
-    throw Error(Exit::usage, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +
+    throw Error(ErrorKind::settings, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +
                                  a.tool + " (" + shortest(cutter.flute_length_mm) + " mm)");
   const double dz = std::min(a.dz, a.ap / 20);
   const fo::CutterSlices slices = fo::make_slices(cutter, dz, a.ap);
@@ -223,16 +223,16 @@ void write_file_atomic(const std::string& path, const std::string& text) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(Exit::io, path + ": error: cannot write the file");
+    if (!out) throw Error(ErrorKind::io, path + ": error: cannot write the file");
     out << text;
     out.close();
-    if (!out) throw Error(Exit::io, path + ": error: write failed");
+    if (!out) throw Error(ErrorKind::io, path + ": error: write failed");
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw Error(Exit::io, path + ": error: cannot write the file");
+    throw Error(ErrorKind::io, path + ": error: cannot write the file");
   }
 }
 
@@ -257,7 +257,7 @@ int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
     print_help(io.out, "deflex calibrate FILE.csv [--name NAME] [-o OUT.yaml]", kCalibrateHelp, desc);
     return 0;
   }
-  if (file.empty()) throw Error(Exit::usage, "calibrate: missing FILE.csv (see --help)");
+  if (file.empty()) throw Error(ErrorKind::settings, "calibrate: missing FILE.csv (see --help)");
 
   const fo::SlotTestData d = fo::load_slot_tests(file);
   const fo::SlotCalibration c = fo::calibrate_slot_tests(d);

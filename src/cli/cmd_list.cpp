@@ -58,9 +58,9 @@ int cmd_list(const std::vector<std::string>& args, Io& io) {
     looked = material_library_path(material_file, profile::load_config(config));
     for (const force::MaterialEntry& m : force::load_material_library(looked).entries) print(m.name);
   } else {
-    throw Error(Exit::usage, "list: machines, dialects, tools or materials, not '" + what + "'");
+    throw Error(ErrorKind::settings, "list: machines, dialects, tools or materials, not '" + what + "'");
   }
-  if (n == 0) throw Error(Exit::config, "list: no " + what + " found (looked in " + looked + ")");
+  if (n == 0) throw Error(ErrorKind::config, "list: no " + what + " found (looked in " + looked + ")");
   return 0;
 }
 

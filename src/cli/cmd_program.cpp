@@ -103,7 +103,7 @@ int cmd_path(const std::vector<std::string>& args, Io& io) {
   parse_with_files(args, desc, files, 1);
   if (!files.empty()) file = files[0];
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines] [--centre]", kPathHelp, desc); return 0; }
-  if (file.empty()) throw Error(Exit::usage, "path: a program FILE (or - for stdin) is required");
+  if (file.empty()) throw Error(ErrorKind::settings, "path: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   s.tool_file = tool_file;
   gcode::ProgramPasses prog = load(file, io);
@@ -146,8 +146,8 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
     print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]", kCheckHelp, desc);
     return 0;
   }
-  if (format != "text" && format != "json") throw Error(Exit::usage, "--format takes text or json");
-  if (cs.program.empty()) throw Error(Exit::usage, "check: a program FILE (or - for stdin) is required");
+  if (format != "text" && format != "json") throw Error(ErrorKind::settings, "--format takes text or json");
+  if (cs.program.empty()) throw Error(ErrorKind::settings, "check: a program FILE (or - for stdin) is required");
   cs.keep_diagnostics = format == "json";  // only JSON lists them again
   const job::CheckResult r = job::check(cs, io);
   const interp::Stats& st = r.stats;
@@ -186,7 +186,7 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
                "use it to check that deflex reads a program. A program with errors is not written.\n", desc);
     return 0;
   }
-  if (file.empty()) throw Error(Exit::usage, "rewrite: a program FILE (or - for stdin) is required");
+  if (file.empty()) throw Error(ErrorKind::settings, "rewrite: a program FILE (or - for stdin) is required");
   Setup s = resolve(r);
   if (!output.empty() && output != "-") writer::check_output_path(output, file);
   gcode::ProgramPasses prog = load(file, io);

@@ -57,9 +57,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
                desc);
     return 0;
   }
-  if (files.empty()) throw Error(Exit::usage, "rough: give the finishing program (see deflex rough --help)");
+  if (files.empty()) throw Error(ErrorKind::settings, "rough: give the finishing program (see deflex rough --help)");
   if (s.rough_tool.empty())
-    throw Error(Exit::usage, "rough: --rough-tool T<n> is required (a flat, bull-nose or ball end mill of the library)");
+    throw Error(ErrorKind::settings, "rough: --rough-tool T<n> is required (a flat, bull-nose or ball end mill of the library)");
   s.finish_program = files[0];
   const job::RoughResult r = job::rough(s, io.out, io);
   const process::MachiningTime& t = r.time;

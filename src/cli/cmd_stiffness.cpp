@@ -9,9 +9,9 @@
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/search.hpp"
+#include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/machine.hpp"
-#include "deflex/stiffness/report.hpp"
 #include "deflex/stiffness/solid.hpp"
 #include "deflex/stiffness/tool.hpp"
 
@@ -58,7 +58,7 @@ std::vector<double> heights(const std::vector<double>& at, const st::Tool& t) {
       char b[160];
       std::snprintf(b, sizeof b, "--at %g: the load height must lie along the flutes of %s (0 to %g mm)",
                     h, t.id.c_str(), top);
-      throw Error(Exit::usage, b);
+      throw Error(ErrorKind::settings, b);
     }
   if (!at.empty()) return at;
   std::vector<double> h;
@@ -98,7 +98,7 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
     po::store(po::command_line_parser(args).options(d).run(), vm);
     po::notify(vm);
   } catch (const po::error& e) {
-    throw Error(Exit::usage, std::string("stiffness: ") + e.what());
+    throw Error(ErrorKind::settings, std::string("stiffness: ") + e.what());
   }
   refuse_output_onto_input({tool_file});
   if (vm.count("help")) {
@@ -106,12 +106,12 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (tool_file.empty() || tool_id.empty())
-    throw Error(Exit::usage, "stiffness: --tool-file and --tool are required");
+    throw Error(ErrorKind::settings, "stiffness: --tool-file and --tool are required");
   if (method != "beam" && method != "solid")
-    throw Error(Exit::usage, "stiffness: --method must be beam or solid, not '" + method + "'");
+    throw Error(ErrorKind::settings, "stiffness: --method must be beam or solid, not '" + method + "'");
   if (format != "text" && format != "json")
-    throw Error(Exit::usage, "stiffness: --format must be text or json, not '" + format + "'");
-  if (mesh_mm < 0) throw Error(Exit::usage, "stiffness: --mesh-mm must be > 0");
+    throw Error(ErrorKind::settings, "stiffness: --format must be text or json, not '" + format + "'");
+  if (mesh_mm < 0) throw Error(ErrorKind::settings, "stiffness: --mesh-mm must be > 0");
 
   const st::ToolLibrary lib = st::load_tool_library(tool_file);
   const st::Tool& tool = st::find_tool(lib, tool_id);
@@ -141,14 +141,14 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
   }
   const auto rows = st::sample(table, hs);
   if (format == "json") {
-    io.out << st::compliance_json(rows);
+    io.out << report::compliance_json(rows);
     return 0;
   }
   std::string title = describe(tool) + "\nmethod: " + method + "; " +
                       (tool_only ? std::string("tool only, clamped rigidly at the holder face")
                                  : "tool in holder on machine " + resolve_machine(machine)) +
                       "\n" + note;
-  io.out << st::compliance_text(rows, title);
+  io.out << report::compliance_text(rows, title);
   return 0;
 }
 

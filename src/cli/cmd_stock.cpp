@@ -42,9 +42,9 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (output.empty() || output == "-")
-    throw Error(Exit::usage, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
+    throw Error(ErrorKind::settings, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
   writer::check_output_path(output, "");
-  if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(Exit::usage, "--mesh-tolerance must be in [0, 10] mm");
+  if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(ErrorKind::settings, "--mesh-tolerance must be in [0, 10] mm");
   std::string spec;
   const stock::ZMap z = job::rest_stock(s, io, &spec);
   const stock::GridSpec& g = z.grid();

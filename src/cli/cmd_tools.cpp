@@ -27,9 +27,9 @@ int cmd_tools(const std::vector<std::string>& args, Io& io) {
                desc);
     return help ? 0 : static_cast<int>(Exit::usage);
   }
-  if (words[0] != "import" || words.size() != 2) throw Error(Exit::usage, "tools: usage: deflex tools import FILE [-o OUT]");
+  if (words[0] != "import" || words.size() != 2) throw Error(ErrorKind::settings, "tools: usage: deflex tools import FILE [-o OUT]");
   if (!stiffness::is_foreign_tool_library(words[1]))
-    throw Error(Exit::usage, "tools import: " + words[1] + " is neither .json (Fusion 360) nor .tbl (LinuxCNC)");
+    throw Error(ErrorKind::settings, "tools import: " + words[1] + " is neither .json (Fusion 360) nor .tbl (LinuxCNC)");
   if (!output.empty() && output != "-") writer::check_output_path(output, words[1]);
   const stiffness::ImportedLibrary imp = stiffness::import_tool_library(words[1]);
   // What was written must load as a library: the same check --tool-file makes.

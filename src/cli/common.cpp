@@ -31,7 +31,7 @@ po::variables_map parse(const std::vector<std::string>& args, const po::options_
     po::store(po::command_line_parser(args).options(desc).positional(pos).run(), vm);
     po::notify(vm);
   } catch (const po::error& e) {
-    throw Error(Exit::usage, e.what());
+    throw Error(ErrorKind::settings, e.what());
   }
   return vm;
 }

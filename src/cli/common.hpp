@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/job/job.hpp"

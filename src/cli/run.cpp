@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/search.hpp"
 #include "deflex/version.hpp"
@@ -80,7 +81,7 @@ std::vector<std::string> take_output_options(const std::vector<std::string>& arg
     } else if (a == "--progress" || a.starts_with("--progress=")) {
       std::string when;
       if (a == "--progress") {
-        if (i + 1 == args.size()) throw Error(Exit::usage, "--progress needs auto, always or never");
+        if (i + 1 == args.size()) throw Error(ErrorKind::settings, "--progress needs auto, always or never");
         when = args[++i];
       } else {
         when = a.substr(11);
@@ -88,12 +89,12 @@ std::vector<std::string> take_output_options(const std::vector<std::string>& arg
       if (when == "auto") io.progress = ProgressWhen::automatic;
       else if (when == "always") io.progress = ProgressWhen::always;
       else if (when == "never") io.progress = ProgressWhen::never;
-      else throw Error(Exit::usage, "--progress must be auto, always or never, not '" + when + "'");
+      else throw Error(ErrorKind::settings, "--progress must be auto, always or never, not '" + when + "'");
     } else {
       rest.push_back(a);
     }
   }
-  if (io.quiet && io.verbose) throw Error(Exit::usage, "--quiet and --verbose contradict each other");
+  if (io.quiet && io.verbose) throw Error(ErrorKind::settings, "--quiet and --verbose contradict each other");
   return rest;
 }
 
@@ -135,7 +136,7 @@ int run(const std::vector<std::string>& argv, Io& io) {
     // Messages that already carry a location keep it; others get the program name.
     if (w.find(": error: ") == std::string::npos) w = "deflex: error: " + w;
     io.err << w << (w.ends_with("\n") ? "" : "\n");
-    return static_cast<int>(e.code());
+    return static_cast<int>(exit_code(e.kind()));
   } catch (const std::bad_alloc&) {
     io.err << "deflex: error: out of memory\n";
     return static_cast<int>(Exit::io);

@@ -461,7 +461,7 @@ void safety_check(const gcode::Program& original, const std::vector<interp::Moti
                   const std::vector<bool>* inserted, const std::vector<double>* feeds, ReadBack* read_back,
                   std::uint32_t line_base) {
   const Fail fail = [&](std::uint32_t line, const std::string& what) {
-    throw Error(Exit::internal, original.source().name() + ":" + std::to_string(line + line_base) +
+    throw Error(ErrorKind::internal, original.source().name() + ":" + std::to_string(line + line_base) +
                                     ":1: error: safety check failed: " + what +
                                     "; nothing was written (this is a bug in deflex, please report it)");
   };

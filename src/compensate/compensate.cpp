@@ -94,7 +94,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   if (p.air || p.plunge) return p;
   const int flutes = tm.slices.cutter.flutes;
   const double rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 0.0;
-  if (rpm <= 0) throw Error(Exit::input, "line " + std::to_string(m.line) + ": cutting with no spindle speed (S) set");
+  if (rpm <= 0) throw Error(ErrorKind::input, "line " + std::to_string(m.line) + ": cutting with no spindle speed (S) set");
   const double fz = m.feed_mm_per_min / (rpm * flutes);
   rev.resize(static_cast<std::size_t>(tm.grid.steps));
   force::revolution_forces(tm.slices, tm.grid, k, fz, eng, rev);
@@ -217,7 +217,7 @@ struct Simulation::Impl {
     // motions is the program's index less its first one's.
     const std::size_t gi = sim_base + cl.motion;
     while (!held.empty() && held.front().index < gi) held.pop_front();
-    if (held.empty() || held.front().index != gi) throw Error(Exit::internal, "simulation: a sample of an unknown motion");
+    if (held.empty() || held.front().index != gi) throw Error(ErrorKind::internal, "simulation: a sample of an unknown motion");
     const Held& h = held.front();
     Point p = point_of(cl, mt, eng, *tm, h.design, h.design, gi, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
     p.motion = static_cast<std::uint32_t>(gi);

@@ -362,7 +362,7 @@ struct Compensation::Impl {
       : ph(p), s(st), one(st), normals(n), sinks(std::move(sk)), progress(std::move(pr)), total(t) {
     same = s.gain == 0.0;
     if (!as_written) {  // the caller simulated the program as written already
-      if (same) throw Error(Exit::internal, "compensate: gain 0 without the program as written");
+      if (same) throw Error(ErrorKind::internal, "compensate: gain 0 without the program as written");
       std::unique_ptr<stock::ZMap> map;
       if (ph.consumable_stock && ph.consumable_stock == ph.stock)
         map = std::make_unique<stock::ZMap>(std::move(*ph.consumable_stock));
@@ -403,7 +403,7 @@ struct Compensation::Impl {
     const std::size_t n = motions.size();
     if (!nominal) return add_planned(motions, can, splittable, planned);
     if (s.feed_limit_N > 0 && pieces++)
-      throw Error(Exit::internal, "compensate: --feed-limit takes the program in one piece");
+      throw Error(ErrorKind::internal, "compensate: the feed limit takes the program in one piece");
     Result r;
     r.motions = motions;
     r.inserted.assign(n, false);

@@ -117,7 +117,7 @@ const DesignNormals::Clouds& DesignNormals::block(std::size_t b) const {
     for (const interp::Motion& m : more) add_points(m, blocks_[read_++ / kBlockMotions]);
   }
   if (b < forgotten_)
-    throw Error(Exit::internal, "design normals: block " + std::to_string(b) + " asked for after it was dropped");
+    throw Error(ErrorKind::internal, "design normals: block " + std::to_string(b) + " asked for after it was dropped");
   return blocks_[b];
 }
 

@@ -397,7 +397,7 @@ std::vector<V3> intent_offsets(const LinePairing& lines, const std::vector<inter
     }
     const MotionPair p = pairer.next(b[i]);
     if (p.original == MotionPair::none)
-      throw Error(Exit::input, name_b + ":" + std::to_string(b[i].line) +
+      throw Error(ErrorKind::input, name_b + ":" + std::to_string(b[i].line) +
                                    ":1: error: this motion has no counterpart in the reference: not the same program");
     const interp::Motion& x = a[p.original];
     const V3 end(b[i].end_mm[0], b[i].end_mm[1], b[i].end_mm[2]);
@@ -406,7 +406,7 @@ std::vector<V3> intent_offsets(const LinePairing& lines, const std::vector<inter
                         : V3(end - V3(x.end_mm[0], x.end_mm[1], x.end_mm[2]));
   }
   if (!pairer.complete())
-    throw Error(Exit::input, name_b + ": error: motions of the reference have no counterpart in this program");
+    throw Error(ErrorKind::input, name_b + ": error: motions of the reference have no counterpart in this program");
   return off;
 }
 

@@ -123,7 +123,7 @@ FeedPlan plan_feeds(const PipelineInput& in) {
 PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) {
   const bool limit = in.settings->feed_limit_N > 0;
   if (limit && in.settings->gain == 0.0)
-    throw Error(Exit::internal, "compensate: --gain 0 with --feed-limit reads the program whole");
+    throw Error(ErrorKind::internal, "compensate: a gain of 0 with a feed limit reads the program whole");
   FeedPlan plan;
   if (limit) plan = plan_feeds(in);
   // With a plan the mirror pass runs alone, at the planned feeds.

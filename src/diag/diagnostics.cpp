@@ -14,7 +14,7 @@ SourceText::SourceText(std::string name, std::string bytes, std::uint32_t first_
 SourceText::SourceText(std::string name, std::string bytes)
     : name_(std::move(name)), bytes_(std::move(bytes)) {
   if (bytes_.size() >= 0xFFFFFFFFu)
-    throw Error(Exit::io, name_ + ": file larger than 4 GiB is not supported");
+    throw Error(ErrorKind::io, name_ + ": file larger than 4 GiB is not supported");
   line_begin_.reserve(bytes_.size() / 16 + 1);
   line_begin_.push_back(0);
   const char* p = bytes_.data();

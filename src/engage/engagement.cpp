@@ -352,9 +352,9 @@ stock::ToolProfile tool_profile(const force::Cutter& c) {
 
 Engager::Engager(const force::CutterSlices& cs, const Options& o) : cs_(cs), o_(o), tool_(tool_profile(cs.cutter)) {
   if (o.angle_samples < 8 || o.angle_samples > 100000)
-    throw Error(Exit::config, "engagement: angle_samples must be between 8 and 100000");
-  if (o.refine_steps < 0 || o.refine_steps > 40) throw Error(Exit::config, "engagement: refine_steps must be in [0, 40]");
-  if (o.bottom_rings < 1) throw Error(Exit::config, "engagement: bottom_rings must be >= 1");
+    throw Error(ErrorKind::config, "engagement: angle_samples must be between 8 and 100000");
+  if (o.refine_steps < 0 || o.refine_steps > 40) throw Error(ErrorKind::config, "engagement: refine_steps must be in [0, 40]");
+  if (o.bottom_rings < 1) throw Error(ErrorKind::config, "engagement: bottom_rings must be >= 1");
   const int N = o.angle_samples;
   sin_.resize(N);
   cos_.resize(N);

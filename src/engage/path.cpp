@@ -33,7 +33,7 @@ stock::Arc arc_of(const interp::Motion& m) {
 
 std::vector<Point3> motion_vertices(const interp::Motion& m, const PathOptions& o) {
   if (!(o.cl_spacing_mm > 0) || !(o.chord_tol_mm > 0))
-    throw Error(Exit::config, "engagement: CL spacing and chord tolerance must be > 0");
+    throw Error(ErrorKind::config, "engagement: CL spacing and chord tolerance must be > 0");
   if (is_arc(m)) {
     const stock::Arc a = arc_of(m);
     const int by_len = static_cast<int>(std::ceil(stock::arc_length_mm(a) / o.cl_spacing_mm - 1e-9));

@@ -48,9 +48,9 @@ Simulator::Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Proces
   keep_mm_ = o.keep_mm > 0 ? o.keep_mm : 2 * cs.cutter.diameter_mm + 4 * z.grid().cell_mm;
   if (o.threads > 0) arena_ = std::make_unique<tbb::task_arena>(o.threads);
   batch_mm_ = o.batch_mm > 0 ? o.batch_mm : cs.cutter.diameter_mm;
-  if (o.max_pending < 1 || o.max_batch < 1) throw Error(Exit::config, "simulation: max_pending and max_batch must be >= 1");
-  if (!(o.trim_mm > 0)) throw Error(Exit::config, "simulation: trim_mm must be > 0");
-  if (o.threads < 0) throw Error(Exit::config, "simulation: threads must be >= 0");
+  if (o.max_pending < 1 || o.max_batch < 1) throw Error(ErrorKind::config, "simulation: max_pending and max_batch must be >= 1");
+  if (!(o.trim_mm > 0)) throw Error(ErrorKind::config, "simulation: trim_mm must be > 0");
+  if (o.threads < 0) throw Error(ErrorKind::config, "simulation: threads must be >= 0");
 }
 
 void Simulator::evaluate_batch() {
@@ -145,7 +145,7 @@ void Simulator::run(const interp::Motion& m) {
 Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int k, CLSample& cl,
                          force::Engagement& out) {
   const int n = static_cast<int>(v.size()) - 1;
-  if (k < 1 || k > n) throw Error(Exit::internal, "simulation: probe of a sample outside the motion");
+  if (k < 1 || k > n) throw Error(ErrorKind::internal, "simulation: probe of a sample outside the motion");
   const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
   const stock::ToolProfile& tool = eng_.tool();
   const Point3& vk = v[static_cast<std::size_t>(k)];

@@ -18,7 +18,7 @@ namespace {
 constexpr double pi = std::numbers::pi;
 
 [[noreturn]] void bad(const std::string& file, int line, int col, const std::string& msg) {
-  throw Error(Exit::input, file + ":" + std::to_string(line) + ":" + std::to_string(col) +
+  throw Error(ErrorKind::input, file + ":" + std::to_string(line) + ":" + std::to_string(col) +
                                ": error: " + msg);
 }
 
@@ -184,7 +184,7 @@ SlotCalibration calibrate_slot_tests(const SlotTestData& data) {
   bool distinct = false;
   for (const auto& s : t) distinct = distinct || std::abs(s.fz_mm - t.front().fz_mm) > 1e-12;
   if (t.size() < 2 || !distinct)
-    throw Error(Exit::input, data.file + ": error: calibration needs tests at two or more different feeds per tooth");
+    throw Error(ErrorKind::input, data.file + ": error: calibration needs tests at two or more different feeds per tooth");
   std::vector<double> x;
   std::array<std::vector<double>, 3> y;
   for (const auto& s : t) {

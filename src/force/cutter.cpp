@@ -18,7 +18,7 @@ const char* to_string(CutterType t) {
 }
 
 void validate(const Cutter& c) {
-  auto bad = [](const std::string& m) { throw Error(Exit::config, "cutter: " + m); };
+  auto bad = [](const std::string& m) { throw Error(ErrorKind::config, "cutter: " + m); };
   if (!(c.diameter_mm > 0)) bad("diameter_mm must be > 0");
   if (c.flutes < 1 || c.flutes > 64) bad("flutes must be between 1 and 64");
   if (!(c.helix_deg >= 0 && c.helix_deg < 80)) bad("helix_deg must be in [0, 80)");
@@ -66,7 +66,7 @@ double CutterSlices::pitch() const { return 2 * std::numbers::pi / cutter.flutes
 CutterSlices make_slices(const Cutter& c, double dz_mm, double length_mm) {
   validate(c);
   if (!(dz_mm > 0) || !(length_mm > 0))
-    throw Error(Exit::internal, "make_slices: dz and length must be > 0");
+    throw Error(ErrorKind::internal, "make_slices: dz and length must be > 0");
   const auto n = static_cast<std::size_t>(std::max(1.0, std::ceil(length_mm / dz_mm - 1e-9)));
   CutterSlices out;
   out.cutter = c;

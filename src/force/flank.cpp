@@ -45,7 +45,7 @@ void summarize_profile(const Vec3& normal, FlankProfile& out) {
 void flank_error_profile(const FlankInput& in, const SliceCompliance& c, GeneratingLoads& loads,
                          FlankProfile& out) {
   if (c.n != in.cs.slices.size())
-    throw Error(Exit::internal, "flank_error_profile: compliance built for another slicing");
+    throw Error(ErrorKind::internal, "flank_error_profile: compliance built for another slicing");
   surface_generating_loads(in.cs, in.k, in.fz_mm, in.eng, in.phi_n, loads);
   const std::size_t n = loads.size();
   out.points.resize(n);

@@ -105,7 +105,7 @@ const MaterialEntry& find_material(const MaterialLibrary& lib, const std::string
   }
   std::string known;
   for (const auto& m : lib.entries) known += (known.empty() ? "" : ", ") + m.name;
-  throw Error(Exit::usage, "unknown material '" + name + "' in " + lib.file + " (known: " + known + ")");
+  throw Error(ErrorKind::settings, "unknown material '" + name + "' in " + lib.file + " (known: " + known + ")");
 }
 
 std::string to_yaml(const MaterialEntry& m) {

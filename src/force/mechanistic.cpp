@@ -66,7 +66,7 @@ inline int wrap(long j, int n) {
 }  // namespace
 
 AngleGrid make_angle_grid(int steps) {
-  if (steps < 1) throw Error(Exit::internal, "make_angle_grid: steps must be >= 1");
+  if (steps < 1) throw Error(ErrorKind::internal, "make_angle_grid: steps must be >= 1");
   AngleGrid g;
   g.steps = steps;
   g.sin_t.resize(steps);
@@ -102,7 +102,7 @@ void revolution_forces(const CutterSlices& cs, const AngleGrid& grid, const Coef
                        double fz_mm, const Engagement& eng, std::span<Vec3> out_N) {
   const int N = grid.steps;
   if (static_cast<int>(out_N.size()) != N)
-    throw Error(Exit::internal, "revolution_forces: output size differs from the grid");
+    throw Error(ErrorKind::internal, "revolution_forces: output size differs from the grid");
   const int flutes = cs.cutter.flutes;
   const bool periodic = N % flutes == 0;
   // With the shortcut every grid cell J of the revolution belongs to tooth 0 at

@@ -15,7 +15,7 @@ MorelliAngles morelli_angles(const MorelliInput& in) {
   if (!(in.diameter_mm > 0) || in.flutes < 1 || !(in.ar_mm > 0) || in.ar_mm > in.diameter_mm ||
       !(in.ap_mm > 0) || !(in.helix_deg > 0 && in.helix_deg < 90) || !(in.Krc_N_per_mm2 > 0) ||
       !(in.Ktc_N_per_mm2 > 0))
-    throw Error(Exit::usage,
+    throw Error(ErrorKind::settings,
                 "shape code: needs D > 0, 0 < a_r <= D, a_p > 0, 0 < helix < 90 deg, K_tc, K_rc > 0");
   MorelliAngles a;
   const double D = in.diameter_mm;

@@ -23,12 +23,12 @@ ProgramReader::ProgramReader(std::string path, std::istream* stdin_stream, std::
     in_ = stdin_stream ? stdin_stream : &std::cin;
     // A closed standard input reads like an empty one: say it, it is no program.
     if (in_ == &std::cin && ::fcntl(STDIN_FILENO, F_GETFD) == -1)
-      throw Error(Exit::io, "<stdin>: error: standard input is closed; give a file, or pipe the program in");
+      throw Error(ErrorKind::io, "<stdin>: error: standard input is closed; give a file, or pipe the program in");
     return;
   }
   name_ = path_;
   file_ = std::fopen(path_.c_str(), "rb");
-  if (!file_) throw Error(Exit::io, path_ + ": error: cannot open: " + std::strerror(errno));
+  if (!file_) throw Error(ErrorKind::io, path_ + ": error: cannot open: " + std::strerror(errno));
 }
 
 ProgramReader::~ProgramReader() {
@@ -42,11 +42,11 @@ bool ProgramReader::fill() {
   std::size_t n = 0;
   if (file_) {
     n = std::fread(buf_.data() + old, 1, kReadBytes, file_);
-    if (std::ferror(file_)) throw Error(Exit::io, path_ + ": error: read failed");
+    if (std::ferror(file_)) throw Error(ErrorKind::io, path_ + ": error: read failed");
   } else {
     in_->read(buf_.data() + old, static_cast<std::streamsize>(kReadBytes));
     n = static_cast<std::size_t>(in_->gcount());
-    if (in_->bad()) throw Error(Exit::io, "<stdin>: error: read failed");
+    if (in_->bad()) throw Error(ErrorKind::io, "<stdin>: error: read failed");
   }
   buf_.resize(old + n);
   if (n == 0) eof_ = true;

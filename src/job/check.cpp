@@ -87,7 +87,7 @@ void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
 
 double part_gap_mm(const PartSettings& p, const profile::Config& cfg) {
   const double gap = p.gap_mm ? *p.gap_mm : config_number(cfg, "part_gap_mm", 0.02);
-  if (!(gap > 0)) throw Error(Exit::usage, "--part-gap must be > 0 mm");
+  if (!(gap > 0)) throw Error(ErrorKind::settings, "--part-gap must be > 0 mm");
   return gap;
 }
 

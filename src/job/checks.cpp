@@ -33,16 +33,16 @@ compensate::Settings settings_of(const Settings& a, const profile::Config& cfg, 
   st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
   st.feed_limit_N = a.feed_limit_N;
   st.flank_profiles = !a.report_dir.empty();  // flank_profile.csv of the program as written
-  if (a.feed_limit_N < 0) throw Error(Exit::usage, "--feed-limit must be > 0 N");
-  if (!(st.tolerance_mm > 0)) throw Error(Exit::usage, "--tolerance must be > 0 mm");
-  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(Exit::usage, "--gain must be between 0 and 2");
-  if (!(a.cl_spacing_mm > 0)) throw Error(Exit::usage, "--cl-spacing must be > 0 mm");
-  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(Exit::usage, "--max-iterations must be 1..50");
-  if (a.threads < 0 || a.threads > 1024) throw Error(Exit::usage, "--threads must be 0 (all cores) .. 1024");
-  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(Exit::usage, "--cell-mm must be between 0.005 and 5");
-  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(Exit::usage, "--spindle must be > 0 rpm");
+  if (a.feed_limit_N < 0) throw Error(ErrorKind::settings, "--feed-limit must be > 0 N");
+  if (!(st.tolerance_mm > 0)) throw Error(ErrorKind::settings, "--tolerance must be > 0 mm");
+  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(ErrorKind::settings, "--gain must be between 0 and 2");
+  if (!(a.cl_spacing_mm > 0)) throw Error(ErrorKind::settings, "--cl-spacing must be > 0 mm");
+  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(ErrorKind::settings, "--max-iterations must be 1..50");
+  if (a.threads < 0 || a.threads > 1024) throw Error(ErrorKind::settings, "--threads must be 0 (all cores) .. 1024");
+  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
+  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(ErrorKind::settings, "--spindle must be > 0 rpm");
   if (a.feed_mm_per_min && !(*a.feed_mm_per_min > 0 && *a.feed_mm_per_min <= 1e6))
-    throw Error(Exit::usage, "--feed must be > 0 mm/min");
+    throw Error(ErrorKind::settings, "--feed must be > 0 mm/min");
   return st;
 }
 
@@ -69,13 +69,13 @@ class CuttingCheck {
     // A T word of the program the library lacks is the library's (exit 3).
     if (m.tool == 0 && st_.tool_override.empty()) {
       error(src, m.line, "cutting with no tool selected (T.. M6): give --tool");
-      fatal_ = Error(Exit::usage, src.name() + ": error: no tool; nothing done");
+      fatal_ = Error(ErrorKind::settings, src.name() + ": error: no tool; nothing done");
       return;
     }
     const std::string id = compensate::tool_id(m, st_);
     if (!lib_.tools.count(id)) {
       error(src, m.line, "tool " + id + " is not in the tool library " + lib_.file + " (give --tool-file, or --tool)");
-      fatal_ = Error(Exit::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
+      fatal_ = Error(ErrorKind::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
       return;
     }
     if (!no_s_ && m.spindle_rpm <= 0) {
@@ -120,10 +120,10 @@ std::string auto_stock(const std::string& spec, const Run& j, Io& io) {
     char* end = nullptr;
     margin_mm = std::strtod(m.c_str(), &end);
     if (m.empty() || *end || !(margin_mm >= 0 && margin_mm <= 1000))
-      throw Error(Exit::usage, "--stock " + spec + ": give auto or auto:MARGIN, MARGIN in mm (0 to 1000)");
+      throw Error(ErrorKind::settings, "--stock " + spec + ": give auto or auto:MARGIN, MARGIN in mm (0 to 1000)");
   }
   const Run::CutExtent& e = j.cut_extent;
-  if (!e.any) throw Error(Exit::usage, "--stock auto: the program has no cutting move to put a stock round");
+  if (!e.any) throw Error(ErrorKind::settings, "--stock auto: the program has no cutting move to put a stock round");
   const double side = e.radius_mm + margin_mm;
   char box[200];
   std::snprintf(box, sizeof box, "box:%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", e.lo_mm.x() - side, e.lo_mm.y() - side,
@@ -158,7 +158,7 @@ void warn_meaningless(const compensate::Settings& st, bool strict, Io& io) {
     why.push_back(buf);
   }
   for (const std::string& w : why) io.err << "deflex: " << (strict ? "error: " : "warning: ") << w << "\n";
-  if (strict && !why.empty()) throw Error(Exit::usage, "deflex: error: settings that make the run meaningless (--strict)");
+  if (strict && !why.empty()) throw Error(ErrorKind::settings, "deflex: error: settings that make the run meaningless (--strict)");
 }
 
 // A stock no cutting move reaches (a box typed in inch for a metric
@@ -184,7 +184,7 @@ void check_stock_reached(const Run& j, Diagnostics& diags) {
                 a.stock_from.empty() ? "" : " and --stock-from");
   diags.report(j.setup.strict ? Severity::error : Severity::warning, j.prog.source().name(), buf);
   if (j.setup.strict)
-    throw Error(Exit::input, j.prog.source().name() + ": error: the stock is out of reach (--strict); nothing done");
+    throw Error(ErrorKind::input, j.prog.source().name() + ": error: the stock is out of reach (--strict); nothing done");
 }
 
 // The checks of prepare() on a program read in pieces, pass by pass so their
@@ -274,7 +274,7 @@ void subprograms(Run& j, Io& io) {
     Diagnostics diags(&io.err, j.setup.max_errors);
     std::string text = writer::expand_subprograms(j.prog, j.setup.interp(), diags);
     if (diags.errors())
-      throw Error(Exit::input, j.prog.source().name() + ": error: not written: the subprograms cannot be written inline");
+      throw Error(ErrorKind::input, j.prog.source().name() + ": error: not written: the subprograms cannot be written inline");
     if (text != j.prog.bytes())
       j.prog = gcode::Program(SourceText(j.prog.source().name() + " (subprograms expanded)", std::move(text)));
   }

@@ -66,7 +66,7 @@ void write_report(const std::vector<Run>& runs, const CompareResult& c, const st
                   const std::string& command) {
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+  if (ec) throw Error(ErrorKind::io, dir + ": error: cannot create the report folder: " + ec.message());
   const fs::path d(dir);
   writer::write_file_atomically((d / "compare.csv").string(), "", [&](std::ostream& o) { o << report::compare_csv(c.rows); });
   writer::write_file_atomically((d / "compare.json").string(), "",
@@ -85,10 +85,10 @@ void write_report(const std::vector<Run>& runs, const CompareResult& c, const st
 }  // namespace
 
 CompareResult compare(const Settings& s, const std::vector<std::string>& programs, Io& io, const std::string& command) {
-  if (programs.size() < 2) throw Error(Exit::usage, "compare: give two or more programs");
-  if (!s.reference.empty()) throw Error(Exit::usage, "compare: a reference is for simulate");
+  if (programs.size() < 2) throw Error(ErrorKind::settings, "compare: give two or more programs");
+  if (!s.reference.empty()) throw Error(ErrorKind::settings, "compare: a reference is for simulate");
   if (std::count(programs.begin(), programs.end(), "-") > 1)
-    throw Error(Exit::usage, "compare: standard input (-) can be read once");
+    throw Error(ErrorKind::settings, "compare: standard input (-) can be read once");
   if (!s.report_dir.empty()) writer::check_output_folder(s.report_dir);
   // Every program read and checked before anything is simulated; the first
   // builds the stock and part model, the others share them.

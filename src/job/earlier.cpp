@@ -40,7 +40,7 @@ std::string earlier_text(const EarlierOp& op) {
 
 std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
                                          Io& io, const std::string& tool_override) {
-  if (file == "-") throw Error(Exit::usage, "--stock-from takes files (standard input is the program's)");
+  if (file == "-") throw Error(ErrorKind::settings, "--stock-from takes files (standard input is the program's)");
   const gcode::Program prog(gcode::read_source(file, &io.in));
   Diagnostics diags(&io.err, setup.max_errors);
   std::vector<interp::Motion> motions;
@@ -57,11 +57,11 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
                    (no_tool ? std::string("cutting with no tool selected (T.. M6)")
                             : "tool " + id + " is not in the tool library " + lib.file) +
                        ": an earlier operation sweeps the stock with its own tools");
-      throw Error(Exit::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
+      throw Error(ErrorKind::config, prog.source().name() + ": error: a tool of an earlier operation is missing; nothing done");
     }
   }
   if (diags.errors())
-    throw Error(Exit::input, prog.source().name() + ": error: the earlier operation has errors; nothing done");
+    throw Error(ErrorKind::input, prog.source().name() + ": error: the earlier operation has errors; nothing done");
   return motions;
 }
 

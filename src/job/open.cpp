@@ -163,7 +163,7 @@ Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared) {
   if (j.pieces) detail::check_in_pieces(j, diags);
   else detail::check_whole(j, diags);
   if (diags.errors())
-    throw Error(Exit::input, j.prog.source().name() + ": error: the program has errors; " +
+    throw Error(ErrorKind::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (purpose == Purpose::compensate ? "nothing compensated, nothing written" : "not simulated"));
   // The earlier operations read and checked before any stock is built.
   std::vector<EarlierRun> earlier;

@@ -14,16 +14,16 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
   o.tolerance_mm = j.settings.tolerance_mm;
   o.as_written = as_written;
   o.tool_of = tool_of(j);
-  // The summary's percentiles of |e| always (its |e| go to a spill file in
-  // the temporary folder: 8 bytes a point); without a report or an observer
-  // that wants rows nothing needs the cusp or the pairing: the figures only.
+  // The summary's percentiles of |e| and its cusp heights always, report or
+  // not: a summary is the same document whoever asks for it (the |e| go to a
+  // spill file in the temporary folder, 8 bytes a point).
   o.percentiles = true;
-  o.cusp = !dir.empty() || (obs && obs->wants_rows());
+  o.cusp = true;
   if (obs && obs->wants_rows()) o.rows = [obs](const report::PointRow& r) { obs->row(r); };
   if (!dir.empty()) {
     std::error_code ec;
     fs::create_directories(dir, ec);
-    if (ec) throw Error(Exit::io, dir + ": error: cannot create the report folder: " + ec.message());
+    if (ec) throw Error(ErrorKind::io, dir + ": error: cannot create the report folder: " + ec.message());
     points = std::make_unique<writer::AtomicFile>((fs::path(dir) / "points.csv").string(), "");
     flank = std::make_unique<writer::AtomicFile>((fs::path(dir) / "flank_profile.csv").string(), "");
     o.points_csv = &points->stream();

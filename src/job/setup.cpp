@@ -35,9 +35,9 @@ Setup resolve(const ReadSettings& r) {
   s.strict = r.strict;
   s.max_errors = r.max_errors >= 0 ? r.max_errors : s.config.max_errors;
   if (r.block_delete != "on" && r.block_delete != "off")
-    throw Error(Exit::usage, "--block-delete takes on or off");
+    throw Error(ErrorKind::settings, "--block-delete takes on or off");
   s.block_delete_switch = r.block_delete == "on";
-  if (r.max_blocks == 0) throw Error(Exit::usage, "--max-blocks must be at least 1");
+  if (r.max_blocks == 0) throw Error(ErrorKind::settings, "--max-blocks must be at least 1");
   s.max_blocks = r.max_blocks;
   return s;
 }
@@ -80,7 +80,7 @@ void refuse_output_onto_input(const std::vector<std::string>& inputs) {
     if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) continue;
     const std::string name = f == "-" ? std::string("<stdin>") : f;
     // `>` truncates the file before deflex starts: what it held is gone already.
-    throw Error(Exit::usage, name + ": error: input file is output file (standard output is redirected to it)" +
+    throw Error(ErrorKind::settings, name + ": error: input file is output file (standard output is redirected to it)" +
                                  (in.st_size == 0 ? std::string("; the shell emptied it before deflex ran: "
                                                                 "restore it (a backup, or export it again)")
                                                   : std::string()) +
@@ -89,7 +89,7 @@ void refuse_output_onto_input(const std::vector<std::string>& inputs) {
 }
 
 std::string config_string(const profile::Config& c, const char* key) {
-  if (c.root && c.root[key]) return yaml::text(c.root[key], key, c.file);
+  if (const YAML::Node root = yaml::node(c.root); root && root[key]) return yaml::text(root[key], key, c.file);
   return {};
 }
 
@@ -107,7 +107,7 @@ std::string config_path(const profile::Config& c, const char* key) {
   return here;
 }
 double config_number(const profile::Config& c, const char* key, double dflt) {
-  if (c.root && c.root[key]) return yaml::number(c.root[key], key, c.file);
+  if (const YAML::Node root = yaml::node(c.root); root && root[key]) return yaml::number(root[key], key, c.file);
   return dflt;
 }
 
@@ -160,9 +160,9 @@ force::Coefficients coefficients_of(const MaterialSettings& a, const std::string
   const bool by_k = a.kt || a.kr || a.ka;
   const bool edge = a.kte || a.kre || a.kae;
   if (!a.material.empty() && (by_k || edge))
-    throw Error(Exit::usage, "give either --material or --kt/--kr/--ka, not both");
+    throw Error(ErrorKind::settings, "give either --material or --kt/--kr/--ka, not both");
   const std::string material = !a.material.empty() ? a.material : by_k ? std::string() : fallback_material;
-  if (material.empty() && !by_k) throw Error(Exit::usage, "give --material M or the coefficients --kt --kr --ka");
+  if (material.empty() && !by_k) throw Error(ErrorKind::settings, "give --material M or the coefficients --kt --kr --ka");
   if (!material.empty()) {
     const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml") : a.material_file;
     const force::MaterialLibrary lib = force::load_material_library(file);
@@ -170,8 +170,8 @@ force::Coefficients coefficients_of(const MaterialSettings& a, const std::string
     if (described) *described = m.name + " (" + file + (m.source.empty() ? "" : "; source: " + m.source) + ")";
     return m.k;
   }
-  if (!a.material_file.empty()) throw Error(Exit::usage, "--material-file needs --material");
-  if (!a.kt || !a.kr || !a.ka) throw Error(Exit::usage, "--kt, --kr and --ka go together");
+  if (!a.material_file.empty()) throw Error(ErrorKind::settings, "--material-file needs --material");
+  if (!a.kt || !a.kr || !a.ka) throw Error(ErrorKind::settings, "--kt, --kr and --ka go together");
   force::Coefficients k;
   k.Ktc_N_per_mm2 = *a.kt;
   k.Krc_N_per_mm2 = *a.kr;
@@ -195,19 +195,19 @@ std::uint32_t piece_lines() {
   const char* end = v + std::strlen(v);
   const auto r = std::from_chars(v, end, n);
   if (r.ec != std::errc() || r.ptr != end)
-    throw Error(Exit::usage, std::string("DEFLEX_CHUNK_LINES must be a whole number of lines (0: read whole), not '") + v + "'");
+    throw Error(ErrorKind::settings, std::string("DEFLEX_CHUNK_LINES must be a whole number of lines (0: read whole), not '") + v + "'");
   return n;
 }
 
 Setup resolve_with_machine(const ReadSettings& r) {
   Setup s = resolve(r);
-  if (!s.machine) throw Error(Exit::usage, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  if (!s.machine) throw Error(ErrorKind::settings, "a machine profile is needed (--machine, or machine: in config.yaml)");
   return s;
 }
 
 std::string stock_spec(const std::string& given, const profile::Config& cfg) {
   const std::string s = !given.empty() ? given : config_path(cfg, "stock");
-  if (s.empty()) throw Error(Exit::usage, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  if (s.empty()) throw Error(ErrorKind::settings, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
   return s;
 }
 

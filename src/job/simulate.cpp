@@ -21,7 +21,7 @@ std::vector<V3> intent_offsets(const Run& j, Io& io) {
   interp::Options ro = j.setup.interp();
   ro.repeated_lines = nullptr;  // another program's lines
   interp::interpret(ref, ro, diags, c);
-  if (diags.errors()) throw Error(Exit::input, file + ": error: the reference program has errors");
+  if (diags.errors()) throw Error(ErrorKind::input, file + ": error: the reference program has errors");
   // Paired by the program structure (compensate/pairing.hpp): a motion the
   // compensation left alone has an intent offset of exactly zero; a block
   // deflex inserted is meant to lie on the move or arc it splits. F words

@@ -85,7 +85,7 @@ void PartModel::Impl::build(const std::vector<stock::Triangle>& tris, double cre
     face.push_back(f);
     face_normal.push_back(n.normalized());
   }
-  if (face.empty()) throw Error(Exit::config, "part model: no triangles (or only degenerate ones)");
+  if (face.empty()) throw Error(ErrorKind::config, "part model: no triangles (or only degenerate ones)");
   std::vector<std::vector<std::uint32_t>> around(vertex.size());
   for (std::uint32_t i = 0; i < face.size(); ++i)
     for (std::uint32_t v : face[i]) around[v].push_back(i);

@@ -81,15 +81,15 @@ std::vector<double> floor_samples(const stock::ZMap& target, const RoughingOptio
 }  // namespace
 
 void check_options(const RoughingOptions& o) {
-  auto bad = [](const std::string& what) { throw Error(Exit::usage, what); };
+  auto bad = [](const std::string& what) { throw Error(ErrorKind::settings, what); };
   if (!(o.tool.radius_mm > 0)) bad("the roughing tool has no diameter");
-  if (!(o.allowance_mm >= 0 && o.allowance_mm <= 50)) bad("--allowance must be between 0 and 50 mm");
-  if (!(o.stepdown_mm >= 0 && o.stepdown_mm <= 100)) bad("--stepdown must be between 0 (one level) and 100 mm");
+  if (!(o.allowance_mm >= 0 && o.allowance_mm <= 50)) bad("the allowance must be between 0 and 50 mm");
+  if (!(o.stepdown_mm >= 0 && o.stepdown_mm <= 100)) bad("the stepdown must be between 0 (one level) and 100 mm");
   if (!(o.stepover_mm > 0 && o.stepover_mm <= 2 * o.tool.radius_mm))
-    bad("--stepover must be > 0 and at most the tool diameter (" + std::to_string(2 * o.tool.radius_mm) + " mm)");
-  if (!(o.sample_mm >= 0.01 && o.sample_mm <= o.tool.radius_mm)) bad("--sample must be between 0.01 mm and the tool radius");
-  if (!(o.spindle_rpm > 0 && o.spindle_rpm <= 1e6)) bad("--spindle must be > 0 rpm");
-  if (!(o.feed_mm_per_min > 0 && o.feed_mm_per_min <= 1e6)) bad("--feed must be > 0 mm/min");
+    bad("the stepover must be > 0 and at most the tool diameter (" + std::to_string(2 * o.tool.radius_mm) + " mm)");
+  if (!(o.sample_mm >= 0.01 && o.sample_mm <= o.tool.radius_mm)) bad("the sample spacing must be between 0.01 mm and the tool radius");
+  if (!(o.spindle_rpm > 0 && o.spindle_rpm <= 1e6)) bad("the spindle speed must be > 0 rpm");
+  if (!(o.feed_mm_per_min > 0 && o.feed_mm_per_min <= 1e6)) bad("the feed must be > 0 mm/min");
 }
 
 stock::ToolProfile grown(const stock::ToolProfile& tool, double a_mm) {
@@ -138,9 +138,9 @@ RoughingPlan plan_roughing(const stock::ZMap& target, double stock_top_mm, const
   const double lines = std::ceil(g.ny * g.cell_mm / o.stepover_mm) + 1,
                samples = std::ceil((p.x_end_mm - p.x_start_mm) / o.sample_mm) + 1;
   if (!(lines * samples <= kMaxSamples))
-    throw Error(Exit::usage, "the raster would have " + std::to_string(static_cast<long long>(lines * samples)) +
+    throw Error(ErrorKind::settings, "the raster would have " + std::to_string(static_cast<long long>(lines * samples)) +
                                  " floor samples (at most " + std::to_string(static_cast<long long>(kMaxSamples)) +
-                                 "): raise --stepover or --sample");
+                                 "): raise the stepover or the sample spacing");
   p.line_y_mm = even(g.y0_mm, g.y0_mm + g.ny * g.cell_mm, o.stepover_mm);
   const std::vector<double> xs = even(p.x_start_mm, p.x_end_mm, o.sample_mm);
   const std::vector<double> h = floor_samples(target, o, p.line_y_mm, xs);
@@ -154,7 +154,7 @@ RoughingPlan plan_roughing(const stock::ZMap& target, double stock_top_mm, const
     if (h[k] != kNone && x > reach_lo && x < reach_hi) p.floor_min_mm = std::min(p.floor_min_mm, h[k]);
   }
   if (!(p.floor_min_mm < stock_top_mm - 1e-6))
-    throw Error(Exit::usage, "nothing to rough: the target lies within the allowance of the stock top everywhere");
+    throw Error(ErrorKind::settings, "nothing to rough: the target lies within the allowance of the stock top everywhere");
   const double depth = stock_top_mm - p.floor_min_mm;
   const int levels = o.stepdown_mm > 0 ? std::max(1, static_cast<int>(std::ceil(depth / o.stepdown_mm - 1e-9))) : 1;
   for (int k = 1; k <= levels; ++k) p.levels_mm.push_back(k == levels ? p.floor_min_mm : stock_top_mm - depth * k / levels);

@@ -172,7 +172,7 @@ MachiningClock::~MachiningClock() = default;
 void MachiningClock::add(const Motion& m, double feed_mm_per_min) {
   const double f = std::isnan(feed_mm_per_min) ? m.feed_mm_per_min : feed_mm_per_min;
   if (!is_rapid(m) && (!(f > 0) || !std::isfinite(f)))
-    throw Error(Exit::internal, "machining_time: the motion of line " + std::to_string(m.line) +
+    throw Error(ErrorKind::internal, "machining_time: the motion of line " + std::to_string(m.line) +
                                     " has no positive feed (" + std::to_string(f) + " mm/min)");
   const double feed = is_rapid(m) ? kInf : f / 60;
   const Shape s = is_arc(m) ? arc_shape(m, feed, k_) : line_shape(m, feed, k_);
@@ -252,7 +252,7 @@ MachiningTime MachiningClock::finish() {
 MachiningTime machining_time(const std::vector<Motion>& ms, const profile::AxisLimits& k,
                              const std::vector<double>& feeds) {
   if (!feeds.empty() && feeds.size() != ms.size())
-    throw Error(Exit::internal, "machining_time: " + std::to_string(feeds.size()) + " feeds for " +
+    throw Error(ErrorKind::internal, "machining_time: " + std::to_string(feeds.size()) + " feeds for " +
                                     std::to_string(ms.size()) + " motions");
   std::vector<double> motion_s;
   motion_s.reserve(ms.size());

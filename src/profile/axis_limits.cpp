@@ -1,5 +1,7 @@
 #include "deflex/profile/axis_limits.hpp"
 
+#include "sections.hpp"
+
 namespace deflex::profile {
 
 namespace {

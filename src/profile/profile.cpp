@@ -5,6 +5,7 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "sections.hpp"
 
 namespace deflex::embedded {
 const std::vector<std::pair<std::string_view, std::string_view>>& dialect_files();
@@ -109,7 +110,7 @@ Dialect load_dialect(const std::string& name_or_path) {
   }
   std::string list;
   for (auto& n : dialect_names()) list += (list.empty() ? "" : ", ") + n;
-  throw Error(Exit::usage, "unknown dialect '" + name_or_path + "' (built in: " + list + "; or give a .yaml file)");
+  throw Error(ErrorKind::settings, "unknown dialect '" + name_or_path + "' (built in: " + list + "; or give a .yaml file)");
 }
 
 namespace {
@@ -174,7 +175,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
     if (file.empty()) {
       std::string where;
       for (const std::string& d : machine_folders()) where += (where.empty() ? "" : ", ") + d;
-      throw Error(Exit::config, "machine profile '" + name_or_path + "' not found (looked for " + name_or_path +
+      throw Error(ErrorKind::config, "machine profile '" + name_or_path + "' not found (looked for " + name_or_path +
                                     ".yaml in " + where + ")");
     }
   }
@@ -185,7 +186,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
                                               "stiffness", "tool_offsets"});
   MachineProfile m;
   m.file = file;
-  m.root = root;
+  m.root = yaml::document(root);
   m.name = n.text("name", fs::path(file).stem().string());
   m.dialect = n.text("dialect", m.dialect);
   if (n.has("travel_mm")) read_travel(n.map("travel_mm", {"x", "y", "z"}), m.travel);
@@ -213,7 +214,7 @@ Config load_config(const std::string& path) {
   n.number("tolerance_mm", 0, Range::non_negative());
   n.number("gain", 0, Range::between(0, 2));
   c.file = file;
-  c.root = root;
+  c.root = yaml::document(root);
   c.machine = n.text("machine", c.machine);
   c.dialect = n.text("dialect", c.dialect);
   c.max_errors = static_cast<int>(n.integer("max_errors", c.max_errors, 0, 1000000));

@@ -15,7 +15,7 @@ std::string where(const std::string& file, const YAML::Mark& mark) {
 }
 
 void fail(const std::string& file, const YAML::Mark& mark, const std::string& msg) {
-  throw Error(Exit::config, where(file, mark) + ": error: " + msg);
+  throw Error(ErrorKind::config, where(file, mark) + ": error: " + msg);
 }
 
 YAML::Node load_text(const std::string& text, const std::string& file) {
@@ -28,10 +28,10 @@ YAML::Node load_text(const std::string& text, const std::string& file) {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Exit::io, path + ": error: cannot read the file");
+  if (!in) throw Error(ErrorKind::io, path + ": error: cannot read the file");
   std::ostringstream ss;
   ss << in.rdbuf();
-  if (in.bad()) throw Error(Exit::io, path + ": error: read failed");
+  if (in.bad()) throw Error(ErrorKind::io, path + ": error: read failed");
   return ss.str();
 }
 

@@ -70,7 +70,7 @@ std::string fill(const std::string& page, const std::vector<std::pair<std::strin
   std::size_t pos = 0;
   for (const auto& [mark, text] : marks) {
     const std::size_t at = page.find(mark, pos);
-    if (at == std::string::npos) throw Error(Exit::internal, "report template: no mark " + mark);
+    if (at == std::string::npos) throw Error(ErrorKind::internal, "report template: no mark " + mark);
     out.append(page, pos, at - pos);
     out += text;
     pos = at + mark.size();
@@ -97,7 +97,7 @@ std::string escape_html(const std::string& s) {
 
 Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {
   if (!ctx_ || !EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(ctx_), EVP_sha256(), nullptr))
-    throw Error(Exit::internal, "SHA-256: OpenSSL refused to start a digest");
+    throw Error(ErrorKind::internal, "SHA-256: OpenSSL refused to start a digest");
 }
 
 Sha256::~Sha256() { EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(ctx_)); }

@@ -354,13 +354,13 @@ RunFigures Recorder::finish() {
   std::lock_guard<std::mutex> lock(mutex_);
   impl_->end_sources();
   impl_->drain();
-  if (!impl_->rows.empty()) throw Error(Exit::internal, "report: rows left without their samples as written");
+  if (!impl_->rows.empty()) throw Error(ErrorKind::internal, "report: rows left without their samples as written");
   return impl_->figures();
 }
 
 Page Recorder::page() {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!impl_->page) throw Error(Exit::internal, "report: no page was kept");
+  if (!impl_->page) throw Error(ErrorKind::internal, "report: no page was kept");
   return impl_->page->finish(impl_->cusp_stats.stats());
 }
 

@@ -19,12 +19,12 @@ SpillBytes::SpillBytes(const std::string& dir, std::size_t record_bytes) : bytes
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
   const int fd = mkstemp(name.data());
-  if (fd < 0) throw Error(Exit::io, tmpl + ": error: cannot create a temporary file: " + std::strerror(errno));
+  if (fd < 0) throw Error(ErrorKind::io, tmpl + ": error: cannot create a temporary file: " + std::strerror(errno));
   ::unlink(name.data());
   f_ = ::fdopen(fd, "w+b");
   if (!f_) {
     ::close(fd);
-    throw Error(Exit::io, tmpl + ": error: cannot open a temporary file");
+    throw Error(ErrorKind::io, tmpl + ": error: cannot open a temporary file");
   }
   std::setvbuf(f_, nullptr, _IOFBF, 1 << 20);
 }
@@ -35,18 +35,18 @@ SpillBytes::~SpillBytes() {
 
 void SpillBytes::append(const void* record) {
   if (std::fwrite(record, bytes_, 1, f_) != 1)
-    throw Error(Exit::io, (dir_.empty() ? std::string("temporary folder") : dir_) + ": error: write failed (disk full?)");
+    throw Error(ErrorKind::io, (dir_.empty() ? std::string("temporary folder") : dir_) + ": error: write failed (disk full?)");
   ++count_;
 }
 
 void SpillBytes::each(const std::function<void(const void* record)>& f) {
   if (std::fflush(f_) != 0 || std::fseek(f_, 0, SEEK_SET) != 0)
-    throw Error(Exit::io, "error: cannot read back a temporary file");
+    throw Error(ErrorKind::io, "error: cannot read back a temporary file");
   std::vector<char> buf(bytes_ * 16384);
   std::size_t left = count_;
   while (left) {
     const std::size_t want = std::min<std::size_t>(left, 16384);
-    if (std::fread(buf.data(), bytes_, want, f_) != want) throw Error(Exit::io, "error: cannot read back a temporary file");
+    if (std::fread(buf.data(), bytes_, want, f_) != want) throw Error(ErrorKind::io, "error: cannot read back a temporary file");
     for (std::size_t i = 0; i < want; ++i) f(buf.data() + i * bytes_);
     left -= want;
   }

@@ -61,7 +61,7 @@ std::vector<double> grid(double z0, double z1, double max_mm) {
   // Range-checked before the cast: the readers bound every length, this is the
   // last line of defence for a caller that does not.
   const double count = std::ceil((z1 - z0) / max_mm - 1e-9);
-  if (!(count <= 1e6)) throw Error(Exit::config, "beam model: a section of " + std::to_string(z1 - z0) +
+  if (!(count <= 1e6)) throw Error(ErrorKind::config, "beam model: a section of " + std::to_string(z1 - z0) +
                                                      " mm needs more than 10^6 elements");
   const int n = std::max(1, static_cast<int>(count));
   std::vector<double> z;
@@ -114,7 +114,7 @@ Chain build_chain(const Tool& t, const MachineStiffness& m, bool tool_only,
     const Holder& h = *m.holder;
     const double L = t.stickout_mm, d_shank = t.shank_diameter_mm;
     if (h.nose_diameter_mm <= d_shank || h.base_diameter_mm <= d_shank)
-      throw Error(Exit::config, "holder diameter must exceed the shank diameter of " + t.id);
+      throw Error(ErrorKind::config, "holder diameter must exceed the shank diameter of " + t.id);
     // Shank and holder body bend together inside the holder: stiffnesses add.
     append_beam(c, grid(L, L + h.length_mm, max_mm), [&](double z) {
       const double d = h.nose_diameter_mm +
@@ -205,7 +205,7 @@ StationSolve solve_stations(const Tool& t, const MachineStiffness& m, bool tool_
   const auto dofs = number_dofs(chain, ndof);
   const Eigen::SparseMatrix<double> K = assemble(chain, dofs, ndof);
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(K);
-  if (ldlt.info() != Eigen::Success) throw Error(Exit::internal, "beam stiffness matrix is singular");
+  if (ldlt.info() != Eigen::Success) throw Error(ErrorKind::internal, "beam stiffness matrix is singular");
 
   // Unit lateral and axial loads at each station node; the compliance is the
   // displacement of the loaded dof.

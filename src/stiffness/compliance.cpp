@@ -143,4 +143,10 @@ std::vector<double> station_heights_mm(double top_mm, int steps) {
   return h;
 }
 
+std::vector<ComplianceRow> sample(const ComplianceTable& c, const std::vector<double>& heights_mm) {
+  std::vector<ComplianceRow> rows;
+  for (double h : heights_mm) rows.push_back({h, c.at(h)});
+  return rows;
+}
+
 }  // namespace deflex::stiffness

@@ -15,11 +15,11 @@ Api load() {
   for (const char* name : {"libgmsh.so.4.8", "libgmsh.so"})
     if ((h = ::dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
   if (!h)
-    throw Error(Exit::config, std::string("gmsh's library (libgmsh.so.4.8, Debian package libgmsh4.8) cannot be loaded: ") +
-                                  ::dlerror() + "; --method solid needs it (scripts/install-deps.sh installs it)");
+    throw Error(ErrorKind::config, std::string("gmsh's library (libgmsh.so.4.8, Debian package libgmsh4.8) cannot be loaded: ") +
+                                  ::dlerror() + "; the solid stiffness model needs it (scripts/install-deps.sh installs it)");
   auto sym = [h](auto& fn, const char* name) {
     fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(::dlsym(h, name));
-    if (!fn) throw Error(Exit::config, std::string("gmsh's library has no ") + name + ": not the gmsh 4.8 C API");
+    if (!fn) throw Error(ErrorKind::config, std::string("gmsh's library has no ") + name + ": not the gmsh 4.8 C API");
   };
   Api a{};
   sym(a.initialize, "gmshInitialize");

@@ -24,7 +24,7 @@ struct Api {
   decltype(&gmshFree) free;
 };
 
-// Loads libgmsh once; throws deflex::Error(Exit::config) naming the library
+// Loads libgmsh once; throws deflex::Error(ErrorKind::config) naming the library
 // and the Debian package when it cannot be loaded.
 const Api& api();
 

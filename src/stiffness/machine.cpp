@@ -2,6 +2,7 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "tool_yaml.hpp"
 
 namespace deflex::stiffness {
 
@@ -70,7 +71,8 @@ static Eigen::Matrix3d parse_structure(const Map& n) {
   n.fail(n.node(), "structure needs compliance_mm_per_N or stiffness_N_per_um");
 }
 
-MachineStiffness parse_machine_stiffness(const YAML::Node& root, const std::string& file) {
+MachineStiffness parse_machine_stiffness(const yaml::Document& doc, const std::string& file) {
+  const YAML::Node root = yaml::node(doc);
   MachineStiffness m;
   if (!root || root.IsNull()) return m;
   if (!root.IsMap()) yaml::fail(file, root.Mark(), "a machine profile must be a map");
@@ -88,7 +90,7 @@ MachineStiffness parse_machine_stiffness(const YAML::Node& root, const std::stri
 }
 
 MachineStiffness load_machine_stiffness(const std::string& path) {
-  return parse_machine_stiffness(yaml::load_file(path), path);
+  return parse_machine_stiffness(yaml::document(yaml::load_file(path)), path);
 }
 
 }  // namespace deflex::stiffness

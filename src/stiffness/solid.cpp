@@ -59,7 +59,7 @@ std::string num(double v) {
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Exit::io, path + ": error: cannot read the STEP file");
+  if (!in) throw Error(ErrorKind::io, path + ": error: cannot read the STEP file");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();

@@ -72,7 +72,7 @@ Eigen::Matrix<double, 30, 30> element_stiffness(const Coords& x, double lambda, 
     const Grad gr = shape_grad_ref(q.p);
     const Eigen::Matrix3d J = x.transpose() * gr;  // J_ij = d x_i / d xi_j
     const double det = J.determinant();
-    if (!(det > 0)) throw Error(Exit::internal, "solid mesh has an inverted quadratic tetrahedron");
+    if (!(det > 0)) throw Error(ErrorKind::internal, "solid mesh has an inverted quadratic tetrahedron");
     const Grad g = gr * J.inverse();  // rows: grad_x N_a
     const double w = q.w * det;
     for (int a = 0; a < 10; ++a)
@@ -193,7 +193,7 @@ Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
       zsum += xp(2) * phi * dv;
     });
   }
-  if (!(total > 0)) throw Error(Exit::internal, "load patch lies outside the tool solid");
+  if (!(total > 0)) throw Error(ErrorKind::internal, "load patch lies outside the tool solid");
   Patch p;
   p.centroid_z_mm = zsum / total;
   for (std::size_t a = 0; a < w.size(); ++a)
@@ -225,7 +225,7 @@ FemStats solve_stations(const TetMesh& mesh, const Material& mat, double clamp_z
   }
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt(asm_.matrix());
   if (ldlt.info() != Eigen::Success)
-    throw Error(Exit::internal, "solid stiffness matrix is singular (is the tool clamped?)");
+    throw Error(ErrorKind::internal, "solid stiffness matrix is singular (is the tool clamped?)");
 
   // One column per station and force direction: the patch weights as a load.
   const int n = 3 * nfree;

@@ -67,10 +67,10 @@ class ProfileBuilder {
   TopoDS_Shape revolve() {
     wire_.Add(BRepBuilderAPI_MakeEdge(last_, first_).Edge());
     const BRepBuilderAPI_MakeFace face(wire_.Wire(), true);
-    if (!face.IsDone()) throw Error(Exit::internal, "tool profile face failed");
+    if (!face.IsDone()) throw Error(ErrorKind::internal, "tool profile face failed");
     BRepPrimAPI_MakeRevol revol(face.Face(), gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)),
                                 2 * std::numbers::pi);
-    if (!revol.IsDone()) throw Error(Exit::internal, "tool revolution failed");
+    if (!revol.IsDone()) throw Error(ErrorKind::internal, "tool revolution failed");
     return revol.Shape();
   }
 
@@ -103,9 +103,9 @@ TopoDS_Shape read_step(const std::string& path) {
   stock::route_occt_messages();
   STEPControl_Reader reader;
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
-    throw Error(Exit::io, path + ": error: cannot read the STEP file");
+    throw Error(ErrorKind::io, path + ": error: cannot read the STEP file");
   if (reader.TransferRoots() == 0)
-    throw Error(Exit::io, path + ": error: no shape in the STEP file");
+    throw Error(ErrorKind::io, path + ": error: no shape in the STEP file");
   return reader.OneShape();
 }
 
@@ -140,7 +140,7 @@ std::array<int, 10> gmsh_to_local(const gmshrt::Api& g) {
   const std::vector<double> ref(ref_c, ref_c + ref_n);
   g.free(name);
   g.free(ref_c);
-  if (n != 10 || ref.size() < 30) throw Error(Exit::internal, "gmsh: unexpected 10-node tet layout");
+  if (n != 10 || ref.size() < 30) throw Error(ErrorKind::internal, "gmsh: unexpected 10-node tet layout");
   std::array<int, 10> slot{};
   for (int k = 0; k < 10; ++k) {
     const double x = ref[3 * k], y = ref[3 * k + 1], z = ref[3 * k + 2];
@@ -156,7 +156,7 @@ std::array<int, 10> gmsh_to_local(const gmshrt::Api& g) {
       const auto it = std::find(kEdges.begin(), kEdges.end(), std::array<int, 2>{half[0], half[1]});
       slot[k] = 4 + static_cast<int>(it - kEdges.begin());
     } else {
-      throw Error(Exit::internal, "gmsh: unexpected 10-node tet node");
+      throw Error(ErrorKind::internal, "gmsh: unexpected 10-node tet node");
     }
   }
   return slot;
@@ -173,7 +173,7 @@ TetMesh read_mesh(const gmshrt::Api& g) {
   g.free(tags_c);
   g.free(xyz_c);
   g.free(par_c);
-  if (tags.empty() || xyz.size() != 3 * tags.size()) throw Error(Exit::internal, "gmsh: no mesh nodes");
+  if (tags.empty() || xyz.size() != 3 * tags.size()) throw Error(ErrorKind::internal, "gmsh: no mesh nodes");
   TetMesh mesh;
   std::vector<int> index(*std::max_element(tags.begin(), tags.end()) + 1, -1);
   for (std::size_t i = 0; i < tags.size(); ++i) {
@@ -187,7 +187,7 @@ TetMesh read_mesh(const gmshrt::Api& g) {
   const std::vector<std::size_t> etags(etags_c, etags_c + etags_n), enodes(enodes_c, enodes_c + enodes_n);
   g.free(etags_c);
   g.free(enodes_c);
-  if (enodes.size() != 10 * etags.size()) throw Error(Exit::internal, "gmsh: unexpected tetrahedron connectivity");
+  if (enodes.size() != 10 * etags.size()) throw Error(ErrorKind::internal, "gmsh: unexpected tetrahedron connectivity");
   mesh.tet.resize(etags.size());
   for (std::size_t e = 0; e < etags.size(); ++e)
     for (int k = 0; k < 10; ++k) mesh.tet[e][slot[k]] = index[enodes[10 * e + k]];
@@ -199,7 +199,7 @@ TetMesh read_mesh(const gmshrt::Api& g) {
 void write_tool_brep(const Tool& t, const std::string& brep_path) {
   const TopoDS_Shape shape = t.step_file.empty() ? tool_solid(tool_shape(t)) : read_step(t.step_file);
   if (!BRepTools::Write(shape, brep_path.c_str()))
-    throw Error(Exit::io, brep_path + ": error: cannot write the temporary BREP file");
+    throw Error(ErrorKind::io, brep_path + ": error: cannot write the temporary BREP file");
 }
 
 }  // namespace deflex::stiffness::solid
@@ -211,7 +211,7 @@ void write_tool_step(const Tool& t, const std::string& step_path) {
   STEPControl_Writer writer;
   if (writer.Transfer(solid::tool_solid(tool_shape(t)), STEPControl_AsIs) != IFSelect_RetDone ||
       writer.Write(step_path.c_str()) != IFSelect_RetDone)
-    throw Error(Exit::io, step_path + ": error: cannot write the STEP file");
+    throw Error(ErrorKind::io, step_path + ": error: cannot write the STEP file");
 }
 
 }  // namespace deflex::stiffness
@@ -257,10 +257,10 @@ TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_or
     if (why && *why) msg += std::string(": ") + why;
     g.free(why);
     g.model_remove(&ierr);
-    throw Error(Exit::internal, msg);
+    throw Error(ErrorKind::internal, msg);
   }
   g.model_remove(&ierr);
-  if (mesh.tet.empty()) throw Error(Exit::internal, "gmsh produced no tetrahedra for the tool solid");
+  if (mesh.tet.empty()) throw Error(ErrorKind::internal, "gmsh produced no tetrahedra for the tool solid");
   return mesh;
 }
 

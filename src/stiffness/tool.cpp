@@ -6,6 +6,7 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "tool_yaml.hpp"
 
 namespace deflex::stiffness {
 
@@ -140,7 +141,7 @@ ToolLibrary load_tool_library(const std::string& path) {
   try {
     return parse_tool_library(imp.yaml, path);
   } catch (const Error& e) {
-    throw Error(e.code(), std::string(e.what()) + " (in the YAML deflex made of this " + imp.format +
+    throw Error(e.kind(), std::string(e.what()) + " (in the YAML deflex made of this " + imp.format +
                               "; `deflex tools import " + path + "` shows it)");
   }
 }
@@ -150,7 +151,7 @@ const Tool& find_tool(const ToolLibrary& lib, const std::string& id) {
   if (it != lib.tools.end()) return it->second;
   std::string known;
   for (const auto& kv : lib.tools) known += (known.empty() ? "" : ", ") + kv.first;
-  throw Error(Exit::usage, lib.file + ": error: no tool '" + id + "' (tools: " + known + ")");
+  throw Error(ErrorKind::settings, lib.file + ": error: no tool '" + id + "' (tools: " + known + ")");
 }
 
 }  // namespace deflex::stiffness

@@ -68,7 +68,7 @@ std::string to_yaml(const std::vector<Entry>& tools, const std::string& header, 
 }
 
 [[noreturn]] void fail(const std::string& where, const std::string& msg) {
-  throw Error(Exit::config, where + ": error: " + msg);
+  throw Error(ErrorKind::config, where + ": error: " + msg);
 }
 
 // --- Fusion 360 ----------------------------------------------------------------

@@ -19,7 +19,7 @@ double parse_number(std::string_view s, std::string_view whole) {
   double v = 0;
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (s.empty() || ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(v))
-    throw Error(Exit::usage, "stock: bad number '" + std::string(s) + "' in '" + std::string(whole) +
+    throw Error(ErrorKind::settings, "stock: bad number '" + std::string(s) + "' in '" + std::string(whole) +
                                  "' (expected box:X0,Y0,Z0,X1,Y1,Z1 in mm)");
   return v;
 }
@@ -28,27 +28,27 @@ double parse_number(std::string_view s, std::string_view whole) {
 BoxSpec parse_box(std::string_view spec) {
   const std::string_view whole = spec;
   if (spec.substr(0, 4) != "box:")
-    throw Error(Exit::usage, "stock: '" + std::string(whole) + "' is not box:X0,Y0,Z0,X1,Y1,Z1");
+    throw Error(ErrorKind::settings, "stock: '" + std::string(whole) + "' is not box:X0,Y0,Z0,X1,Y1,Z1");
   spec.remove_prefix(4);
   double v[6];
   for (int k = 0; k < 6; ++k) {
     const auto comma = spec.find(',');
     if ((k < 5) != (comma != std::string_view::npos))
-      throw Error(Exit::usage, "stock: '" + std::string(whole) + "' needs exactly six numbers X0,Y0,Z0,X1,Y1,Z1");
+      throw Error(ErrorKind::settings, "stock: '" + std::string(whole) + "' needs exactly six numbers X0,Y0,Z0,X1,Y1,Z1");
     v[k] = parse_number(spec.substr(0, comma), whole);
     spec.remove_prefix(comma == std::string_view::npos ? spec.size() : comma + 1);
   }
   BoxSpec b{std::min(v[0], v[3]), std::min(v[1], v[4]), std::min(v[2], v[5]),
             std::max(v[0], v[3]), std::max(v[1], v[4]), std::max(v[2], v[5])};
   if (b.x1_mm - b.x0_mm <= 0 || b.y1_mm - b.y0_mm <= 0 || b.z1_mm - b.z0_mm <= 0)
-    throw Error(Exit::usage, "stock: box '" + std::string(whole) + "' has zero size");
+    throw Error(ErrorKind::settings, "stock: box '" + std::string(whole) + "' has zero size");
   return b;
 }
 
 ZMap zmap_from_box(const BoxSpec& b, double cell_mm) {
   // A box from the command line: its size is a usage error, found before allocating.
   const double nx = std::ceil((b.x1_mm - b.x0_mm) / cell_mm), ny = std::ceil((b.y1_mm - b.y0_mm) / cell_mm);
-  if (!(nx * ny <= max_cells)) throw Error(Exit::usage, too_many_cells(b.x1_mm - b.x0_mm, b.y1_mm - b.y0_mm, cell_mm));
+  if (!(nx * ny <= max_cells)) throw Error(ErrorKind::settings, too_many_cells(b.x1_mm - b.x0_mm, b.y1_mm - b.y0_mm, cell_mm));
   const GridSpec g = grid_covering(b.x0_mm, b.y0_mm, b.x1_mm, b.y1_mm, cell_mm);
   const float top = static_cast<float>(b.z1_mm);
   ZMap z(g, top, b.z0_mm);
@@ -61,7 +61,7 @@ ZMap zmap_from_box(const BoxSpec& b, double cell_mm) {
 }
 
 ZMap zmap_from_triangles(std::span<const Triangle> tris, double cell_mm) {
-  if (tris.empty()) throw Error(Exit::config, "stock: the solid has no triangles");
+  if (tris.empty()) throw Error(ErrorKind::config, "stock: the solid has no triangles");
   double lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::numeric_limits<double>::infinity();

@@ -217,7 +217,7 @@ void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, cons
     buf.push_back(0), buf.push_back(0);
   }
   out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
-  if (!out) throw Error(Exit::io, "writing the STL failed");
+  if (!out) throw Error(ErrorKind::io, "writing the STL failed");
 }
 
 }  // namespace deflex::stock

@@ -66,12 +66,12 @@ void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, bool re
 TopoDS_Shape read_brep(const std::string& path, const std::string& ext) {
   if (ext == ".step" || ext == ".stp") {
     STEPControl_Reader r;
-    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(Exit::io, path + ": cannot read as STEP");
+    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as STEP");
     r.TransferRoots();
     return r.OneShape();
   }
   IGESControl_Reader r;
-  if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(Exit::io, path + ": cannot read as IGES");
+  if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as IGES");
   r.TransferRoots();
   return r.OneShape();
 }
@@ -94,21 +94,21 @@ void route_occt_messages() {
 }
 
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm) {
-  if (!std::filesystem::is_regular_file(path)) throw Error(Exit::io, path + ": no such file");
+  if (!std::filesystem::is_regular_file(path)) throw Error(ErrorKind::io, path + ": no such file");
   const std::string ext = lower_extension(path);
   std::vector<Triangle> out;
   route_occt_messages();
   try {
     if (ext == ".stl") {
       out = read_stl(path);
-      if (out.empty()) throw Error(Exit::io, path + ": cannot read as STL (or it has no triangles)");
+      if (out.empty()) throw Error(ErrorKind::io, path + ": cannot read as STL (or it has no triangles)");
       return out;
     }
     if (ext != ".step" && ext != ".stp" && ext != ".iges" && ext != ".igs")
-      throw Error(Exit::usage, path + ": stock file must be .stl, .step/.stp or .iges/.igs (or box:X0,Y0,Z0,X1,Y1,Z1)");
-    if (!(mesh_deflection_mm > 0)) throw Error(Exit::config, "stock: mesh deflection must be > 0");
+      throw Error(ErrorKind::settings, path + ": stock file must be .stl, .step/.stp or .iges/.igs (or box:X0,Y0,Z0,X1,Y1,Z1)");
+    if (!(mesh_deflection_mm > 0)) throw Error(ErrorKind::config, "stock: mesh deflection must be > 0");
     const TopoDS_Shape shape = read_brep(path, ext);
-    if (shape.IsNull()) throw Error(Exit::config, path + ": the file holds no shape");
+    if (shape.IsNull()) throw Error(ErrorKind::config, path + ": the file holds no shape");
     // Relative deflection off; angular deflection 0.2 rad keeps small fillets round.
     BRepMesh_IncrementalMesh mesh(shape, mesh_deflection_mm, false, 0.2, false);
     for (TopExp_Explorer ex(shape, TopAbs_FACE); ex.More(); ex.Next()) {
@@ -119,9 +119,9 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
       append(tri, loc.IsIdentity() ? nullptr : &trsf, face.Orientation() == TopAbs_REVERSED, out);
     }
   } catch (const Standard_Failure& e) {
-    throw Error(Exit::io, path + ": OpenCASCADE: " + e.GetMessageString());
+    throw Error(ErrorKind::io, path + ": OpenCASCADE: " + e.GetMessageString());
   }
-  if (out.empty()) throw Error(Exit::config, path + ": the solid has no faces to mesh");
+  if (out.empty()) throw Error(ErrorKind::config, path + ": the solid has no faces to mesh");
   return out;
 }
 

@@ -17,7 +17,7 @@ namespace deflex::stock {
 namespace {
 
 [[noreturn]] void bad(const std::string& path, const std::string& why) {
-  throw Error(Exit::io, path + ": cannot read as STL: " + why);
+  throw Error(ErrorKind::io, path + ": cannot read as STL: " + why);
 }
 
 // A triangle whose corners are not all distinct has no area: dropped, as
@@ -86,7 +86,7 @@ std::vector<Triangle> read_ascii(const std::string& path, const std::string& byt
 
 std::vector<Triangle> read_stl(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(Exit::io, path + ": cannot open");
+  if (!f) throw Error(ErrorKind::io, path + ": cannot open");
   const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   // Binary when the size matches the triangle count (many binary files also
   // begin with "solid"); otherwise ASCII, which must begin with "solid".

@@ -1188,7 +1188,7 @@ Point3 arc_tangent(const Arc& a, double u) {
 }
 
 int arc_chord_count(const Arc& a, double chord_tol_mm) {
-  if (!(chord_tol_mm > 0)) throw Error(Exit::internal, "arc_chord_count: tolerance must be > 0");
+  if (!(chord_tol_mm > 0)) throw Error(ErrorKind::internal, "arc_chord_count: tolerance must be > 0");
   const double r = arc_radius_mm(a);
   if (r <= chord_tol_mm) return std::max(1, static_cast<int>(std::ceil(arc_angle(a) / (std::numbers::pi / 2))));
   const double dmax = 2 * std::acos(1 - chord_tol_mm / r);

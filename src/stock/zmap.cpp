@@ -27,8 +27,8 @@ std::string too_many_cells(double dx_mm, double dy_mm, double cell_mm) {
 }
 
 GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, double cell_mm) {
-  if (!(cell_mm > 0)) throw Error(Exit::config, "stock: cell size must be > 0");
-  if (!(x1_mm > x0_mm) || !(y1_mm > y0_mm)) throw Error(Exit::config, "stock: empty XY extent");
+  if (!(cell_mm > 0)) throw Error(ErrorKind::config, "stock: cell size must be > 0");
+  if (!(x1_mm > x0_mm) || !(y1_mm > y0_mm)) throw Error(ErrorKind::config, "stock: empty XY extent");
   GridSpec g;
   g.x0_mm = x0_mm;
   g.y0_mm = y0_mm;
@@ -39,14 +39,14 @@ GridSpec grid_covering(double x0_mm, double y0_mm, double x1_mm, double y1_mm, d
   const double ny = std::max(1.0, std::ceil((y1_mm - y0_mm) / cell_mm - 1e-9));
   // Checked before any allocation, and before the counts become ints; written
   // so that NaN and infinity fail too.
-  if (!(nx * ny <= max_cells)) throw Error(Exit::config, too_many_cells(x1_mm - x0_mm, y1_mm - y0_mm, cell_mm));
+  if (!(nx * ny <= max_cells)) throw Error(ErrorKind::config, too_many_cells(x1_mm - x0_mm, y1_mm - y0_mm, cell_mm));
   g.nx = static_cast<int>(nx);
   g.ny = static_cast<int>(ny);
   return g;
 }
 
 ZMap::ZMap(const GridSpec& g, float height, double base_z_mm) : g_(g), base_z_(base_z_mm) {
-  if (g.nx <= 0 || g.ny <= 0 || !(g.cell_mm > 0)) throw Error(Exit::internal, "ZMap: empty grid");
+  if (g.nx <= 0 || g.ny <= 0 || !(g.cell_mm > 0)) throw Error(ErrorKind::internal, "ZMap: empty grid");
   inv_cell_ = 1.0 / g.cell_mm;
   tiles_x_ = static_cast<std::size_t>((g.nx + T - 1) / T);
   tiles_y_ = static_cast<std::size_t>((g.ny + T - 1) / T);

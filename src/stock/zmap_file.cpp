@@ -54,7 +54,7 @@ std::size_t predictor(std::size_t k) { return k % T ? k - 1 : k - T; }
 class Deflater {
  public:
   explicit Deflater(std::ostream& out) : out_(out) {
-    if (deflateInit(&z_, Z_DEFAULT_COMPRESSION) != Z_OK) throw Error(Exit::io, "zlib: deflateInit failed");
+    if (deflateInit(&z_, Z_DEFAULT_COMPRESSION) != Z_OK) throw Error(ErrorKind::io, "zlib: deflateInit failed");
   }
   ~Deflater() { deflateEnd(&z_); }
   void put(const void* data, std::size_t n) { run(data, n, Z_NO_FLUSH); }
@@ -69,7 +69,7 @@ class Deflater {
       z_.next_out = buf_.data();
       z_.avail_out = static_cast<uInt>(buf_.size());
       rc = deflate(&z_, flush);
-      if (rc == Z_STREAM_ERROR) throw Error(Exit::io, "zlib: deflate failed");
+      if (rc == Z_STREAM_ERROR) throw Error(ErrorKind::io, "zlib: deflate failed");
       out_.write(reinterpret_cast<const char*>(buf_.data()), static_cast<std::streamsize>(buf_.size() - z_.avail_out));
     } while (z_.avail_out == 0 || (flush == Z_FINISH && rc != Z_STREAM_END));
   }
@@ -79,7 +79,7 @@ class Deflater {
 };
 
 [[noreturn]] void bad(const std::string& path, const std::string& why) {
-  throw Error(Exit::io, path + ": cannot read as a Z-map (.zmap): " + why);
+  throw Error(ErrorKind::io, path + ": cannot read as a Z-map (.zmap): " + why);
 }
 
 // Inflate from the bytes after the header, exactly as many as asked for.
@@ -87,7 +87,7 @@ class Inflater {
  public:
   Inflater(const std::string& path, const std::string& bytes, std::size_t from) : path_(path) {
     if (bytes.size() - from > UINT32_MAX) bad(path, "more than 4 GiB of tile data");
-    if (inflateInit(&z_) != Z_OK) throw Error(Exit::io, "zlib: inflateInit failed");
+    if (inflateInit(&z_) != Z_OK) throw Error(ErrorKind::io, "zlib: inflateInit failed");
     z_.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(bytes.data() + from));
     z_.avail_in = static_cast<uInt>(bytes.size() - from);
   }
@@ -206,12 +206,12 @@ void write_zmap(std::ostream& out, const ZMap& z) {
       else write_tile(d, c, planes);
     }
   d.finish();
-  if (!out) throw Error(Exit::io, "writing the Z-map failed");
+  if (!out) throw Error(ErrorKind::io, "writing the Z-map failed");
 }
 
 ZMap read_zmap(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error(Exit::io, path + ": cannot open");
+  if (!f) throw Error(ErrorKind::io, path + ": cannot open");
   const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   double base_z_mm = 0;
   const GridSpec g = read_header(path, bytes, base_z_mm);

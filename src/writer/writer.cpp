@@ -175,7 +175,7 @@ std::string Rewriter::format_block(std::uint32_t after_line, const std::vector<s
       s = "N" + std::to_string(n);
       ++taken;
     } else if (d_.n_policy == profile::NPolicy::required) {
-      throw Error(Exit::input, prog_.source().name() + ":" + std::to_string(after_line + 1) +
+      throw Error(ErrorKind::input, prog_.source().name() + ":" + std::to_string(after_line + 1) +
                                    ":1: error: no free N number between N" + std::to_string(before) + " and N" +
                                    std::to_string(*after) + " for a block deflex inserts here (dialect " + d_.name +
                                    " requires N on every block): renumber the program with a larger step");
@@ -253,7 +253,7 @@ void Rewriter::write(std::ostream& out, std::uint32_t first_line, std::uint32_t 
   std::uint32_t pos = src.line_begin(first_line);
   const std::uint32_t end = src.line_end_with_eol(last_line);
   for (const Edit& e : edits_) {
-    if (e.begin < pos || e.end > end) throw Error(Exit::internal, "writer: edits overlap or lie outside the lines written");
+    if (e.begin < pos || e.end > end) throw Error(ErrorKind::internal, "writer: edits overlap or lie outside the lines written");
     out.write(s.data() + pos, e.begin - pos);
     out << e.text;
     pos = e.end;
@@ -267,7 +267,7 @@ void Rewriter::check_line_lengths() const {
   // sums the length change of each touched line; a new block is its own line.
   const SourceText& src = prog_.source();
   auto fail = [&](std::uint32_t line, long len, const char* what) {
-    throw Error(Exit::input, src.name() + ":" + std::to_string(line) + ":1: error: " + what + " is " +
+    throw Error(ErrorKind::input, src.name() + ":" + std::to_string(line) + ":1: error: " + what + " is " +
                                  std::to_string(len) + " characters, over the " + d_.name + " limit of " +
                                  std::to_string(d_.max_line_length));
   };
@@ -298,39 +298,39 @@ std::string Rewriter::str() {
 
 void check_output_path(const std::string& path, const std::string& input_path) {
   std::error_code ec;
-  if (path.empty()) throw Error(Exit::usage, "error: empty output path");
+  if (path.empty()) throw Error(ErrorKind::settings, "error: empty output path");
   const fs::file_status st = fs::status(path, ec);  // follows symlinks
   if (fs::exists(st)) {
     if (!input_path.empty() && input_path != "-" && fs::equivalent(path, input_path, ec))
-      throw Error(Exit::usage, path + ": error: output would overwrite the input program; choose another -o");
+      throw Error(ErrorKind::settings, path + ": error: output would overwrite the input program; choose another -o");
     if (!fs::is_regular_file(st))
-      throw Error(Exit::usage, path + ": error: not a regular file (a " +
+      throw Error(ErrorKind::settings, path + ": error: not a regular file (a " +
                                    std::string(fs::is_directory(st) ? "directory" : "device, FIFO or socket") +
                                    "); deflex writes outputs only to regular files");
   } else if (fs::is_symlink(fs::symlink_status(path, ec))) {
-    throw Error(Exit::usage, path + ": error: a symbolic link to nothing; give the target itself");
+    throw Error(ErrorKind::settings, path + ": error: a symbolic link to nothing; give the target itself");
   }
   const fs::path target = fs::exists(st) ? fs::canonical(path, ec) : fs::path(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
-    throw Error(Exit::usage, path + ": error: the folder " + dir.string() + " does not exist");
+    throw Error(ErrorKind::settings, path + ": error: the folder " + dir.string() + " does not exist");
   if (::access(dir.c_str(), W_OK) != 0)
-    throw Error(Exit::io, path + ": error: the folder " + dir.string() + " is not writable: " + std::strerror(errno));
+    throw Error(ErrorKind::io, path + ": error: the folder " + dir.string() + " is not writable: " + std::strerror(errno));
 }
 
 void check_output_folder(const std::string& dir) {
   std::error_code ec;
   const fs::file_status st = fs::status(dir, ec);
   if (fs::exists(st)) {
-    if (!fs::is_directory(st)) throw Error(Exit::usage, dir + ": error: exists and is not a folder");
-    if (::access(dir.c_str(), W_OK) != 0) throw Error(Exit::io, dir + ": error: the folder is not writable: " + std::strerror(errno));
+    if (!fs::is_directory(st)) throw Error(ErrorKind::settings, dir + ": error: exists and is not a folder");
+    if (::access(dir.c_str(), W_OK) != 0) throw Error(ErrorKind::io, dir + ": error: the folder is not writable: " + std::strerror(errno));
     return;
   }
   const fs::path parent = fs::path(dir).lexically_normal().parent_path();
   const fs::path p = parent.empty() ? fs::path(".") : parent;
-  if (!fs::is_directory(p, ec)) throw Error(Exit::usage, dir + ": error: the folder " + p.string() + " does not exist");
+  if (!fs::is_directory(p, ec)) throw Error(ErrorKind::settings, dir + ": error: the folder " + p.string() + " does not exist");
   if (::access(p.c_str(), W_OK) != 0)
-    throw Error(Exit::io, dir + ": error: cannot create it: " + p.string() + " is not writable: " + std::strerror(errno));
+    throw Error(ErrorKind::io, dir + ": error: cannot create it: " + p.string() + " is not writable: " + std::strerror(errno));
 }
 
 AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) : path_(path) {
@@ -352,7 +352,7 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) :
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
   const int fd = mkstemp(name.data());
-  if (fd < 0) throw Error(Exit::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
+  if (fd < 0) throw Error(ErrorKind::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
   ::close(fd);
   tmp_ = name.data();
   slot_ = temp_files::add(tmp_);
@@ -360,7 +360,7 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) :
   if (!out_) {
     std::remove(tmp_.c_str());
     temp_files::forget(slot_);
-    throw Error(Exit::io, path + ": error: cannot write " + tmp_);
+    throw Error(ErrorKind::io, path + ": error: cannot write " + tmp_);
   }
 }
 
@@ -373,7 +373,7 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::commit() {
   out_.flush();
-  if (!out_) throw Error(Exit::io, path_ + ": error: write failed (disk full?)");
+  if (!out_) throw Error(ErrorKind::io, path_ + ": error: write failed (disk full?)");
   out_.close();
   if (have_old_) {
     // The file keeps what it was: mode, and owner where we may set it.
@@ -387,7 +387,7 @@ void AtomicFile::commit() {
     fs::permissions(tmp_, static_cast<fs::perms>(0666 & ~mask), ec);
   }
   if (std::rename(tmp_.c_str(), target_.c_str()) != 0)
-    throw Error(Exit::io, path_ + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
+    throw Error(ErrorKind::io, path_ + ": error: cannot rename the temporary file into place: " + std::strerror(errno));
   temp_files::forget(slot_);
   temp_files::completed(path_);
   tmp_.clear();
@@ -405,7 +405,7 @@ void write_through_temporary(std::ostream& out, const std::function<void(std::os
   std::vector<char> name(tmpl.begin(), tmpl.end());
   name.push_back('\0');
   const int fd = mkstemp(name.data());
-  if (fd < 0) throw Error(Exit::io, "error: cannot create a temporary file in " + tmpl + ": " + std::strerror(errno));
+  if (fd < 0) throw Error(ErrorKind::io, "error: cannot create a temporary file in " + tmpl + ": " + std::strerror(errno));
   ::close(fd);
   const std::string tmp(name.data());
   const int slot = temp_files::add(tmp);
@@ -414,7 +414,7 @@ void write_through_temporary(std::ostream& out, const std::function<void(std::os
       std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
       fill(o);
       o.flush();
-      if (!o) throw Error(Exit::io, tmp + ": error: write failed (disk full?)");
+      if (!o) throw Error(ErrorKind::io, tmp + ": error: write failed (disk full?)");
     }
     std::ifstream i(tmp, std::ios::binary);
     if (i.peek() != std::ifstream::traits_type::eof()) out << i.rdbuf();  // nothing to copy is no failure

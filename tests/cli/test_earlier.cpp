@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <set>
+#include <string>
 
 #include "../support.hpp"
 

@@ -92,7 +92,7 @@ TEST_CASE("limits: a stock box too large for a Z-map is a usage error before all
     stock::make_stock("box:0,0,-10,1e6,1e6,0");
     FAIL("no error");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::usage);
+    CHECK(e.kind() == ErrorKind::settings);
     CHECK(has(e.what(), "cells, more than the limit"));
   }
   CHECK_THROWS_AS(stock::grid_covering(0, 0, 1e300, 1e300, 0.05), Error);
@@ -106,7 +106,7 @@ TEST_CASE("limits: integers in YAML are range-checked before conversion") {
     profile::load_dialect(f);
     FAIL("no error");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     CHECK(has(e.what(), ":3:14: error: decimals_mm must be in [0, 9]"));
   }
   // Fuzz finding (fuzz_machine): a dialect without `name` was an internal error (exit 70).

@@ -100,7 +100,7 @@ TEST_SUITE("cli") {
     CHECK(rc({}, "--rough-tool T<n> is required") == 2);
     CHECK(test::run_cli({"rough", "-", "--stock", box, "--rough-tool", "T1"}).rc == 2);
     CHECK(rc({"--rough-tool", "T99"}, "T99") == 2);
-    CHECK(rc({"--rough-tool", "T1", "--stepover", "11"}, "--stepover must be") == 2);
+    CHECK(rc({"--rough-tool", "T1", "--stepover", "11"}, "the stepover must be") == 2);
     CHECK(rc({"--rough-tool", "T1", "--stepover", "0.0001", "--sample", "0.01"}, "floor samples") == 2);
     CHECK(rc({"--rough-tool", "T1", "-o", finish}, "") == 2);  // never over the input
     // The allowance above the stock top: nothing to rough.

@@ -90,7 +90,7 @@ TEST_CASE("slot-test CSV: workpiece forces are negated, errors have file:line:co
     try {
       parse_slot_tests(text, "t.csv");
     } catch (const deflex::Error& e) {
-      CHECK(e.code() == deflex::Exit::input);
+      CHECK(e.kind() == deflex::ErrorKind::input);
       return std::string(e.what());
     }
     return std::string("no error");

@@ -11,11 +11,12 @@
 #include <nlohmann/json.hpp>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/material.hpp"
 
 using deflex::Error;
-using deflex::Exit;
+using deflex::cli::Exit;
 
 namespace {
 
@@ -42,7 +43,7 @@ Exit usage_error(std::vector<std::string> args) {
   try {
     forces(std::move(args));
   } catch (const Error& e) {
-    return e.code();
+    return deflex::cli::exit_code(e.kind());
   }
   return Exit::ok;
 }

@@ -10,18 +10,18 @@
 
 using namespace deflex::force;
 using deflex::Error;
-using deflex::Exit;
+using deflex::ErrorKind;
 
 namespace {
 const std::string src = DEFLEX_SOURCE_DIR;
 
-// Runs f, expects deflex::Error of class `code`, returns its message.
+// Runs f, expects deflex::Error of kind `kind`, returns its message.
 template <class F>
-std::string error_of(F f, Exit code) {
+std::string error_of(F f, ErrorKind kind) {
   try {
     f();
   } catch (const Error& e) {
-    CHECK(e.code() == code);
+    CHECK(e.kind() == kind);
     return e.what();
   }
   FAIL("no error thrown");
@@ -51,32 +51,32 @@ TEST_CASE("samples/materials.yaml: the paper sets, each entry with its source") 
     CHECK(!m.source.empty());
   }
   for (const auto& m : lib.entries) CHECK(!m.source.empty());
-  CHECK(error_of([&] { find_material(lib, "unobtainium"); }, Exit::usage).find("C35") != std::string::npos);
+  CHECK(error_of([&] { find_material(lib, "unobtainium"); }, ErrorKind::settings).find("C35") != std::string::npos);
 }
 
 TEST_CASE("material YAML errors are file:line:col diagnostics of class config") {
   const std::string bad_syntax = "materials:\n  X:\n    model: [mechanistic\n";
-  const std::string m1 = error_of([&] { parse_material_library(bad_syntax, "m.yaml"); }, Exit::config);
+  const std::string m1 = error_of([&] { parse_material_library(bad_syntax, "m.yaml"); }, ErrorKind::config);
   CHECK(m1.rfind("m.yaml:", 0) == 0);
   CHECK(m1.find(": error: ") != std::string::npos);
 
   const std::string typo =
       "materials:\n  X:\n    model: mechanistic\n    K_tc_N_per_mm2: 700\n"
       "    K_rcc_N_per_mm2: 200\n    source: test\n";
-  const std::string m2 = error_of([&] { parse_material_library(typo, "m.yaml"); }, Exit::config);
+  const std::string m2 = error_of([&] { parse_material_library(typo, "m.yaml"); }, ErrorKind::config);
   CHECK(m2.rfind("m.yaml:5:5: error: unknown key 'K_rcc_N_per_mm2'", 0) == 0);
 
   const std::string nan_value =
       "materials:\n  X:\n    model: mechanistic\n    K_tc_N_per_mm2: lots\n"
       "    K_rc_N_per_mm2: 200\n    source: test\n";
-  const std::string m3 = error_of([&] { parse_material_library(nan_value, "m.yaml"); }, Exit::config);
+  const std::string m3 = error_of([&] { parse_material_library(nan_value, "m.yaml"); }, ErrorKind::config);
   CHECK(m3.rfind("m.yaml:4:21: error: K_tc_N_per_mm2 must be a number", 0) == 0);
 
   const std::string no_source = "materials:\n  X:\n    model: smaoui_krta\n    K_T_N_per_mm2: 1\n"
                                 "    K_R_N_per_mm2: 1\n    K_A_N_per_mm2: 1\n";
-  CHECK(error_of([&] { parse_material_library(no_source, "m.yaml"); }, Exit::config)
+  CHECK(error_of([&] { parse_material_library(no_source, "m.yaml"); }, ErrorKind::config)
             .find("missing key 'source'") != std::string::npos);
-  CHECK(error_of([&] { load_material_library("/nonexistent/m.yaml"); }, Exit::io).size() > 0);
+  CHECK(error_of([&] { load_material_library("/nonexistent/m.yaml"); }, ErrorKind::io).size() > 0);
 }
 
 TEST_CASE("a material entry written by to_yaml reads back the same") {
@@ -118,7 +118,7 @@ TEST_CASE("a tool-library entry gives the force model its cutting geometry") {
   const Cutter b = cutter_of(deflex::stiffness::find_tool(lib, "B10"));
   CHECK(b.type == CutterType::ball);
   CHECK(b.corner_radius_mm == 0);  // the force model takes a ball's from D
-  CHECK(error_of([&] { deflex::stiffness::find_tool(lib, "T99"); }, Exit::usage).find("B10") != std::string::npos);
+  CHECK(error_of([&] { deflex::stiffness::find_tool(lib, "T99"); }, ErrorKind::settings).find("B10") != std::string::npos);
 }
 
 }  // TEST_SUITE

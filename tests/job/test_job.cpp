@@ -122,7 +122,7 @@ TEST_SUITE("job") {
       (void)job::open(st, job::Purpose::compensate, s.io);
       FAIL("open() accepted a negative tolerance");
     } catch (const Error& e) {
-      CHECK(e.code() == Exit::usage);
+      CHECK(e.kind() == ErrorKind::settings);
       CHECK(std::string(e.what()).find("tolerance") != std::string::npos);
     }
   }

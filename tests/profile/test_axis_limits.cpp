@@ -26,7 +26,7 @@ struct Profile {
     try {
       load(section);
     } catch (const Error& e) {
-      CHECK(e.code() == Exit::config);
+      CHECK(e.kind() == ErrorKind::config);
       return e.what();
     }
     return "no error";

@@ -67,7 +67,7 @@ TEST_CASE("YAML errors carry file:line:col") {
     test::write_file(f, "name: [\n");
     profile::load_machine(f);
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
   }
   fs::remove_all(dir);
 }

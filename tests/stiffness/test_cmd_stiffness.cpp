@@ -7,9 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "deflex/cli/command.hpp"
+#include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/beam.hpp"
-#include "deflex/stiffness/report.hpp"
 #include "helpers.hpp"
 
 using namespace deflex;
@@ -31,13 +32,13 @@ Run run(const std::vector<std::string>& args) {
   r.err = err.str();
   return r;
 }
-Exit usage_code(const std::vector<std::string>& args) {
+cli::Exit usage_code(const std::vector<std::string>& args) {
   try {
     run(args);
   } catch (const Error& e) {
-    return e.code();
+    return cli::exit_code(e.kind());
   }
-  return Exit::ok;
+  return cli::Exit::ok;
 }
 }  // namespace
 
@@ -80,19 +81,19 @@ TEST_SUITE("stiffness") {
 
   TEST_CASE("cmd: bad usage is Exit::usage, a bad library Exit::io") {
     const std::string lib = sample_path("samples/tools.yaml");
-    CHECK(usage_code({"--tool", "T1"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--method", "fem"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--at", "99"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--bogus"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", lib, "--tool", "T9"}) == Exit::usage);
-    CHECK(usage_code({"--tool-file", "/nonexistent/tools.yaml", "--tool", "T1"}) == Exit::io);
+    CHECK(usage_code({"--tool", "T1"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--method", "fem"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--at", "99"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T1", "--bogus"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", lib, "--tool", "T9"}) == cli::Exit::usage);
+    CHECK(usage_code({"--tool-file", "/nonexistent/tools.yaml", "--tool", "T1"}) == cli::Exit::io);
     CHECK(run({"--help"}).out.find("usage: deflex stiffness") == 0);
   }
 
   TEST_CASE("report: JSON has exactly the documented shape") {
     Compliance c;
     c << 1e-4, 2e-6, 0, 2e-6, 1e-4, 0, 0, 0, 3e-6;
-    const std::string j = compliance_json({{1.5, c}});
+    const std::string j = deflex::report::compliance_json({{1.5, c}});
     CHECK(j == "{\"compliance\":[{\"height_mm\":1.5,\"matrix_mm_per_N\":[[0.0001,2e-06,0.0],"
                "[2e-06,0.0001,0.0],[0.0,0.0,3e-06]]}]}\n");
     const auto parsed = nlohmann::json::parse(j);

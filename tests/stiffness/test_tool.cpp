@@ -3,6 +3,7 @@
 #include <string>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/profile/yaml.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/shape.hpp"
 #include "deflex/stiffness/tool.hpp"
@@ -19,16 +20,16 @@ std::string tool_error(const std::string& yaml) {
   try {
     parse_tool_library(yaml, "lib.yaml");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     return e.what();
   }
   return "";
 }
 std::string machine_error(const std::string& yaml) {
   try {
-    parse_machine_stiffness(YAML::Load(yaml), "m.yaml");
+    parse_machine_stiffness(yaml::document(YAML::Load(yaml)), "m.yaml");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     return e.what();
   }
   return "";

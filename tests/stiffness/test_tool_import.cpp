@@ -22,7 +22,7 @@ std::string import_error(const std::string& text, bool json) {
   try {
     json ? import_fusion_json(text, "lib.json") : import_linuxcnc_tbl(text, "t.tbl");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
     return e.what();
   }
   return "";

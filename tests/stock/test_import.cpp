@@ -141,7 +141,7 @@ TEST_CASE("stock spec errors") {
   try {
     make_stock(data_dir + "missing.step");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::io);
+    CHECK(e.kind() == ErrorKind::io);
   }
   const auto txt = std::filesystem::temp_directory_path() / "deflex_stock_test.txt";
   std::ofstream(txt) << "not a solid\n";
@@ -149,7 +149,7 @@ TEST_CASE("stock spec errors") {
     make_stock(txt.string());
     FAIL("expected an error");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::usage);
+    CHECK(e.kind() == ErrorKind::settings);
   }
   std::filesystem::remove(txt);
   CHECK(make_stock("box:0,0,0,10,10,5").height_at(5, 5) == 5);

@@ -69,7 +69,7 @@ TEST_CASE("STL reader: malformed files are I/O errors (fuzz finding: OCCT read p
       stock::read_stl(temp("build-stl-bad.stl", text));
       FAIL("no error for: " << text.substr(0, 60));
     } catch (const Error& e) {
-      CHECK(e.code() == Exit::io);
+      CHECK(e.kind() == ErrorKind::io);
       CHECK(std::string(e.what()).find("cannot read as STL") != std::string::npos);
     }
   }
@@ -94,7 +94,7 @@ TEST_CASE("Z-map of an STL 1e36 mm long and 1e-12 mm wide: a config error (fuzz 
     stock::zmap_from_triangles(tris, 0.5);
     FAIL("no error");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::config);
+    CHECK(e.kind() == ErrorKind::config);
   }
   CHECK(stock::grid_covering(0, 0, 1, 1e-12, 0.05).ny == 1);
   CHECK_THROWS_AS(stock::grid_covering(0, 0, 1e36, 1e-12, 0.05), Error);

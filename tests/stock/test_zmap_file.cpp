@@ -106,7 +106,7 @@ TEST_SUITE("stock") {
         (void)read_zmap(f.string());
         FAIL("read");
       } catch (const Error& e) {
-        CHECK(e.code() == Exit::io);
+        CHECK(e.kind() == ErrorKind::io);
         CHECK(std::string(e.what()).find(f.string() + ": cannot read as a Z-map") == 0);
         CHECK(std::string(e.what()).find(why) != std::string::npos);
       }

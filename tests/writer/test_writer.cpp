@@ -131,7 +131,7 @@ TEST_CASE("inserted blocks never share an N number: the free numbers of the gap,
     (void)wh.format_block(2, {{'X', 7}}, false);
     FAIL("a second block between N20 and N22 must be refused");
   } catch (const Error& e) {
-    CHECK(e.code() == Exit::input);
+    CHECK(e.kind() == ErrorKind::input);
     CHECK(std::string(e.what()).find("t.nc:3:1: error: no free N number between N20 and N22") != std::string::npos);
   }
   profile::Dialect inc = heid;
@@ -173,7 +173,7 @@ TEST_CASE("atomic write: never onto the input, no file left when writing fails")
   CHECK(test::read_file(in) == "G0 X1\n");
   CHECK_THROWS(writer::write_file_atomically(out, in, [](std::ostream& o) {
     o << "partial";
-    throw Error(Exit::input, "stop");
+    throw Error(ErrorKind::input, "stop");
   }));
   CHECK_FALSE(fs::exists(out));
   std::size_t files = 0;

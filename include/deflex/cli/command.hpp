@@ -19,7 +19,7 @@ struct Io : job::Io {
 };
 
 // A subcommand: args are the words after the subcommand name. Returns the exit
-// code (deflex::Exit); failures may also be thrown as deflex::Error.
+// code (cli/exit.hpp); failures may also be thrown as deflex::Error.
 using CommandFn = int (*)(const std::vector<std::string>& args, Io& io);
 
 int cmd_path(const std::vector<std::string>& args, Io& io);

@@ -55,7 +55,7 @@ std::vector<bool> splittable(const gcode::Program& prog, const std::vector<inter
 // original: the same motions of the same kinds on the same lines, every block
 // equal but for its coordinate words, non-movable motions where they were
 // (within the rounding of the written numbers), movable ones moved by at most
-// max_offset_mm. Throws Error(Exit::internal) naming the first difference.
+// max_offset_mm. Throws Error(ErrorKind::internal) naming the first difference.
 // With `inserted` (may be null; `original_motions` then includes the inserted
 // ones): each inserted block holds only N, G1, X, Y, Z, F and its motion ends
 // within max_offset_mm of the move it splits.

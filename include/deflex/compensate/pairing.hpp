@@ -114,7 +114,7 @@ class MotionPairer {
 
 // Per motion of B: its end minus the point it was meant to reach on A (the
 // judge's intent offset). Exactly zero for a motion deflex left alone. Throws
-// Error(Exit::input) naming the first motion of B without a counterpart.
+// Error(ErrorKind::input) naming the first motion of B without a counterpart.
 std::vector<V3> intent_offsets(const LinePairing& lines, const std::vector<interp::Motion>& a,
                                const std::vector<interp::Motion>& b, const std::string& name_b);
 

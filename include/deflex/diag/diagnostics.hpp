@@ -1,4 +1,4 @@
-// Compiler-style diagnostics and the exit code of each failure class.
+// Compiler-style diagnostics and the error type of each failure class.
 #pragma once
 #include <cstdint>
 #include <iosfwd>
@@ -9,24 +9,24 @@
 
 namespace deflex {
 
-// One exit code per failure class (listed in `deflex --help`).
-enum class Exit : int {
-  ok = 0,        // success; for check/diff: clean / only coordinates differ
-  input = 1,     // the program (or a compared program) has errors / differs
-  usage = 2,     // bad command line
-  config = 3,    // config.yaml, machine profile, dialect or library error
-  io = 4,        // a file could not be read or written
-  internal = 70  // a bug in deflex (EX_SOFTWARE)
+// What kind of failure an Error is. The library says what went wrong; the
+// front end decides what to make of it (the CLI's exit codes: cli/exit.hpp).
+enum class ErrorKind {
+  input,     // the program (or a compared program) has errors
+  settings,  // a setting the caller gave is invalid: a value out of range, settings that exclude each other
+  config,    // config.yaml, machine profile, dialect or library error
+  io,        // a file could not be read or written
+  internal   // a bug in deflex
 };
 
-// A failure that ends the command with its class's exit code.
+// A failure that ends the run, of one kind.
 class Error : public std::runtime_error {
  public:
-  Error(Exit code, const std::string& what) : std::runtime_error(what), code_(code) {}
-  Exit code() const { return code_; }
+  Error(ErrorKind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
+  ErrorKind kind() const { return kind_; }
 
  private:
-  Exit code_;
+  ErrorKind kind_;
 };
 
 enum class Severity { note, warning, error };

@@ -43,9 +43,9 @@ struct SlotTestData {
   std::vector<SlotTest> tests;
 };
 
-// Throws Error(Exit::input, "file:line:col: error: ...") on a malformed file.
+// Throws Error(ErrorKind::input, "file:line:col: error: ...") on a malformed file.
 SlotTestData parse_slot_tests(const std::string& csv_text, const std::string& file);
-SlotTestData load_slot_tests(const std::string& path);  // Error(Exit::io) when unreadable
+SlotTestData load_slot_tests(const std::string& path);  // Error(ErrorKind::io) when unreadable
 
 struct LineFit {
   double slope = 0, intercept = 0;
@@ -60,7 +60,7 @@ struct SlotCalibration {
   Eigen::Vector3d rms_residual_N = Eigen::Vector3d::Zero();
 };
 
-// Least squares; needs at least two distinct feeds (Error(Exit::input) otherwise).
+// Least squares; needs at least two distinct feeds (Error(ErrorKind::input) otherwise).
 SlotCalibration calibrate_slot_tests(const SlotTestData& data);
 
 // Mean slot forces on the tool predicted by the closed form above.

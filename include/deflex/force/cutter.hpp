@@ -26,7 +26,7 @@ struct Cutter {
 
 const char* to_string(CutterType t);
 
-// Throws deflex::Error(Exit::config) when the geometry cannot be cut with.
+// Throws deflex::Error(ErrorKind::config) when the geometry cannot be cut with.
 void validate(const Cutter& c);
 
 // Radius of the corner arc of the profile (0 flat, D/2 ball, r_c bull nose).

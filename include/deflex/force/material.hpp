@@ -36,13 +36,13 @@ struct MaterialLibrary {
   std::vector<MaterialEntry> entries;
 };
 
-// Throws Error(Exit::io) when unreadable, Error(Exit::config,
+// Throws Error(ErrorKind::io) when unreadable, Error(ErrorKind::config,
 // "file:line:col: error: ...") on any YAML or value error.
 MaterialLibrary load_material_library(const std::string& path);
 MaterialLibrary parse_material_library(const std::string& yaml_text, const std::string& file);
 
 // By name or alias, ignoring case and the characters " -_". Throws
-// Error(Exit::usage) naming the known materials when absent.
+// Error(ErrorKind::settings) naming the known materials when absent.
 const MaterialEntry& find_material(const MaterialLibrary& lib, const std::string& name);
 
 // One entry as YAML text (with the `materials:` header), readable by the loader.

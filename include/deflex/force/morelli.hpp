@@ -40,7 +40,7 @@ int morelli_type(const MorelliInput& in, const MorelliAngles& a);
 char morelli_overlap(int type, const MorelliAngles& a, int i);
 
 // The whole code: "I"/"II"/"III" followed by one letter per following flute in
-// the cut. Throws deflex::Error(Exit::usage) on impossible input.
+// the cut. Throws deflex::Error(ErrorKind::settings) on impossible input.
 std::string morelli_shape_code(const MorelliInput& in);
 
 // Key axial positions of Table 2 (mm above the tool tip, as printed: some may be

@@ -7,7 +7,7 @@
 namespace deflex::force {
 
 // Type, D, corner radius (bull nose only), flutes, helix and flute length;
-// validated (throws Error(Exit::config) when the geometry cannot cut).
+// validated (throws Error(ErrorKind::config) when the geometry cannot cut).
 Cutter cutter_of(const stiffness::Tool& t);
 
 }  // namespace deflex::force

@@ -69,7 +69,7 @@ struct PartOptions {
 class PartModel {
  public:
   // Triangles with outward orientation (counter-clockwise seen from outside,
-  // as STL requires). Throws Error(Exit::config) on an empty or degenerate soup.
+  // as STL requires). Throws Error(ErrorKind::config) on an empty or degenerate soup.
   explicit PartModel(std::vector<stock::Triangle> tris, const PartOptions& o = {});
   // STL, STEP or IGES, read as the stock is (stock::read_solid_triangles).
   static PartModel load(const std::string& path, const PartOptions& o = {});

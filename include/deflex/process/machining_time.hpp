@@ -62,7 +62,7 @@ struct MachiningTime {
 
 // `feed_mm_per_min`: empty, or one feed per motion replacing the programmed F of
 // each cutting motion (--feed-limit's feeds; rapids ignore theirs). Throws
-// Error(Exit::internal) when its size differs from the motions' or a cutting
+// Error(ErrorKind::internal) when its size differs from the motions' or a cutting
 // motion has no positive finite feed (the interpreter never emits one).
 MachiningTime machining_time(const std::vector<interp::Motion>& motions, const profile::AxisLimits& limits,
                              const std::vector<double>& feed_mm_per_min = {});

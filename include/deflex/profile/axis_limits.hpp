@@ -13,8 +13,6 @@
 #pragma once
 #include <array>
 
-#include "deflex/profile/yaml.hpp"
-
 namespace deflex::profile {
 
 // Axes x, y, z. The defaults are round, deliberately modest figures for a
@@ -36,10 +34,5 @@ struct AxisLimits {
   double corner_tolerance_mm = 0.01;
   bool set = false;  // read from a profile (false: the defaults above)
 };
-
-// Reads the `axis_limits:` section (the node of that key). Throws
-// Error(Exit::config, "file:line:col: error: ...") on an unknown key, a
-// missing axis, a value that is not a finite number > 0.
-AxisLimits parse_axis_limits(const YAML::Node& section, const std::string& file);
 
 }  // namespace deflex::profile

@@ -1,5 +1,5 @@
 // Control dialects (postproc/*.yaml), machine profiles (samples/machines/*.yaml)
-// and config.yaml. Every YAML error is a deflex::Error(Exit::config) whose text
+// and config.yaml. Every YAML error is a deflex::Error(ErrorKind::config) whose text
 // starts with `file:line:col: error:`.
 #pragma once
 #include <array>
@@ -8,9 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <yaml-cpp/yaml.h>
-
 #include "deflex/profile/axis_limits.hpp"
+#include "deflex/profile/document.hpp"
 
 namespace deflex::profile {
 
@@ -52,7 +51,6 @@ struct Dialect {
 std::vector<std::string> dialect_names();
 // A built-in dialect by name, or a dialect file by path (contains '/' or ends .yaml).
 Dialect load_dialect(const std::string& name_or_path);
-Dialect parse_dialect(const YAML::Node& node, const std::string& file);
 
 // Travel limits of the tool tip in machine coordinates, mm.
 struct Travel {
@@ -77,7 +75,7 @@ struct MachineProfile {
   struct ToolOffset { double radius_mm = 0, wear_mm = 0; };
   std::map<int, ToolOffset> tool_offsets;
   AxisLimits axis_limits;      // for the machining time (defaults when the section is absent)
-  YAML::Node root;             // the whole document (stiffness, holder ... sections)
+  yaml::Document root;         // the whole document (stiffness, holder ... sections)
 };
 
 // A machine profile by path, or by name (profile/search.hpp: find_machine).
@@ -88,7 +86,7 @@ struct Config {
   std::string machine;      // default machine profile name
   std::string dialect;      // overrides the machine's dialect when set
   int max_errors = 20;
-  YAML::Node root;
+  yaml::Document root;
 };
 
 // The config file `path` (--config), else the first found in the search order

@@ -77,6 +77,9 @@ class CrossComplianceTable {
 Eigen::Vector3d deflection_mm(const ComplianceTable& c, double height_mm,
                               const Eigen::Vector3d& force_N);
 
+// C(h) at each height.
+std::vector<ComplianceRow> sample(const ComplianceTable& c, const std::vector<double>& heights_mm);
+
 // Heights of the table stations: n equal steps from 0 to top_mm (n >= 1).
 std::vector<double> station_heights_mm(double top_mm, int steps);
 

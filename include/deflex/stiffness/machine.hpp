@@ -31,8 +31,8 @@
 #include <string>
 
 #include <Eigen/Dense>
-#include <yaml-cpp/yaml.h>
 
+#include "deflex/profile/document.hpp"
 #include "deflex/stiffness/tool.hpp"
 
 namespace deflex::stiffness {
@@ -63,9 +63,9 @@ struct MachineStiffness {
 };
 
 // Reads the `holder:` and `stiffness:` sections of a machine profile's root map.
-// Throws Error(Exit::config, "file:line:col: error: ...").
-MachineStiffness parse_machine_stiffness(const YAML::Node& profile_root, const std::string& file);
-// Reads a machine profile file (Exit::io if unreadable).
+// Throws Error(ErrorKind::config, "file:line:col: error: ...").
+MachineStiffness parse_machine_stiffness(const yaml::Document& profile_root, const std::string& file);
+// Reads a machine profile file (ErrorKind::io if unreadable).
 MachineStiffness load_machine_stiffness(const std::string& path);
 
 }  // namespace deflex::stiffness

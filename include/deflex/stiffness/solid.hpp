@@ -41,13 +41,13 @@ std::string default_cache_dir();
 // C(h) of the tool clamped rigidly at the holder face (every node at or above
 // z = stickout_mm is fixed), for h from 0 to the top of the flutes. Built from
 // the tool's parameters, or from tool.step_file when set (axis +z; its lowest
-// point is moved to z = 0). Throws Error(Exit::io) for an unreadable STEP file,
-// Error(Exit::internal) when meshing or solving fails.
+// point is moved to z = 0). Throws Error(ErrorKind::io) for an unreadable STEP file,
+// Error(ErrorKind::internal) when meshing or solving fails.
 ComplianceTable solid_tool_compliance(const Tool& t, const SolidOptions& opt = {},
                                       SolidInfo* info = nullptr);
 
 // Writes the tool's parametric solid (the body the solid model meshes) as a
-// STEP file, e.g. to check it in a CAD viewer. Throws Error(Exit::io).
+// STEP file, e.g. to check it in a CAD viewer. Throws Error(ErrorKind::io).
 void write_tool_step(const Tool& t, const std::string& step_path);
 
 // The same with the holder, joints and machine structure of `m` in series (the

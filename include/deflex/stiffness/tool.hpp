@@ -5,8 +5,6 @@
 #include <optional>
 #include <string>
 
-#include <yaml-cpp/yaml.h>
-
 namespace deflex::stiffness {
 
 enum class ToolType { ball, flat, bull };
@@ -63,18 +61,14 @@ struct ToolLibrary {
   std::map<std::string, Tool> tools;
 };
 
-// Reads a tool library. Throws Error(Exit::io) when the file cannot be read and
-// Error(Exit::config, "file:line:col: error: ...") for any YAML or value error.
+// Reads a tool library. Throws Error(ErrorKind::io) when the file cannot be read and
+// Error(ErrorKind::config, "file:line:col: error: ...") for any YAML or value error.
 ToolLibrary load_tool_library(const std::string& path);
 // The same from YAML text (`file` names it in messages; relative step_file
 // paths are resolved against the folder of `file`).
 ToolLibrary parse_tool_library(const std::string& yaml_text, const std::string& file);
-// `material:` as a preset name or {E_MPa, poisson} (tools and holders).
-Material parse_material(const YAML::Node& node, const std::string& file);
-// One tool entry (a YAML map).
-Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string& file);
 
-// Throws Error(Exit::usage) naming the known tools when `id` is missing.
+// Throws Error(ErrorKind::settings) naming the known tools when `id` is missing.
 const Tool& find_tool(const ToolLibrary& lib, const std::string& id);
 
 std::string to_string(ToolType t);

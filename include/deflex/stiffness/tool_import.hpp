@@ -33,8 +33,8 @@ struct ImportedLibrary {
 // True for a path deflex reads through this conversion (.json, .tbl).
 bool is_foreign_tool_library(const std::string& path);
 
-// Reads and converts. Throws Error(Exit::io) when unreadable and
-// Error(Exit::config, "file:line:col: error: ...") when malformed (JSON syntax
+// Reads and converts. Throws Error(ErrorKind::io) when unreadable and
+// Error(ErrorKind::config, "file:line:col: error: ...") when malformed (JSON syntax
 // errors at their position; a bad value in a Fusion tool named by its index,
 // number and description).
 ImportedLibrary import_tool_library(const std::string& path);

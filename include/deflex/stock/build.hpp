@@ -17,7 +17,7 @@ struct BoxSpec {
   double x1_mm = 0, y1_mm = 0, z1_mm = 0;
 };
 
-// "box:X0,Y0,Z0,X1,Y1,Z1" (mm; corners in any order). Throws Error(Exit::usage)
+// "box:X0,Y0,Z0,X1,Y1,Z1" (mm; corners in any order). Throws Error(ErrorKind::settings)
 // with the offending text on a malformed spec.
 BoxSpec parse_box(std::string_view spec);
 
@@ -45,7 +45,7 @@ struct SolidOptions {
 
 // Reads an STL (read_stl), STEP (STEPControl_Reader) or IGES (IGESControl_Reader)
 // file by extension (.stl, .step/.stp, .iges/.igs; any case) into triangles.
-// Throws Error(Exit::io) when the file cannot be read, Exit::config when it holds no solid.
+// Throws Error(ErrorKind::io) when the file cannot be read, ErrorKind::config when it holds no solid.
 std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_deflection_mm);
 
 // Sends OpenCASCADE's messages to stderr (failures only), never to stdout.
@@ -53,7 +53,7 @@ std::vector<Triangle> read_solid_triangles(const std::string& path, double mesh_
 void route_occt_messages();
 
 // An STL file, binary or ASCII, read by deflex itself (not OpenCASCADE: see
-// src/stock/stl.cpp). Triangles without area are dropped. Throws Error(Exit::io)
+// src/stock/stl.cpp). Triangles without area are dropped. Throws Error(ErrorKind::io)
 // on any malformed content.
 std::vector<Triangle> read_stl(const std::string& path);
 

@@ -31,7 +31,7 @@ namespace deflex::stock {
 std::vector<Triangle> zmap_mesh(const ZMap& z, double tolerance_mm);
 
 // Binary STL (little-endian float32, normals from the vertex order); throws
-// Error(Exit::io) when the stream fails.
+// Error(ErrorKind::io) when the stream fails.
 void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, const std::string& header);
 
 }  // namespace deflex::stock

@@ -11,12 +11,12 @@
 
 namespace deflex::stock {
 
-// Writes `z` (header, then its tiles through deflate); throws Error(Exit::io)
+// Writes `z` (header, then its tiles through deflate); throws Error(ErrorKind::io)
 // when the stream or zlib fails.
 void write_zmap(std::ostream& out, const ZMap& z);
 
 // Reads a .zmap file: the Z-map it was written from, bit for bit. Throws
-// Error(Exit::io) naming `path` on anything malformed (magic, version, grid,
+// Error(ErrorKind::io) naming `path` on anything malformed (magic, version, grid,
 // a non-finite height other than "no material", a short or long payload).
 ZMap read_zmap(const std::string& path);
 

@@ -1,8 +1,12 @@
 // The one strict YAML reader of deflex: config.yaml, machine profiles (every
 // section), dialects, tool and material libraries all go through it, so each
-// error is a deflex::Error(Exit::config) whose text starts `file:line:col: error:`,
+// error is a deflex::Error(ErrorKind::config) whose text starts `file:line:col: error:`,
 // an unknown key is always an error (a typo never passes silently), and no
 // number becomes an integer or a limit without being checked first.
+//
+// A header of this build only, never installed: it names yaml-cpp's types, which
+// the public headers keep out. The modules that include it link yaml-cpp
+// themselves (PRIVATE, CMakeLists.txt).
 #pragma once
 #include <initializer_list>
 #include <limits>
@@ -11,12 +15,21 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "deflex/profile/document.hpp"
+
 namespace deflex::yaml {
+
+struct Document::Node {
+  YAML::Node node;
+};
+inline Document document(const YAML::Node& n) { return Document(std::make_shared<const Document::Node>(Document::Node{n})); }
+// The document's root; a null node for an empty Document.
+inline YAML::Node node(const Document& d) { return d ? d.node()->node : YAML::Node(); }
 
 std::string where(const std::string& file, const YAML::Mark& mark);  // yaml-cpp marks are 0-based
 [[noreturn]] void fail(const std::string& file, const YAML::Mark& mark, const std::string& msg);
 
-std::string read_file(const std::string& path);  // Error(Exit::io) when it cannot be read
+std::string read_file(const std::string& path);  // Error(ErrorKind::io) when it cannot be read
 YAML::Node load_file(const std::string& path);
 YAML::Node load_text(const std::string& text, const std::string& file);
 

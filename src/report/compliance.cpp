@@ -1,11 +1,11 @@
-#include "deflex/stiffness/report.hpp"
+#include "deflex/report/compliance.hpp"
 
 #include <cstdio>
 #include <sstream>
 
 #include "deflex/report/json.hpp"
 
-namespace deflex::stiffness {
+namespace deflex::report {
 
 namespace {
 std::string fmt(const char* f, double v) {
@@ -15,21 +15,21 @@ std::string fmt(const char* f, double v) {
 }
 }  // namespace
 
-std::string compliance_json(const std::vector<ComplianceRow>& rows) {
-  report::Json list = report::Json::array();
+std::string compliance_json(const std::vector<stiffness::ComplianceRow>& rows) {
+  Json list = Json::array();
   for (const auto& r : rows) {
-    report::Json m = report::Json::array();
+    Json m = Json::array();
     for (int i = 0; i < 3; ++i) {
-      report::Json row = report::Json::array();
-      for (int j = 0; j < 3; ++j) row.push_back(report::significant(r.matrix_mm_per_N(i, j), 7));
+      Json row = Json::array();
+      for (int j = 0; j < 3; ++j) row.push_back(significant(r.matrix_mm_per_N(i, j), 7));
       m.push_back(row);
     }
-    list.push_back({{"height_mm", report::significant(r.height_mm, 6)}, {"matrix_mm_per_N", m}});
+    list.push_back({{"height_mm", significant(r.height_mm, 6)}, {"matrix_mm_per_N", m}});
   }
-  return report::line({{"compliance", list}});
+  return line({{"compliance", list}});
 }
 
-std::string compliance_text(const std::vector<ComplianceRow>& rows, const std::string& title) {
+std::string compliance_text(const std::vector<stiffness::ComplianceRow>& rows, const std::string& title) {
   std::ostringstream o;
   o << title;
   o << "C(h): compliance at height h above the tip, on the tool axis, machine axes, mm/N\n"
@@ -48,10 +48,4 @@ std::string compliance_text(const std::vector<ComplianceRow>& rows, const std::s
   return o.str();
 }
 
-std::vector<ComplianceRow> sample(const ComplianceTable& c, const std::vector<double>& heights_mm) {
-  std::vector<ComplianceRow> rows;
-  for (double h : heights_mm) rows.push_back({h, c.at(h)});
-  return rows;
-}
-
-}  // namespace deflex::stiffness
+}  // namespace deflex::report
