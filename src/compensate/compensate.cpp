@@ -18,6 +18,7 @@
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/tool.hpp"
+#include "deflex/interp/arc.hpp"
 #include "deflex/stiffness/beam.hpp"
 
 namespace deflex::compensate {
@@ -312,7 +313,7 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
   // An arc moves whole (its centre words are relative to its start), so the
   // point before an arc that stays must stay too.
   for (std::size_t i = n; i-- > 1;)
-    if (!ok[i] && (motions[i].kind == interp::MotionKind::arc_cw || motions[i].kind == interp::MotionKind::arc_ccw))
+    if (!ok[i] && interp::is_arc(motions[i]))
       ok[i - 1] = false;
   return ok;
 }

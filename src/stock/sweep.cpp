@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -12,7 +11,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
-#include "deflex/diag/diagnostics.hpp"
 
 namespace deflex::stock {
 
@@ -1118,92 +1116,8 @@ double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> 
   return sweep_lines(z, segs, false);
 }
 
-// ---- arcs ---------------------------------------------------------------------
-
-namespace {
-
-struct PlaneIdx {
-  int a, b, n;  // in-plane axes (angle measured from a toward b) and normal
-};
-PlaneIdx plane_idx(int plane) {
-  if (plane == 18) return {2, 0, 1};
-  if (plane == 19) return {1, 2, 0};
-  return {0, 1, 2};
-}
-
-}  // namespace
-
-double arc_radius_mm(const Arc& a) {
-  const PlaneIdx p = plane_idx(a.plane);
-  return std::hypot(a.start_mm[p.a] - a.centre_mm[p.a], a.start_mm[p.b] - a.centre_mm[p.b]);
-}
-
-double arc_angle(const Arc& a) {
-  const PlaneIdx p = plane_idx(a.plane);
-  const double t0 = std::atan2(a.start_mm[p.b] - a.centre_mm[p.b], a.start_mm[p.a] - a.centre_mm[p.a]);
-  const double t1 = std::atan2(a.end_mm[p.b] - a.centre_mm[p.b], a.end_mm[p.a] - a.centre_mm[p.a]);
-  constexpr double two_pi = 2 * std::numbers::pi;
-  double d = a.cw ? t0 - t1 : t1 - t0;
-  d -= two_pi * std::floor(d / two_pi);
-  // Same start and end angle: a full circle (the interpreter only emits those on purpose).
-  if (d < 1e-9) d = two_pi;
-  return d;
-}
-
-double arc_length_mm(const Arc& a) {
-  const PlaneIdx p = plane_idx(a.plane);
-  return std::hypot(arc_radius_mm(a) * arc_angle(a), a.end_mm[p.n] - a.start_mm[p.n]);
-}
-
-Point3 arc_point(const Arc& a, double u) {
-  if (u <= 0) return a.start_mm;
-  if (u >= 1) return a.end_mm;
-  const PlaneIdx p = plane_idx(a.plane);
-  const double t0 = std::atan2(a.start_mm[p.b] - a.centre_mm[p.b], a.start_mm[p.a] - a.centre_mm[p.a]);
-  const double t = t0 + (a.cw ? -1 : 1) * arc_angle(a) * u;
-  const double r = arc_radius_mm(a);
-  Point3 q{};
-  q[p.a] = a.centre_mm[p.a] + r * std::cos(t);
-  q[p.b] = a.centre_mm[p.b] + r * std::sin(t);
-  q[p.n] = a.start_mm[p.n] + (a.end_mm[p.n] - a.start_mm[p.n]) * u;
-  return q;
-}
-
-Point3 arc_tangent(const Arc& a, double u) {
-  const PlaneIdx p = plane_idx(a.plane);
-  const double t0 = std::atan2(a.start_mm[p.b] - a.centre_mm[p.b], a.start_mm[p.a] - a.centre_mm[p.a]);
-  const double ang = arc_angle(a);
-  const double sgn = a.cw ? -1 : 1;
-  const double t = t0 + sgn * ang * u;
-  const double r = arc_radius_mm(a);
-  Point3 v{};
-  // d/du of the point: r * ang * sgn * (-sin t, cos t), rise along the normal.
-  v[p.a] = -r * ang * sgn * std::sin(t);
-  v[p.b] = r * ang * sgn * std::cos(t);
-  v[p.n] = a.end_mm[p.n] - a.start_mm[p.n];
-  const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  if (l > 0)
-    for (double& c : v) c /= l;
-  return v;
-}
-
-int arc_chord_count(const Arc& a, double chord_tol_mm) {
-  if (!(chord_tol_mm > 0)) throw Error(Exit::internal, "arc_chord_count: tolerance must be > 0");
-  const double r = arc_radius_mm(a);
-  if (r <= chord_tol_mm) return std::max(1, static_cast<int>(std::ceil(arc_angle(a) / (std::numbers::pi / 2))));
-  const double dmax = 2 * std::acos(1 - chord_tol_mm / r);
-  return std::max(1, static_cast<int>(std::ceil(arc_angle(a) / dmax - 1e-9)));
-}
-
-std::vector<Point3> arc_polyline(const Arc& a, int chords) {
-  chords = std::max(1, chords);
-  std::vector<Point3> pts(static_cast<std::size_t>(chords) + 1);
-  for (int k = 0; k <= chords; ++k) pts[static_cast<std::size_t>(k)] = arc_point(a, static_cast<double>(k) / chords);
-  return pts;
-}
-
-double sweep_arc(ZMap& z, const ToolProfile& tool, const Arc& a, double chord_tol_mm) {
-  const auto pts = arc_polyline(a, arc_chord_count(a, chord_tol_mm));
+double sweep_arc(ZMap& z, const ToolProfile& tool, const interp::Arc& a, double chord_tol_mm) {
+  const auto pts = interp::arc_polyline(a, interp::arc_chord_count(a, chord_tol_mm));
   return sweep_polyline(z, tool, pts);
 }
 

@@ -338,9 +338,9 @@ TEST_CASE("slot along an arc: [0, pi] in the arc's own feed frame") {
   // so every slice is engaged on the front half, [0, pi] in the frame of the exact
   // tangent, up to the chords: the tool arrives along a chord turned by half the
   // chord angle.
-  const stock::Arc a = arc_of(arc);
+  const interp::Arc a = arc_of(arc);
   const int chords = static_cast<int>(motion_vertices(arc, PathOptions{}).size()) - 1;
-  const double half_chord = stock::arc_angle(a) / chords / 2;
+  const double half_chord = interp::arc_angle(a) / chords / 2;
   for (std::size_t i = 0; i < cs.slices.size() && cs.slices[i].z_mm < 2; ++i) {
     REQUIRE(r.e.slices[i].size() == 1);
     const auto& iv = r.e.slices[i][0];

@@ -45,7 +45,7 @@ std::vector<Point3> random_chain(std::mt19937& rng, int mode, double cx, double 
   if (mode == 5) {  // arc or helix as chords (start tangent anywhere)
     const double r = 0.5 + 6 * u01(rng), t0 = 2 * pi * u01(rng);
     const Point3 c{pts[0][0] - r * std::cos(t0), pts[0][1] - r * std::sin(t0), pts[0][2]};
-    Arc a{pts[0], {}, c, 17, u01(rng) < 0.5};
+    deflex::interp::Arc a{pts[0], {}, c, 17, u01(rng) < 0.5};
     const double t1 = t0 + (a.cw ? -1 : 1) * (0.2 + 5 * u01(rng));
     a.end_mm = {c[0] + r * std::cos(t1), c[1] + r * std::sin(t1), pts[0][2] + (u01(rng) - 0.5) * 2};
     return arc_polyline(a, std::clamp(arc_chord_count(a, 0.0005 + 0.01 * u01(rng)), 2, 80));

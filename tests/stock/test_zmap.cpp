@@ -224,7 +224,7 @@ TEST_CASE("arc and helix: toroidal trench within the chordal tolerance") {
   ZMap z = zmap_from_box(parse_box("box:-30,-30,-20,30,30,0"), 0.05);
   const ToolProfile ball{ToolKind::ball, R, R};
   // Quarter circle of radius 20 about the origin, ccw from +X to +Y, helix -1 -> -2.
-  Arc arc{{20, 0, -1}, {0, 20, -2}, {0, 0, -1}, 17, false};
+  interp::Arc arc{{20, 0, -1}, {0, 20, -2}, {0, 0, -1}, 17, false};
   CHECK(arc_angle(arc) == doctest::Approx(std::numbers::pi / 2));
   CHECK(arc_length_mm(arc) == doctest::Approx(std::hypot(10 * std::numbers::pi, 1.0)));
   sweep_arc(z, ball, arc, tol);
@@ -245,11 +245,11 @@ TEST_CASE("arc and helix: toroidal trench within the chordal tolerance") {
       CHECK(std::fabs(z.at(i, j) - expect) < 2 * tol);
     }
   // Full circle (start == end) sweeps 2 pi.
-  Arc full{{5, 0, -1}, {5, 0, -1}, {0, 0, -1}, 17, true};
+  interp::Arc full{{5, 0, -1}, {5, 0, -1}, {0, 0, -1}, 17, true};
   CHECK(arc_angle(full) == doctest::Approx(2 * std::numbers::pi));
   CHECK(arc_point(full, 0.25)[1] == doctest::Approx(-5));  // clockwise from +X goes to -Y
   // G18 (ZX) arc: the point moves in X and Z, Y stays.
-  Arc zx{{0, 1, 0}, {5, 1, 5}, {5, 1, 0}, 18, true};
+  interp::Arc zx{{0, 1, 0}, {5, 1, 5}, {5, 1, 0}, 18, true};
   const Point3 mid = arc_point(zx, 0.5);
   CHECK(mid[1] == doctest::Approx(1));
   CHECK(std::hypot(mid[0] - 5, mid[2]) == doctest::Approx(5));
