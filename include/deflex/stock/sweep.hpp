@@ -60,7 +60,7 @@ class LineSweep {
   // interval; false if none. Those cells are in next's row_range(y, .., true), this
   // move cannot lower them below the tool at b, and next lowers them below it by a
   // margin far above the rounding of the row kernels, so next's height is <= this
-  // move's (as floats) and leaving them out changes no cell (see sweep.cpp). Leaves
+  // move's (as floats) and leaving them out changes no cell (see handoff.cpp). Leaves
   // out nothing for plunges, other tools, very short or very steep moves and a
   // flat end that next does not lower.
   bool end_handoff(const LineSweep& next, double y_mm, double& x0_mm, double& x1_mm) const;
