@@ -334,20 +334,7 @@ class CulledProbe {
 }  // namespace
 
 stock::ToolProfile tool_profile(const force::Cutter& c) {
-  stock::ToolProfile t;
-  t.radius_mm = c.diameter_mm / 2;
-  switch (c.type) {
-    case force::CutterType::flat: t.kind = stock::ToolKind::flat; break;
-    case force::CutterType::ball:
-      t.kind = stock::ToolKind::ball;
-      t.corner_radius_mm = t.radius_mm;
-      break;
-    case force::CutterType::bull:
-      t.kind = stock::ToolKind::bull;
-      t.corner_radius_mm = c.corner_radius_mm;
-      break;
-  }
-  return t;
+  return {c.type, c.diameter_mm / 2, force::corner_radius_of(c)};
 }
 
 Engager::Engager(const force::CutterSlices& cs, const Options& o) : cs_(cs), o_(o), tool_(tool_profile(cs.cutter)) {

@@ -7,9 +7,9 @@
 
 #include <yaml-cpp/yaml.h>
 
-namespace deflex::stiffness {
+#include "deflex/stock/tool_shape.hpp"
 
-enum class ToolType { ball, flat, bull };
+namespace deflex::stiffness {
 
 // Linear-elastic isotropic material.
 struct Material {
@@ -38,7 +38,7 @@ struct Neck {
 
 struct Tool {
   std::string id;
-  ToolType type = ToolType::flat;
+  stock::ToolShape type = stock::ToolShape::flat;
   double diameter_mm = 0;
   double corner_radius_mm = 0;  // bull: corner; ball: diameter/2; flat: 0
   int flutes = 2;
@@ -76,7 +76,5 @@ Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string
 
 // Throws Error(Exit::usage) naming the known tools when `id` is missing.
 const Tool& find_tool(const ToolLibrary& lib, const std::string& id);
-
-std::string to_string(ToolType t);
 
 }  // namespace deflex::stiffness
