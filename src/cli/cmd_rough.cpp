@@ -118,7 +118,7 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   std::ostringstream text;
   plan::write_roughing(text, p, o, s.dialect,
                        {"DEFLEX ROUGH - THE STOCK BEFORE " + files[0],
-                        rough_tool + " " + (rt.type == stock::ToolShape::ball ? "BALL" : rt.type == stock::ToolShape::bull ? "BULL NOSE" : "FLAT") +
+                        rough_tool + " " + (rt.type == stock::EndShape::ball ? "BALL" : rt.type == stock::EndShape::bull ? "BULL NOSE" : "FLAT") +
                             " D" + fmt(rt.diameter_mm, 3) + " - ALLOWANCE " + fmt(o.allowance_mm, 3) + " MM OVER THE SURFACE OF " +
                             files[0] + (finish_tool.empty() ? "" : " CUT WITH " + finish_tool),
                         "STOCK " + spec + " - CELL " + fmt(cell_mm, 3) + " MM",

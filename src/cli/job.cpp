@@ -639,8 +639,8 @@ std::set<std::string> cutting_tools(const Job& j) {
 
 // "T1: flat D10 mm", "T2: bull nose D12 mm r1".
 std::string tool_text(const std::string& id, const stiffness::Tool& t) {
-  const bool bull = t.type == stock::ToolShape::bull;
-  return id + ": " + (t.type == stock::ToolShape::ball ? "ball" : bull ? "bull nose" : "flat") + " D" +
+  const bool bull = t.type == stock::EndShape::bull;
+  return id + ": " + (t.type == stock::EndShape::ball ? "ball" : bull ? "bull nose" : "flat") + " D" +
          report_number(t.diameter_mm) + " mm" + (bull ? " r" + report_number(t.corner_radius_mm) : "");
 }
 

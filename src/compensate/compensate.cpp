@@ -49,7 +49,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   const force::Cutter c = force::cutter_of(m.tool);
   m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
   m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
-  if (m.tool.type != stock::ToolShape::ball) {
+  if (m.tool.type != stock::EndShape::ball) {
     // 150 slices (30 mm of flute at 0.2 mm): 22500 interpolations, a few ms.
     const stiffness::CrossComplianceTable full = stiffness::beam_cross_compliance(m.tool, ph.machine, ph.tool_only);
     const stiffness::CrossComplianceTable chain(full.heights_mm(), full.lateral_mm_per_N(), full.axial_mm_per_N());

@@ -14,7 +14,7 @@ void validate(const Cutter& c) {
   if (c.flutes < 1 || c.flutes > 64) bad("flutes must be between 1 and 64");
   if (!(c.helix_deg >= 0 && c.helix_deg < 80)) bad("helix_deg must be in [0, 80)");
   if (!(c.flute_length_mm > 0)) bad("flute_length_mm must be > 0");
-  if (c.type == stock::ToolShape::bull &&
+  if (c.type == stock::EndShape::bull &&
       !(c.corner_radius_mm > 0 && c.corner_radius_mm <= c.diameter_mm / 2))
     bad("a bull-nose corner_radius_mm must be in (0, D/2]");
 }

@@ -63,7 +63,7 @@ struct Recorder::Impl {
     c.normal_known = p.normal_source != compensate::NormalSource::undetermined;
     c.cutting = cutting;
     const stiffness::Tool* t = tool(p.tool);
-    if (t && t->type == stock::ToolShape::ball) c.profile_diameter_mm = t->diameter_mm;
+    if (t && t->type == stock::EndShape::ball) c.profile_diameter_mm = t->diameter_mm;
     // The direction of travel: a central difference where both neighbours
     // continue the path, so a sample waits for the next.
     if (have_pending) push_pending(continuous(pending_motion, p.motion) ? &p.tip_mm : nullptr);

@@ -18,7 +18,7 @@
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/profile/yaml.hpp"
-#include "deflex/stock/tool_shape.hpp"
+#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::stiffness {
 namespace {
@@ -28,7 +28,7 @@ namespace {
 struct Entry {
   int number = 0;
   std::string description, material = "carbide";
-  stock::ToolShape type = stock::ToolShape::flat;
+  stock::EndShape type = stock::EndShape::flat;
   double d_mm = 0, corner_mm = 0, helix_deg = 30, flute_mm = 0, stickout_mm = 0;
   std::optional<double> shank_mm;
   int flutes = 2;
@@ -56,7 +56,7 @@ std::string to_yaml(const std::vector<Entry>& tools, const std::string& header, 
     if (!e.description.empty()) key("description", e.description);
     key("type", to_string(e.type));
     key("diameter_mm", number_text(e.d_mm));
-    if (e.type == stock::ToolShape::bull) key("corner_radius_mm", number_text(e.corner_mm));
+    if (e.type == stock::EndShape::bull) key("corner_radius_mm", number_text(e.corner_mm));
     key("flutes", e.flutes);
     key("helix_deg", number_text(e.helix_deg));
     key("flute_length_mm", number_text(e.flute_mm));
@@ -116,10 +116,10 @@ std::string text_of(const Json& o, const char* k, const std::string& def) {
   return it->is_string() ? it->get<std::string>() : "";
 }
 
-const std::map<std::string, stock::ToolShape>& fusion_types() {
-  static const std::map<std::string, stock::ToolShape> m = {{"flat end mill", stock::ToolShape::flat},
-                                                            {"ball end mill", stock::ToolShape::ball},
-                                                            {"bull nose end mill", stock::ToolShape::bull}};
+const std::map<std::string, stock::EndShape>& fusion_types() {
+  static const std::map<std::string, stock::EndShape> m = {{"flat end mill", stock::EndShape::flat},
+                                                            {"ball end mill", stock::EndShape::ball},
+                                                            {"bull nose end mill", stock::EndShape::bull}};
   return m;
 }
 
@@ -196,7 +196,7 @@ ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
     const auto dc = ft.length("DC");
     if (!dc || *dc <= 0) fail(ft.where, "geometry.DC (the cutting diameter) is missing or 0");
     e.d_mm = *dc;
-    if (e.type == stock::ToolShape::bull) {
+    if (e.type == stock::EndShape::bull) {
       const auto re = ft.length("RE");
       if (!re || *re <= 0 || *re > e.d_mm / 2)
         fail(ft.where, "a bull nose needs geometry.RE (the corner radius) in (0, DC/2]");

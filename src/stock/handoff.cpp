@@ -86,11 +86,11 @@ bool make_handoff(const LineSweep& k, const LineSweep& n, Handoff& h) {
   h.r_out = 0;
   const double r1 = R - 0.5 * corner_of(t), s3 = std::sqrt(3.0);
   switch (t.kind) {
-    case ToolShape::ball:
+    case EndShape::ball:
       h.own = ball_cond(k, 0, R);
       h.next = ball_cond(n, mu, R);
       break;
-    case ToolShape::bull:
+    case EndShape::bull:
       if (m > 0) {
         h.own.c += s3 * r1 * m;
         h.r_out = r1 * (1 + 1e-9) + tiny_mm;
@@ -98,7 +98,7 @@ bool make_handoff(const LineSweep& k, const LineSweep& n, Handoff& h) {
       h.next.c += std::max(mn, 0.0) * s3 * r1;
       if (!(-mn >= mu / (2 * s3 * r1))) h.r_out = std::max(h.r_out, r1 + mu);
       break;
-    case ToolShape::flat:
+    case EndShape::flat:
       if (m > 0 || !(-mn >= mu / (2 * R))) return false;
       break;
   }

@@ -108,10 +108,10 @@ double LineSweep::lower_height(double x, double y) const {
     return tip_z(0) + profile_height(tool_, std::sqrt(q * q + perp * perp));
   }
   switch (tool_.kind) {
-    case ToolShape::flat:
+    case EndShape::flat:
       // Height a_z + m sigma on the interval where the disc covers (x, y).
       return tip_z(m > 0 ? lo : hi);
-    case ToolShape::ball: {
+    case EndShape::ball: {
       // Ball centre c(s) = tip + R; the surface below (x, y) is at
       // c_z(s) - sqrt(rho^2 - (s - par)^2). Setting the derivative to zero:
       // (s - par) / sqrt(rho^2 - (s - par)^2) = -m  =>  s - par = -m rho / sqrt(1 + m^2).
@@ -119,7 +119,7 @@ double LineSweep::lower_height(double x, double y) const {
       const double q = s - par;
       return tip_z(s) + R - std::sqrt(std::max(0.0, rho * rho - q * q));
     }
-    case ToolShape::bull: {
+    case EndShape::bull: {
       const double rc = tool_.corner_radius_mm;
       const double s = bull_contact(BullSlope{m, par, perp, rc, R - rc}, lo, hi, len_);
       const double q = s - par;
@@ -134,10 +134,10 @@ namespace detail {
 StartCut start_cut_of(const LineSweep& s, bool start_cut) {
   StartCut c;
   const double slope = s.slope(), R = s.tool().radius_mm;
-  c.cut = start_cut && s.xy_length() > 0 && (slope >= 0 || s.tool().kind != ToolShape::flat);
+  c.cut = start_cut && s.xy_length() > 0 && (slope >= 0 || s.tool().kind != EndShape::flat);
   if (!c.cut || !(slope < 0)) return c;
   // g'(d) / d >= 1 / R for a ball; a bull nose's g'(r1) = 1 / sqrt(3).
-  if (s.tool().kind == ToolShape::ball) {
+  if (s.tool().kind == EndShape::ball) {
     c.back = -slope * R;
   } else {
     c.r1 = R - 0.5 * corner_of(s.tool());

@@ -74,12 +74,12 @@ void LineSweep::row_ranges(const double* y, int n, double* x0, double* x1, unsig
 void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, float* out) const {
   if (n <= 0) return;
 #ifdef DEFLEX_SWEEP_AVX2
-  if (len_ > 0 && tool_.kind == ToolShape::bull && detail::cpu_has_avx2() && y >= ymin_ && y <= ymax_) {
+  if (len_ > 0 && tool_.kind == EndShape::bull && detail::cpu_has_avx2() && y >= ymin_ && y <= ymax_) {
     detail::bull_row_avx2(*this, y, gx0, cell, i0, n, out);
     return;
   }
 #endif
-  const bool vec = len_ > 0 && (tool_.kind == ToolShape::ball || tool_.kind == ToolShape::flat);
+  const bool vec = len_ > 0 && (tool_.kind == EndShape::ball || tool_.kind == EndShape::flat);
   if (!vec) {  // plunges and bull noses: per cell
     for (int k = 0; k < n; ++k) {
       out[k] = detail::to_cell(lower_height(gx0 + (static_cast<double>(i0 + k) + 0.5) * cell, y));
@@ -90,7 +90,7 @@ void LineSweep::row_heights(double y, double gx0, double cell, int i0, int n, fl
   const detail::RowConsts c{gx0, cell, a_[0], ex_, ey_, wy * ey_, wy * ex_,
                             R * R, len_, slope_, ball_k_, a_[2], a_[2] + R};
   int done = 0;
-  if (tool_.kind == ToolShape::ball) {
+  if (tool_.kind == EndShape::ball) {
 #ifdef DEFLEX_SWEEP_AVX2
     if (detail::cpu_has_avx2()) done = detail::ball_row_avx2(c, i0, n, out);
 #endif

@@ -32,9 +32,9 @@ double sweep_one_by_one(ZMap& z, std::span<const LineSweep> s, bool first_start_
 ToolProfile random_tool(std::mt19937& rng, int kind) {
   std::uniform_real_distribution<double> u01(0, 1);
   const double R = 1 + 3 * u01(rng);
-  if (kind == 0) return {ToolShape::ball, R, R};
-  if (kind == 1) return {ToolShape::flat, R, 0};
-  return {ToolShape::bull, R, R * (0.1 + 0.9 * u01(rng))};
+  if (kind == 0) return {EndShape::ball, R, R};
+  if (kind == 1) return {EndShape::flat, R, 0};
+  return {EndShape::bull, R, R * (0.1 + 0.9 * u01(rng))};
 }
 
 // A CAM-like chain inside [cx - 7, cx + 7]^2 around z = 0 (shape by mode).
@@ -116,7 +116,7 @@ TEST_CASE("chained moves leaving cells to the next one equal one-by-one sweeps, 
         ZMap fast(g, 0.0f, -50), ref(g, 0.0f, -50);
         if (rep % 2 == 1)  // a pre-cut surface: earlier passes leave some cells lower than the new ones
           for (ZMap* z : {&fast, &ref})
-            sweep_line_reference(*z, LineSweep({ToolShape::ball, 4, 4}, {cx - 13, cy - 2, -1.2},
+            sweep_line_reference(*z, LineSweep({EndShape::ball, 4, 4}, {cx - 13, cy - 2, -1.2},
                                                {cx + 13, cy + 3, -0.8}));
         const std::vector<Point3> pts = random_chain(rng, mode, cx, cy);
         std::vector<LineSweep> segs;
@@ -175,9 +175,9 @@ TEST_CASE("cells left to the next move: inside its row range and its height is n
   for (int it = 0; it < 3000; ++it) {
     const int kind = it % 3;
     const double R = it % 7 == 0 ? 10 + 15 * u01(rng) : 0.5 + 8 * u01(rng);
-    const ToolProfile t = kind == 0 ? ToolProfile{ToolShape::ball, R, R}
-                          : kind == 1 ? ToolProfile{ToolShape::flat, R, 0}
-                                      : ToolProfile{ToolShape::bull, R, R * (0.05 + 0.95 * u01(rng))};
+    const ToolProfile t = kind == 0 ? ToolProfile{EndShape::ball, R, R}
+                          : kind == 1 ? ToolProfile{EndShape::flat, R, 0}
+                                      : ToolProfile{EndShape::bull, R, R * (0.05 + 0.95 * u01(rng))};
     auto slope = [&] {
       const double r = u01(rng);
       if (r < 0.3) return 0.0;
@@ -218,7 +218,7 @@ TEST_CASE("cells left to the next move: inside its row range and its height is n
         REQUIRE(x >= na);
         REQUIRE(x <= nb);
         REQUIRE(hn[static_cast<std::size_t>(i)] <= hk[static_cast<std::size_t>(i)]);
-        // With the margin of sweep.cpp (>= 1.4e-5 mm lower; rounding is far below).
+        // With the margin of handoff.cpp (>= 1.4e-5 mm lower; rounding is far below).
         const double lk = k.lower_height(x, y);
         if (lk != std::numeric_limits<double>::infinity()) REQUIRE(n.lower_height(x, y) <= lk - 1e-5);
       }
@@ -236,7 +236,7 @@ TEST_CASE("short pieces of a row (hand-off gaps) equal the cells one by one, bit
   // The vector kernels finish a piece with a partly used block of 4 cells.
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-3, 3);
-  const ToolProfile tools[] = {{ToolShape::ball, 4, 4}, {ToolShape::flat, 3, 0}, {ToolShape::bull, 4, 1.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 4, 1.5}};
   const double c = 0.05, gx0 = -7.1;
   int compared = 0;
   for (const ToolProfile& t : tools)
@@ -263,7 +263,7 @@ TEST_CASE("short pieces of a row (hand-off gaps) equal the cells one by one, bit
 TEST_CASE("a straight chain leaves most of each move's front half-disc to the next move") {
   // What makes chains of short moves fast: a level ball move 0.5 mm long evaluates
   // its band and only a sliver of the D16 front half-disc.
-  const ToolProfile ball{ToolShape::ball, 8, 8};
+  const ToolProfile ball{EndShape::ball, 8, 8};
   const LineSweep k(ball, {0, 0, -1}, {0.5, 0, -1}), n(ball, {0.5, 0, -1}, {1, 0, -1});
   double half_disc = 0, left = 0;
   for (double y = -8; y <= 8; y += 0.05) {

@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "deflex/stock/tool_shape.hpp"
+#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::force {
 
 // The cutting part of a helical end mill. For a ball end the corner radius is
 // D/2 (it is ignored); for a flat end mill it is 0.
 struct Cutter {
-  stock::ToolShape type = stock::ToolShape::flat;
+  stock::EndShape type = stock::EndShape::flat;
   double diameter_mm = 10.0;
   double corner_radius_mm = 0.0;  // bull nose only
   int flutes = 2;

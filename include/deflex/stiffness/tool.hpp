@@ -7,7 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "deflex/stock/tool_shape.hpp"
+#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::stiffness {
 
@@ -38,7 +38,7 @@ struct Neck {
 
 struct Tool {
   std::string id;
-  stock::ToolShape type = stock::ToolShape::flat;
+  stock::EndShape type = stock::EndShape::flat;
   double diameter_mm = 0;
   double corner_radius_mm = 0;  // bull: corner; ball: diameter/2; flat: 0
   int flutes = 2;

@@ -7,12 +7,12 @@
 #include <cmath>
 #include <limits>
 
-#include "deflex/stock/tool_shape.hpp"
+#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::stock {
 
 struct ToolProfile {
-  ToolShape kind = ToolShape::flat;
+  EndShape kind = EndShape::flat;
   double radius_mm = 5.0;         // R0 = D/2
   double corner_radius_mm = 0.0;  // bull nose r_c in (0, R0]; ball: R0; flat: 0
 };
