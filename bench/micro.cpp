@@ -25,7 +25,7 @@ BENCHMARK(BM_beam_table_T5_mill3)->Unit(benchmark::kMillisecond);
 // Forces over one revolution at a ball-end finishing point (D10, a_p 0.5, a_e 0.5).
 static void BM_forces_ball_D10_finish(benchmark::State& st) {
   force::Cutter c;
-  c.type = force::CutterType::ball;
+  c.type = stock::EndShape::ball;
   c.diameter_mm = 10;
   c.flutes = 2;
   c.helix_deg = 30;

@@ -100,7 +100,7 @@ struct ForcesArgs {
 
 std::optional<std::string> shape_code(const fo::Cutter& c, const fo::Coefficients& k, double ae,
                                       double ap, bool down) {
-  if (c.type != fo::CutterType::flat || !down) return std::nullopt;
+  if (c.type != stock::EndShape::flat || !down) return std::nullopt;
   fo::MorelliInput in;
   in.diameter_mm = c.diameter_mm;
   in.helix_deg = c.helix_deg;

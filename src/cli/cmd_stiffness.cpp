@@ -69,7 +69,7 @@ std::vector<double> heights(const std::vector<double>& at, const st::Tool& t) {
 std::string describe(const st::Tool& t) {
   char b[200];
   std::snprintf(b, sizeof b, "%s: %s end mill D %g mm, %d flutes, stick-out %g mm, E %g MPa, nu %g",
-                t.id.c_str(), st::to_string(t.type).c_str(), t.diameter_mm, t.flutes, t.stickout_mm,
+                t.id.c_str(), stock::to_string(t.type), t.diameter_mm, t.flutes, t.stickout_mm,
                 t.material.E_MPa, t.material.poisson);
   return b;
 }

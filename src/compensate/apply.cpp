@@ -9,6 +9,7 @@
 #include "contour.hpp"
 #include "deflex/compensate/pairing.hpp"
 #include "deflex/gcode/skeleton.hpp"
+#include "deflex/interp/arc.hpp"
 #include "deflex/writer/writer.hpp"
 
 namespace deflex::compensate {
@@ -66,7 +67,7 @@ static bool arc_split_form(const gcode::Block& b, const interp::Motion& m) {
         w.letter != 'J' && w.letter != 'K' && w.letter != 'F')
       return false;
   }
-  const int normal = m.plane == 17 ? 2 : m.plane == 18 ? 1 : 0;
+  const int normal = interp::plane_axes(m.plane).n;
   return g && std::fabs(m.end_mm[normal] - m.start_mm[normal]) < 1e-9;
 }
 
@@ -214,12 +215,12 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
     bool lexed = false;
     // An arc whose first part went into inserted chords: its centre words,
     // relative to the new start (what the control holds after the last chord).
-    const bool arc = m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw;
+    const bool arc = interp::is_arc(m);
     if (arc && inserted && i > 0 && (*inserted)[i - 1]) {
       prog.lex(m.line, b, quiet);
       lexed = true;
       static const char centre[] = {'I', 'J', 'K'};
-      const int normal = m.plane == 17 ? 2 : m.plane == 18 ? 1 : 0;
+      const int normal = interp::plane_axes(m.plane).n;
       for (int a = 0; a < 3; ++a) {
         if (a == normal) continue;
         const double want = m.center_mm[a] + o[a] - carried[a];
@@ -324,7 +325,7 @@ double displacement_mm(const std::vector<interp::Motion>& om, const std::vector<
   }
   double dist = 0;
   for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.end_mm[k] - x.end_mm[k]));
-  if (x.kind == interp::MotionKind::arc_cw || x.kind == interp::MotionKind::arc_ccw)
+  if (interp::is_arc(x))
     for (int k = 0; k < 3; ++k) dist = std::max(dist, std::fabs(y.center_mm[k] - x.center_mm[k]));
   return dist;
 }

@@ -18,6 +18,7 @@
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/tool.hpp"
+#include "deflex/interp/arc.hpp"
 #include "deflex/stiffness/beam.hpp"
 
 namespace deflex::compensate {
@@ -48,7 +49,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   const force::Cutter c = force::cutter_of(m.tool);
   m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
   m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
-  if (m.tool.type != stiffness::ToolType::ball) {
+  if (m.tool.type != stock::EndShape::ball) {
     // 150 slices (30 mm of flute at 0.2 mm): 22500 interpolations, a few ms.
     const stiffness::CrossComplianceTable full = stiffness::beam_cross_compliance(m.tool, ph.machine, ph.tool_only);
     const stiffness::CrossComplianceTable chain(full.heights_mm(), full.lateral_mm_per_N(), full.axial_mm_per_N());
@@ -312,7 +313,7 @@ std::vector<bool> movable(const std::vector<interp::Motion>& motions) {
   // An arc moves whole (its centre words are relative to its start), so the
   // point before an arc that stays must stay too.
   for (std::size_t i = n; i-- > 1;)
-    if (!ok[i] && (motions[i].kind == interp::MotionKind::arc_cw || motions[i].kind == interp::MotionKind::arc_ccw))
+    if (!ok[i] && interp::is_arc(motions[i]))
       ok[i - 1] = false;
   return ok;
 }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deflex/interp/arc.hpp"
+
 namespace deflex::compensate::detail {
 
 // Under G41/G42: where each programmed point goes so that the control's
@@ -30,8 +32,7 @@ std::vector<interp::Vec3> contour_targets(const std::vector<interp::Motion>& ms,
   };
   auto line_xy = [&](std::size_t i) {
     const interp::Motion& m = ms[i];
-    return m.comp && !m.corner && m.kind != interp::MotionKind::arc_cw && m.kind != interp::MotionKind::arc_ccw &&
-           m.moves_xy();
+    return m.comp && !m.corner && !interp::is_arc(m) && m.moves_xy();
   };
   for (std::size_t i = 0; i < n; ++i) {
     const interp::Motion& m = ms[i];

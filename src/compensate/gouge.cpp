@@ -23,7 +23,7 @@ void note(GapSide& g, std::uint32_t line, double gap_mm, bool at_least = false) 
 part::Contact nearest(const part::PartModel& part, const stiffness::Tool& t, const V3& tip, const V3& feed) {
   const part::CutterShape shape = part::cutter_shape(t);
   part::Contact best = part.contact(shape, tip, V3::Zero());
-  if (t.type == stiffness::ToolType::ball) return best;
+  if (t.type == stock::EndShape::ball) return best;
   const V3 side(-feed.y(), feed.x(), 0.0);
   const double r = 0.5 * t.diameter_mm, up = 0.5 * std::min(t.flute_length_mm, t.diameter_mm);
   for (const V3& d : {feed, V3(-feed), side, V3(-side)}) {

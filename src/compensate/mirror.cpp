@@ -8,6 +8,7 @@
 
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/engage/path.hpp"
+#include "deflex/interp/arc.hpp"
 #include "internal.hpp"
 
 namespace deflex::compensate {
@@ -193,9 +194,9 @@ class Stream {
   // the arc, moved whole with the last chord end (its centre words re-aimed by
   // the writer).
   void linearise(const interp::Motion& m) {
-    const stock::Arc a = engage::arc_of(m);
-    const int chords = std::max(2, stock::arc_chord_count(a, s_.chord_tol_mm));
-    const std::vector<engage::Point3> v = stock::arc_polyline(a, chords);
+    const interp::Arc a = interp::arc_of(m);
+    const int chords = std::max(2, interp::arc_chord_count(a, s_.chord_tol_mm));
+    const std::vector<engage::Point3> v = interp::arc_polyline(a, chords);
     for (int c = 1; c < chords; ++c) {
       interp::Motion chord = m;
       chord.kind = interp::MotionKind::linear;

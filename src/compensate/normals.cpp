@@ -21,7 +21,7 @@ const char* to_string(NormalSource s) {
 }
 
 bool flank_cut(const engage::Metrics& mt, const stiffness::Tool& t) {
-  return t.type != stiffness::ToolType::ball && mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) &&
+  return t.type != stock::EndShape::ball && mt.ap_mm > std::max(0.5 * t.corner_radius_mm, 0.2) &&
          mt.ae_mm < 0.95 * t.diameter_mm;
 }
 
@@ -91,7 +91,7 @@ void DesignNormals::add_points(const interp::Motion& m, Clouds& into) const {
   if (m.kind == interp::MotionKind::rapid) return;
   const std::string id = tool_of_(m);
   auto t = tools_->tools.find(id);
-  if (t == tools_->tools.end() || t->second.type != stiffness::ToolType::ball) return;
+  if (t == tools_->tools.end() || t->second.type != stock::EndShape::ball) return;
   const double dxy = std::hypot(m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1]);
   const double dz = std::fabs(m.end_mm[2] - m.start_mm[2]);
   if (m.kind == interp::MotionKind::linear && dz > 5.67 * dxy) return;
@@ -174,7 +174,7 @@ SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metric
     }
     return s;
   }
-  if (t.type == stiffness::ToolType::ball) {
+  if (t.type == stock::EndShape::ball) {
     s.source = NormalSource::undetermined;  // unless the neighbouring points give it
     std::shared_ptr<const Trees> w;
     {

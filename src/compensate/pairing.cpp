@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "deflex/gcode/skeleton.hpp"
+#include "deflex/interp/arc.hpp"
 
 namespace deflex::compensate {
 
@@ -85,7 +86,7 @@ V3 nearest_on(const PathPiece& piece, const interp::Vec3& p) {
   if (piece.kind == interp::MotionKind::rapid) return b;
   // A chord end of a linearised arc: onto the circle, in the arc's plane (the
   // arcs deflex linearises are planar: their normal coordinate is the start's).
-  const int normal = piece.plane == 17 ? 2 : piece.plane == 18 ? 1 : 0;
+  const int normal = interp::plane_axes(piece.plane).n;
   const V3 c(piece.center_mm[0], piece.center_mm[1], piece.center_mm[2]);
   V3 radial = q - c, r0 = a - c;
   radial[normal] = 0;

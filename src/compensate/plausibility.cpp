@@ -340,7 +340,7 @@ void PlausibilityScan::State::add(const Point& p) {
   // Not on a move the gouge check finds cutting into the part: the program
   // gouges there, as that check says, and the stock is not to blame.
   if (p.fixed == interp::Fixed::gouge) return;
-  if (t.type == stiffness::ToolType::ball) {
+  if (t.type == stock::EndShape::ball) {
     if (p.motion != held_motion && !held.empty()) judge_held(false, R);  // a motion without its end
     motion_step(p);
     if (!p.air && p.ap_mm > R + 1e-6) {
@@ -447,7 +447,7 @@ Plausibility PlausibilityScan::finish(bool compensated) {
                      ", which does not cut at its centre (centre_cutting: false): ramp or helix in, or pre-drill");
   if (rough.any) {
     const auto& t = tools.tools.at(rough.f.tool);
-    const bool ball = t.type == stiffness::ToolType::ball;
+    const bool ball = t.type == stock::EndShape::ball;
     rough.f.limit = 0.5 * t.diameter_mm;
     emit(rough, std::string("a_p up to ") + num(rough.f.worst, 2) + " mm under " + rough.f.tool + " (" +
                     (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"

@@ -4,14 +4,11 @@
 #include <cmath>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/interp/arc.hpp"
 
 namespace deflex::engage {
 
 namespace {
-
-bool is_arc(const interp::Motion& m) {
-  return m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw;
-}
 
 Point3 unit(const Point3& v) {
   const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -21,23 +18,13 @@ Point3 unit(const Point3& v) {
 
 }  // namespace
 
-stock::Arc arc_of(const interp::Motion& m) {
-  stock::Arc a;
-  a.start_mm = m.start_mm;
-  a.end_mm = m.end_mm;
-  a.centre_mm = m.center_mm;
-  a.plane = m.plane;
-  a.cw = m.kind == interp::MotionKind::arc_cw;
-  return a;
-}
-
 std::vector<Point3> motion_vertices(const interp::Motion& m, const PathOptions& o) {
   if (!(o.cl_spacing_mm > 0) || !(o.chord_tol_mm > 0))
     throw Error(ErrorKind::config, "engagement: CL spacing and chord tolerance must be > 0");
-  if (is_arc(m)) {
-    const stock::Arc a = arc_of(m);
-    const int by_len = static_cast<int>(std::ceil(stock::arc_length_mm(a) / o.cl_spacing_mm - 1e-9));
-    return stock::arc_polyline(a, std::max({1, by_len, stock::arc_chord_count(a, o.chord_tol_mm)}));
+  if (interp::is_arc(m)) {
+    const interp::Arc a = interp::arc_of(m);
+    const int by_len = static_cast<int>(std::ceil(interp::arc_length_mm(a) / o.cl_spacing_mm - 1e-9));
+    return interp::arc_polyline(a, std::max({1, by_len, interp::arc_chord_count(a, o.chord_tol_mm)}));
   }
   const Point3 &a = m.start_mm, &b = m.end_mm;
   const double len = std::sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
@@ -51,7 +38,8 @@ std::vector<Point3> motion_vertices(const interp::Motion& m, const PathOptions& 
 }
 
 Point3 motion_direction(const interp::Motion& m, std::span<const Point3> verts, std::size_t k) {
-  if (is_arc(m)) return stock::arc_tangent(arc_of(m), static_cast<double>(k) / static_cast<double>(verts.size() - 1));
+  if (interp::is_arc(m))
+    return interp::arc_tangent(interp::arc_of(m), static_cast<double>(k) / static_cast<double>(verts.size() - 1));
   return unit({m.end_mm[0] - m.start_mm[0], m.end_mm[1] - m.start_mm[1], m.end_mm[2] - m.start_mm[2]});
 }
 

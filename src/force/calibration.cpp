@@ -81,89 +81,123 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
   return f;
 }
 
+// parse_slot_tests between lines: the header's values, the columns, the frame
+// the forces are given in.
+class SlotParser {
+ public:
+  SlotParser(const std::string& file, SlotTestData& d) : file_(file), d_(d) {}
+  void line(const std::string& line, int line_no);
+  // After the last line.
+  void finish(int line_no);
+
+ private:
+  void header_line(const std::string& t, int line_no);
+  void columns(const std::vector<Field>& f, int line_no);
+  SlotTest test(const std::vector<Field>& f, int line_no) const;
+
+  const std::string& file_;
+  SlotTestData& d_;
+  std::map<std::string, std::pair<std::string, int>> header_;  // key -> value, line
+  std::map<std::string, std::size_t> col_;                     // column name -> index
+  bool on_workpiece_ = false;
+  bool have_columns_ = false;
+};
+
+// A `# key: value` line before the header row.
+void SlotParser::header_line(const std::string& t, int line_no) {
+  const std::size_t colon = t.find(':');
+  if (colon == std::string::npos || have_columns_) return;
+  const std::string key = trim(t.substr(1, colon - 1));
+  const std::string val = trim(t.substr(colon + 1));
+  if (key == "diameter_mm" || key == "flutes" || key == "ap_mm" || key == "helix_deg") {
+    if (!to_number(val)) bad(file_, line_no, 1, key + " must be a number, not '" + val + "'");
+    header_[key] = {val, line_no};
+  } else if (key == "material") {
+    d_.material = val;
+  } else if (key == "tool") {
+    d_.tool = val;
+  } else if (key == "forces_on") {
+    if (val != "tool" && val != "workpiece") bad(file_, line_no, 1, "forces_on must be 'tool' or 'workpiece'");
+    on_workpiece_ = val == "workpiece";
+  }
+}
+
+// The header row: the column names.
+void SlotParser::columns(const std::vector<Field>& f, int line_no) {
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    static const char* known[] = {"fz_mm", "Fx_N", "Fy_N", "Fz_N", "ap_mm", "flutes", "diameter_mm"};
+    bool ok = false;
+    for (const char* k : known) ok = ok || f[i].text == k;
+    if (!ok)
+      bad(file_, line_no, f[i].col,
+          "unknown column '" + f[i].text + "' (expected fz_mm, Fx_N, Fy_N, Fz_N, ap_mm, flutes, diameter_mm)");
+    if (col_.count(f[i].text)) bad(file_, line_no, f[i].col, "column '" + f[i].text + "' given twice");
+    col_[f[i].text] = i;
+  }
+  for (const char* k : {"fz_mm", "Fx_N", "Fy_N", "Fz_N"})
+    if (!col_.count(k)) bad(file_, line_no, 1, std::string("missing column '") + k + "'");
+  for (const char* k : {"ap_mm", "flutes"})
+    if (!col_.count(k) && !header_.count(k))
+      bad(file_, line_no, 1, std::string("'") + k + "' must be a column or a '# " + k + ": value' line");
+  have_columns_ = true;
+}
+
+// A data row: one slot test (forces given on the workpiece turned onto the tool).
+SlotTest SlotParser::test(const std::vector<Field>& f, int line_no) const {
+  if (f.size() != col_.size())
+    bad(file_, line_no, 1, "expected " + std::to_string(col_.size()) + " fields, found " + std::to_string(f.size()));
+  auto value = [&](const std::string& key) -> double {
+    auto it = col_.find(key);
+    if (it == col_.end()) return *to_number(header_.at(key).first);
+    const Field& fld = f[it->second];
+    const auto v = to_number(fld.text);
+    if (!v) bad(file_, line_no, fld.col, key + " must be a number, not '" + fld.text + "'");
+    return *v;
+  };
+  SlotTest s;
+  s.line = line_no;
+  s.fz_mm = value("fz_mm");
+  s.ap_mm = value("ap_mm");
+  const double nf = value("flutes");
+  s.diameter_mm = (col_.count("diameter_mm") || header_.count("diameter_mm")) ? value("diameter_mm") : 0;
+  s.mean_N = {value("Fx_N"), value("Fy_N"), value("Fz_N")};
+  if (on_workpiece_) s.mean_N = -s.mean_N;
+  if (!(s.fz_mm > 0)) bad(file_, line_no, 1, "fz_mm must be > 0");
+  if (!(s.ap_mm > 0)) bad(file_, line_no, 1, "ap_mm must be > 0");
+  if (nf < 1 || nf != std::floor(nf)) bad(file_, line_no, 1, "flutes must be a whole number >= 1");
+  s.flutes = static_cast<int>(nf);
+  return s;
+}
+
+void SlotParser::line(const std::string& line, int line_no) {
+  const std::string t = trim(line);
+  if (t.empty()) return;
+  if (t[0] == '#') return header_line(t, line_no);
+  const std::vector<Field> f = split(line);
+  if (!have_columns_) return columns(f, line_no);
+  d_.tests.push_back(test(f, line_no));
+}
+
+void SlotParser::finish(int line_no) {
+  if (!have_columns_) bad(file_, line_no > 0 ? line_no : 1, 1, "no header row (fz_mm,Fx_N,Fy_N,Fz_N,...)");
+  if (header_.count("helix_deg")) d_.helix_deg = *to_number(header_["helix_deg"].first);
+}
+
 }  // namespace
 
 SlotTestData parse_slot_tests(const std::string& text, const std::string& file) {
   SlotTestData d;
   d.file = file;
-  std::map<std::string, std::pair<std::string, int>> header;  // key -> value, line
-  std::map<std::string, std::size_t> col;                     // column name -> index
-  bool on_workpiece = false;
-  bool have_columns = false;
+  SlotParser parser(file, d);
   int line_no = 0;
   std::istringstream in(text);
   std::string line;
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string t = trim(line);
-    if (t.empty()) continue;
-    if (t[0] == '#') {
-      const std::size_t colon = t.find(':');
-      if (colon != std::string::npos && !have_columns) {
-        const std::string key = trim(t.substr(1, colon - 1));
-        const std::string val = trim(t.substr(colon + 1));
-        if (key == "diameter_mm" || key == "flutes" || key == "ap_mm" || key == "helix_deg") {
-          if (!to_number(val)) bad(file, line_no, 1, key + " must be a number, not '" + val + "'");
-          header[key] = {val, line_no};
-        } else if (key == "material") {
-          d.material = val;
-        } else if (key == "tool") {
-          d.tool = val;
-        } else if (key == "forces_on") {
-          if (val != "tool" && val != "workpiece")
-            bad(file, line_no, 1, "forces_on must be 'tool' or 'workpiece'");
-          on_workpiece = val == "workpiece";
-        }
-      }
-      continue;
-    }
-    const std::vector<Field> f = split(line);
-    if (!have_columns) {
-      for (std::size_t i = 0; i < f.size(); ++i) {
-        static const char* known[] = {"fz_mm", "Fx_N", "Fy_N", "Fz_N", "ap_mm", "flutes", "diameter_mm"};
-        bool ok = false;
-        for (const char* k : known) ok = ok || f[i].text == k;
-        if (!ok)
-          bad(file, line_no, f[i].col,
-              "unknown column '" + f[i].text + "' (expected fz_mm, Fx_N, Fy_N, Fz_N, ap_mm, flutes, diameter_mm)");
-        if (col.count(f[i].text)) bad(file, line_no, f[i].col, "column '" + f[i].text + "' given twice");
-        col[f[i].text] = i;
-      }
-      for (const char* k : {"fz_mm", "Fx_N", "Fy_N", "Fz_N"})
-        if (!col.count(k)) bad(file, line_no, 1, std::string("missing column '") + k + "'");
-      for (const char* k : {"ap_mm", "flutes"})
-        if (!col.count(k) && !header.count(k))
-          bad(file, line_no, 1, std::string("'") + k + "' must be a column or a '# " + k + ": value' line");
-      have_columns = true;
-      continue;
-    }
-    if (f.size() != col.size())
-      bad(file, line_no, 1, "expected " + std::to_string(col.size()) + " fields, found " + std::to_string(f.size()));
-    auto value = [&](const std::string& key) -> double {
-      auto it = col.find(key);
-      if (it == col.end()) return *to_number(header.at(key).first);
-      const Field& fld = f[it->second];
-      const auto v = to_number(fld.text);
-      if (!v) bad(file, line_no, fld.col, key + " must be a number, not '" + fld.text + "'");
-      return *v;
-    };
-    SlotTest s;
-    s.line = line_no;
-    s.fz_mm = value("fz_mm");
-    s.ap_mm = value("ap_mm");
-    const double nf = value("flutes");
-    s.diameter_mm = (col.count("diameter_mm") || header.count("diameter_mm")) ? value("diameter_mm") : 0;
-    s.mean_N = {value("Fx_N"), value("Fy_N"), value("Fz_N")};
-    if (on_workpiece) s.mean_N = -s.mean_N;
-    if (!(s.fz_mm > 0)) bad(file, line_no, 1, "fz_mm must be > 0");
-    if (!(s.ap_mm > 0)) bad(file, line_no, 1, "ap_mm must be > 0");
-    if (nf < 1 || nf != std::floor(nf)) bad(file, line_no, 1, "flutes must be a whole number >= 1");
-    s.flutes = static_cast<int>(nf);
-    d.tests.push_back(s);
+    parser.line(line, line_no);
   }
-  if (!have_columns) bad(file, line_no > 0 ? line_no : 1, 1, "no header row (fz_mm,Fx_N,Fy_N,Fz_N,...)");
-  if (header.count("helix_deg")) d.helix_deg = *to_number(header["helix_deg"].first);
+  parser.finish(line_no);
   return d;
 }
 

@@ -8,33 +8,19 @@
 
 namespace deflex::force {
 
-const char* to_string(CutterType t) {
-  switch (t) {
-    case CutterType::flat: return "flat";
-    case CutterType::ball: return "ball";
-    case CutterType::bull: return "bull";
-  }
-  return "?";
-}
-
 void validate(const Cutter& c) {
   auto bad = [](const std::string& m) { throw Error(ErrorKind::config, "cutter: " + m); };
   if (!(c.diameter_mm > 0)) bad("diameter_mm must be > 0");
   if (c.flutes < 1 || c.flutes > 64) bad("flutes must be between 1 and 64");
   if (!(c.helix_deg >= 0 && c.helix_deg < 80)) bad("helix_deg must be in [0, 80)");
   if (!(c.flute_length_mm > 0)) bad("flute_length_mm must be > 0");
-  if (c.type == CutterType::bull &&
+  if (c.type == stock::EndShape::bull &&
       !(c.corner_radius_mm > 0 && c.corner_radius_mm <= c.diameter_mm / 2))
     bad("a bull-nose corner_radius_mm must be in (0, D/2]");
 }
 
 double corner_radius_of(const Cutter& c) {
-  switch (c.type) {
-    case CutterType::flat: return 0.0;
-    case CutterType::ball: return c.diameter_mm / 2;
-    case CutterType::bull: return c.corner_radius_mm;
-  }
-  return 0.0;
+  return stock::corner_radius_mm(c.type, c.diameter_mm / 2, c.corner_radius_mm);
 }
 
 EdgePoint edge_point(const Cutter& c, double z_mm) {

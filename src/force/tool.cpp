@@ -4,11 +4,9 @@ namespace deflex::force {
 
 Cutter cutter_of(const stiffness::Tool& t) {
   Cutter c;
-  c.type = t.type == stiffness::ToolType::ball   ? CutterType::ball
-           : t.type == stiffness::ToolType::bull ? CutterType::bull
-                                                 : CutterType::flat;
+  c.type = t.type;
   c.diameter_mm = t.diameter_mm;
-  c.corner_radius_mm = c.type == CutterType::bull ? t.corner_radius_mm : 0.0;
+  c.corner_radius_mm = c.type == stock::EndShape::bull ? t.corner_radius_mm : 0.0;
   c.flutes = t.flutes;
   c.helix_deg = t.helix_deg;
   c.flute_length_mm = t.flute_length_mm;

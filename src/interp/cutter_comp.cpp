@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "deflex/interp/arc.hpp"
+
 namespace deflex::interp::detail {
 namespace {
 
@@ -15,7 +17,6 @@ double dot(const P2& a, const P2& b) { return a[0] * b[0] + a[1] * b[1]; }
 double cross(const P2& a, const P2& b) { return a[0] * b[1] - a[1] * b[0]; }
 double norm(const P2& a) { return std::hypot(a[0], a[1]); }
 Vec3 at(const P2& p, double z) { return {p[0], p[1], z}; }
-bool is_arc(const Motion& m) { return m.kind == MotionKind::arc_cw || m.kind == MotionKind::arc_ccw; }
 
 // LinuxCNC neither goes round an arc nor meets the offsets at a corner that
 // turns by at most this (rs274ngc's TOLERANCE_CONCAVE_CORNER; checked with

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cutter_comp.hpp"
+#include "deflex/interp/arc.hpp"
 #include "deflex/interp/interpreter.hpp"
 
 namespace deflex::interp::detail {
@@ -77,14 +78,6 @@ struct Frame {
   std::uint32_t start_line;   // line of the O number
   int repeats_left;
 };
-
-// Plane axes: (first, second, normal) indices for G17/G18/G19.
-struct PlaneAxes { int a, b, n; };
-inline PlaneAxes plane_axes(int plane) {
-  if (plane == 18) return {2, 0, 1};
-  if (plane == 19) return {1, 2, 0};
-  return {0, 1, 2};
-}
 
 class Run {
  public:

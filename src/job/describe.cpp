@@ -30,8 +30,8 @@ std::set<std::string> cutting_tools(const Run& j) {
 
 // "T1: flat D10 mm", "T2: bull nose D12 mm r1".
 std::string tool_text(const std::string& id, const stiffness::Tool& t) {
-  const bool bull = t.type == stiffness::ToolType::bull;
-  return id + ": " + (t.type == stiffness::ToolType::ball ? "ball" : bull ? "bull nose" : "flat") + " D" +
+  const bool bull = t.type == stock::EndShape::bull;
+  return id + ": " + (t.type == stock::EndShape::ball ? "ball" : bull ? "bull nose" : "flat") + " D" +
          report_number(t.diameter_mm) + " mm" + (bull ? " r" + report_number(t.corner_radius_mm) : "");
 }
 

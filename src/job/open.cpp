@@ -8,6 +8,7 @@
 #include "deflex/engage/engagement.hpp"
 #include "deflex/engage/sweep_program.hpp"
 #include "deflex/force/tool.hpp"
+#include "deflex/interp/arc.hpp"
 #include "deflex/job/earlier.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stock/build.hpp"
@@ -39,7 +40,7 @@ void Run::count_left(const interp::Motion& m) {
 
 void Run::CutExtent::add(const interp::Motion& m, double r_mm) {
   // An arc bulges past its ends by at most its radius about its centre.
-  const bool arc = m.kind == interp::MotionKind::arc_cw || m.kind == interp::MotionKind::arc_ccw;
+  const bool arc = interp::is_arc(m);
   const compensate::V3 a(m.start_mm[0], m.start_mm[1], m.start_mm[2]), b(m.end_mm[0], m.end_mm[1], m.end_mm[2]);
   compensate::V3 lo = a.cwiseMin(b), hi = a.cwiseMax(b);
   if (arc) {

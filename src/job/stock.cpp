@@ -53,7 +53,7 @@ plan::RoughingOptions roughing_options(const RoughSettings& s, const stiffness::
 // The comment lines at the head of the program: what it stands for.
 std::vector<std::string> header(const RoughSettings& s, const stiffness::Tool& rt, const plan::RoughingOptions& o,
                                 const std::string& spec, double spacing_mm) {
-  const char* shape = rt.type == stiffness::ToolType::ball ? "BALL" : rt.type == stiffness::ToolType::bull ? "BULL NOSE" : "FLAT";
+  const char* shape = rt.type == stock::EndShape::ball ? "BALL" : rt.type == stock::EndShape::bull ? "BULL NOSE" : "FLAT";
   const std::string& f = s.finish_program;
   return {"DEFLEX ROUGH - THE STOCK BEFORE " + f,
           s.rough_tool + " " + shape + " D" + fmt(rt.diameter_mm, 3) + " - ALLOWANCE " + fmt(o.allowance_mm, 3) +

@@ -182,13 +182,13 @@ CutterShape cutter_shape(const stiffness::Tool& t) {
   const double top = std::max(t.flute_length_mm, R);
   CutterShape s;
   switch (t.type) {
-    case stiffness::ToolType::ball:
+    case stock::EndShape::ball:
       s = {0.0, R, R, R};
       break;
-    case stiffness::ToolType::bull:
+    case stock::EndShape::bull:
       s = {R - t.corner_radius_mm, t.corner_radius_mm, top, t.corner_radius_mm};
       break;
-    case stiffness::ToolType::flat: {
+    case stock::EndShape::flat: {
       // A flat end as a bull nose of a small corner (see part.hpp): the core
       // then keeps a distance from the part, so the direction to it is defined.
       const double eps = std::min(0.1 * R, 0.2);

@@ -95,10 +95,10 @@ void check_options(const RoughingOptions& o) {
 stock::ToolProfile grown(const stock::ToolProfile& tool, double a_mm) {
   stock::ToolProfile g = tool;
   g.radius_mm = tool.radius_mm + a_mm;
-  if (tool.kind == stock::ToolKind::flat && a_mm > 0) {
-    g.kind = stock::ToolKind::bull;
+  if (tool.kind == stock::EndShape::flat && a_mm > 0) {
+    g.kind = stock::EndShape::bull;
     g.corner_radius_mm = a_mm;
-  } else if (tool.kind == stock::ToolKind::bull) {
+  } else if (tool.kind == stock::EndShape::bull) {
     g.corner_radius_mm = tool.corner_radius_mm + a_mm;
   }
   return g;

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "deflex/diag/diagnostics.hpp"
-#include "deflex/stock/sweep.hpp"
+#include "deflex/interp/arc.hpp"
 
 namespace deflex::process {
 
@@ -25,7 +25,6 @@ constexpr double kMinLength_mm = 1e-6;
 constexpr double kNoAxis = 1e-12;
 
 bool is_rapid(const Motion& m) { return m.kind == MotionKind::rapid; }
-bool is_arc(const Motion& m) { return m.kind == MotionKind::arc_cw || m.kind == MotionKind::arc_ccw; }
 
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
@@ -59,18 +58,11 @@ Shape line_shape(const Motion& m, double feed_mm_per_s, const profile::AxisLimit
 // does all the work) rather than projected; the helical rise is projected.
 // kp, kn: in-plane and normal shares of the path speed.
 Shape arc_shape(const Motion& m, double feed_mm_per_s, const profile::AxisLimits& k) {
-  const int pa = m.plane == 18 ? 2 : m.plane == 19 ? 1 : 0;
-  const int pb = m.plane == 18 ? 0 : m.plane == 19 ? 2 : 1;
-  const int pn = 3 - pa - pb;
-  stock::Arc a;
-  a.start_mm = m.start_mm;
-  a.end_mm = m.end_mm;
-  a.centre_mm = m.center_mm;
-  a.plane = m.plane;
-  a.cw = m.kind == MotionKind::arc_cw;
+  const auto [pa, pb, pn] = interp::plane_axes(m.plane);
+  const interp::Arc a = interp::arc_of(m);
   Shape s;
-  const double r_mm = stock::arc_radius_mm(a);
-  const double planar_mm = r_mm * stock::arc_angle(a);
+  const double r_mm = interp::arc_radius_mm(a);
+  const double planar_mm = r_mm * interp::arc_angle(a);
   const double rise_mm = m.end_mm[pn] - m.start_mm[pn];
   s.length_mm = std::hypot(planar_mm, rise_mm);
   if (s.length_mm < kMinLength_mm || r_mm < kMinLength_mm) return line_shape(m, feed_mm_per_s, k);
@@ -85,8 +77,8 @@ Shape arc_shape(const Motion& m, double feed_mm_per_s, const profile::AxisLimits
     s.vmax_mm_per_s = std::min(s.vmax_mm_per_s, k.max_feed_mm_per_min[pn] / 60 / kn);
     s.accel_mm_per_s2 = std::min(s.accel_mm_per_s2, k.acceleration_mm_per_s2[pn] / kn);
   }
-  s.u_start = stock::arc_tangent(a, 0);
-  s.u_end = stock::arc_tangent(a, 1);
+  s.u_start = interp::arc_tangent(a, 0);
+  s.u_end = interp::arc_tangent(a, 1);
   return s;
 }
 
@@ -175,7 +167,7 @@ void MachiningClock::add(const Motion& m, double feed_mm_per_min) {
     throw Error(ErrorKind::internal, "machining_time: the motion of line " + std::to_string(m.line) +
                                     " has no positive feed (" + std::to_string(f) + " mm/min)");
   const double feed = is_rapid(m) ? kInf : f / 60;
-  const Shape s = is_arc(m) ? arc_shape(m, feed, k_) : line_shape(m, feed, k_);
+  const Shape s = interp::is_arc(m) ? arc_shape(m, feed, k_) : line_shape(m, feed, k_);
   Entry e;
   e.rapid = is_rapid(m);
   e.tool = m.tool;

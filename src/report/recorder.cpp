@@ -63,7 +63,7 @@ struct Recorder::Impl {
     c.normal_known = p.normal_source != compensate::NormalSource::undetermined;
     c.cutting = cutting;
     const stiffness::Tool* t = tool(p.tool);
-    if (t && t->type == stiffness::ToolType::ball) c.profile_diameter_mm = t->diameter_mm;
+    if (t && t->type == stock::EndShape::ball) c.profile_diameter_mm = t->diameter_mm;
     // The direction of travel: a central difference where both neighbours
     // continue the path, so a sample waits for the next.
     if (have_pending) push_pending(continuous(pending_motion, p.motion) ? &p.tip_mm : nullptr);
@@ -273,9 +273,7 @@ struct Recorder::Impl {
     const stiffness::Tool* t = tool(p.tool);
     if (!t) return p.tip_mm;
     const double R = t->diameter_mm / 2;
-    const double r = t->type == stiffness::ToolType::ball   ? R
-                     : t->type == stiffness::ToolType::bull ? t->corner_radius_mm
-                                                            : 0.0;
+    const double r = stock::corner_radius_mm(t->type, R, t->corner_radius_mm);
     V3 h(p.normal.x(), p.normal.y(), 0);
     h = h.norm() > 1e-9 ? V3(h.normalized()) : V3(V3::Zero());
     return p.tip_mm + V3(0, 0, r) + (R - r) * h - r * p.normal;

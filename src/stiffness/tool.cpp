@@ -17,15 +17,6 @@ std::optional<Material> material_preset(const std::string& name) {
   return std::nullopt;
 }
 
-std::string to_string(ToolType t) {
-  switch (t) {
-    case ToolType::ball: return "ball";
-    case ToolType::flat: return "flat";
-    case ToolType::bull: return "bull";
-  }
-  return "?";
-}
-
 using yaml::Map;
 using yaml::Range;
 
@@ -47,11 +38,9 @@ Material parse_material(const YAML::Node& node, const std::string& file) {
   return m;
 }
 
-static ToolType parse_type(const Map& tool) {
+static stock::EndShape parse_type(const Map& tool) {
   const std::string s = tool.text("type");
-  if (s == "ball") return ToolType::ball;
-  if (s == "flat") return ToolType::flat;
-  if (s == "bull") return ToolType::bull;
+  if (const auto shape = stock::parse_end_shape(s)) return *shape;
   tool.fail("type", "type must be ball, flat or bull, not '" + s + "'");
 }
 
@@ -62,16 +51,16 @@ static ToolType parse_type(const Map& tool) {
 static Range size_mm() { return {0, 1000, true}; }
 
 // Corner radius by type: a ball's is D/2, a flat's 0, a bull's from the file.
-static double parse_corner(const Map& tool, ToolType type, double d_mm) {
-  if (type == ToolType::bull) {
+static double parse_corner(const Map& tool, stock::EndShape type, double d_mm) {
+  if (type == stock::EndShape::bull) {
     const double rc = tool.number("corner_radius_mm", size_mm());
     if (rc > 0.5 * d_mm) tool.fail("corner_radius_mm", "corner_radius_mm must be <= diameter_mm / 2");
     return rc;
   }
-  const double expected = type == ToolType::ball ? 0.5 * d_mm : 0.0;
+  const double expected = stock::corner_radius_mm(type, 0.5 * d_mm, 0.0);
   if (tool.has("corner_radius_mm") && std::abs(tool.number("corner_radius_mm") - expected) > 1e-9)
-    tool.fail("corner_radius_mm", "corner_radius_mm of a " + to_string(type) + " tool must be " +
-                                      (type == ToolType::ball ? "diameter_mm / 2" : "0") + " (or left out)");
+    tool.fail("corner_radius_mm", std::string("corner_radius_mm of a ") + to_string(type) + " tool must be " +
+                                      (type == stock::EndShape::ball ? "diameter_mm / 2" : "0") + " (or left out)");
   return expected;
 }
 

@@ -18,6 +18,7 @@
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::stiffness {
 namespace {
@@ -26,7 +27,8 @@ namespace {
 // took a default.
 struct Entry {
   int number = 0;
-  std::string description, type = "flat", material = "carbide";
+  std::string description, material = "carbide";
+  stock::EndShape type = stock::EndShape::flat;
   double d_mm = 0, corner_mm = 0, helix_deg = 30, flute_mm = 0, stickout_mm = 0;
   std::optional<double> shank_mm;
   int flutes = 2;
@@ -52,9 +54,9 @@ std::string to_yaml(const std::vector<Entry>& tools, const std::string& header, 
       if (const auto it = e.note.find(k); it != e.note.end()) out << YAML::Comment(it->second);
     };
     if (!e.description.empty()) key("description", e.description);
-    key("type", e.type);
+    key("type", to_string(e.type));
     key("diameter_mm", number_text(e.d_mm));
-    if (e.type == "bull") key("corner_radius_mm", number_text(e.corner_mm));
+    if (e.type == stock::EndShape::bull) key("corner_radius_mm", number_text(e.corner_mm));
     key("flutes", e.flutes);
     key("helix_deg", number_text(e.helix_deg));
     key("flute_length_mm", number_text(e.flute_mm));
@@ -114,9 +116,10 @@ std::string text_of(const Json& o, const char* k, const std::string& def) {
   return it->is_string() ? it->get<std::string>() : "";
 }
 
-const std::map<std::string, std::string>& fusion_types() {
-  static const std::map<std::string, std::string> m = {
-      {"flat end mill", "flat"}, {"ball end mill", "ball"}, {"bull nose end mill", "bull"}};
+const std::map<std::string, stock::EndShape>& fusion_types() {
+  static const std::map<std::string, stock::EndShape> m = {{"flat end mill", stock::EndShape::flat},
+                                                            {"ball end mill", stock::EndShape::ball},
+                                                            {"bull nose end mill", stock::EndShape::bull}};
   return m;
 }
 
@@ -193,7 +196,7 @@ ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
     const auto dc = ft.length("DC");
     if (!dc || *dc <= 0) fail(ft.where, "geometry.DC (the cutting diameter) is missing or 0");
     e.d_mm = *dc;
-    if (e.type == "bull") {
+    if (e.type == stock::EndShape::bull) {
       const auto re = ft.length("RE");
       if (!re || *re <= 0 || *re > e.d_mm / 2)
         fail(ft.where, "a bull nose needs geometry.RE (the corner radius) in (0, DC/2]");
@@ -213,7 +216,7 @@ ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
     else { e.stickout_mm = e.flute_mm + e.d_mm; e.note["stickout_mm"] = "default LCF + D: the library gives no LB (length below the holder)"; }
     if (const auto sf = ft.length("SFDM"); sf && *sf > 0) e.shank_mm = *sf;
     // What deflex's reader requires of every tool, said here of the source.
-    const double corner = e.type == "ball" ? e.d_mm / 2 : e.corner_mm;
+    const double corner = stock::corner_radius_mm(e.type, e.d_mm / 2, e.corner_mm);
     for (const auto& [k, v] : {std::pair("DC", e.d_mm), std::pair("LCF", e.flute_mm), std::pair("LB", e.stickout_mm),
                                std::pair("SFDM", e.shank_mm.value_or(1.0))})
       if (!(v <= 1000)) fail(ft.where, std::string("geometry.") + k + " is " + number_text(v) + " mm: more than 1000 mm");

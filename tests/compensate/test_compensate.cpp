@@ -156,7 +156,7 @@ TEST_CASE("the deflection at a steady wall point equals C(h) F from the force an
   // the same slices and coefficients, f_z = 800 / (8000 * 4).
   const auto& tool = stiffness::find_tool(f.ph.tools, "T1");
   force::Cutter c;
-  c.type = force::CutterType::flat;
+  c.type = stock::EndShape::flat;
   c.diameter_mm = tool.diameter_mm;
   c.flutes = tool.flutes;
   c.helix_deg = tool.helix_deg;

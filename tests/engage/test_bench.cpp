@@ -55,7 +55,7 @@ std::vector<interp::Motion> finishing_path(int passes, double seg_mm) {
 }
 
 void measure(const char* name, const std::vector<interp::Motion>& path, SimOptions so,
-             double cell_mm = stock::default_cell_mm, force::CutterType type = force::CutterType::ball,
+             double cell_mm = stock::default_cell_mm, stock::EndShape type = stock::EndShape::ball,
              double corner_mm = 0) {
   force::Cutter c;
   c.type = type;
@@ -130,7 +130,7 @@ TEST_CASE("bench engage: bull nose D10 r1, CAM-like 0.5 mm G1 segments on a wave
   SimOptions so;
   so.path.cl_spacing_mm = 0.5;
   measure("bull nose D10 r1, CAM-like 0.5 mm G1 segments on a wave", finishing_path(20, 0.5), so,
-          stock::default_cell_mm, force::CutterType::bull, 1.0);
+          stock::default_cell_mm, stock::EndShape::bull, 1.0);
 }
 
 }  // TEST_SUITE

@@ -22,7 +22,7 @@ using std::numbers::pi;
 
 namespace {
 
-force::Cutter cutter(force::CutterType t, double D = 10) {
+force::Cutter cutter(stock::EndShape t, double D = 10) {
   force::Cutter c;
   c.type = t;
   c.diameter_mm = D;
@@ -64,7 +64,7 @@ double vf(const Process& p, int flutes) { return p.fz_mm * flutes * p.spindle_rp
 TEST_SUITE("engage") {
 
 TEST_CASE("full slot: [0, pi] on every engaged slice; a_p, a_e, MRR, CWE, up/down") {
-  const auto cs = force::make_slices(cutter(force::CutterType::flat), 0.1, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::flat), 0.1, 20);
   auto z = stock::zmap_from_box(stock::parse_box("box:0,-20,-20,100,20,0"));
   const double ap = 3;
   const Process proc;
@@ -90,7 +90,7 @@ TEST_CASE("full slot: [0, pi] on every engaged slice; a_p, a_e, MRR, CWE, up/dow
 }
 
 TEST_CASE("half immersion, up and down milling, four feed directions: the textbook interval") {
-  const auto cs = force::make_slices(cutter(force::CutterType::flat), 0.1, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::flat), 0.1, 20);
   const double R = 5, ap = 2;
   const Process proc;
   for (const double ae : {2.0, 5.0, 7.5})
@@ -129,7 +129,7 @@ TEST_CASE("half immersion, up and down milling, four feed directions: the textbo
 
 TEST_CASE("ball at depth a_p: exactly the slices below a_p, D_eff = 2 sqrt(a_p (D - a_p))") {
   const double D = 10, R = 5, dz = 0.1;
-  const auto cs = force::make_slices(cutter(force::CutterType::ball, D), dz, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::ball, D), dz, 20);
   const Process proc;
   for (const double ap : {0.33, 1.0, 2.03, 4.5}) {
     CAPTURE(ap);
@@ -160,7 +160,7 @@ TEST_CASE("ball at depth a_p: exactly the slices below a_p, D_eff = 2 sqrt(a_p (
 }
 
 TEST_CASE("air cut above the stock and over cut ground") {
-  const auto cs = force::make_slices(cutter(force::CutterType::ball), 0.1, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.1, 20);
   auto z = stock::zmap_from_box(stock::parse_box("box:0,-20,-20,100,20,0"));
   Last r = run(z, cs, {line({10, 0, 0.5}, {60, 0, 0.5})});
   CHECK(r.m.air_cut);
@@ -196,7 +196,7 @@ TEST_CASE("descending ramp: the ball engages the hemisphere facing the travel") 
   // A sphere moving along d cuts where its outward normal n has n . d > 0; with
   // n = (sin k sin phi, sin k cos phi, -cos k) and d = (cos a, 0, sin a) that is
   // sin(phi) > cot(k) tan(a): phi in (-asin c, pi + asin c), c = -cot(k) tan(a).
-  const auto cs = force::make_slices(cutter(force::CutterType::ball), 0.1, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.1, 20);
   auto z = stock::zmap_from_box(stock::parse_box("box:-50,-50,-40,50,50,0"));
   const double a = -30 * pi / 180;
   const double run_xy = 20;
@@ -224,7 +224,7 @@ TEST_CASE("descending ramp: the ball engages the hemisphere facing the travel") 
 TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower half") {
   const Process proc;
   auto z = stock::zmap_from_box(stock::parse_box("box:-20,-20,-40,20,20,0"));
-  const auto flat = force::make_slices(cutter(force::CutterType::flat), 0.1, 20);
+  const auto flat = force::make_slices(cutter(stock::EndShape::flat), 0.1, 20);
   Last r = run(z, flat, {line({0, 0, 5}, {0, 0, -3})}, proc);
   CHECK(r.m.plunge);
   CHECK(r.m.ramp_angle == doctest::Approx(-pi / 2));
@@ -235,7 +235,7 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
   CHECK(r.m.ap_mm == 0);  // no flank cuts
 
   auto z2 = stock::zmap_from_box(stock::parse_box("box:-20,-20,-40,20,20,0"));
-  const auto ball = force::make_slices(cutter(force::CutterType::ball), 0.1, 20);
+  const auto ball = force::make_slices(cutter(stock::EndShape::ball), 0.1, 20);
   r = run(z2, ball, {line({0, 0, 5}, {0, 0, -8})}, proc);
   for (std::size_t i = 0; i < ball.slices.size(); ++i) {
     CAPTURE(i);
@@ -251,7 +251,7 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
 }
 
 TEST_CASE("batched parallel evaluation gives the same results on 1 thread and on all") {
-  const auto cs = force::make_slices(cutter(force::CutterType::ball), 0.05, 12);
+  const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.05, 12);
   std::vector<interp::Motion> path;
   stock::Point3 p{-6, 3, -0.4};
   for (int k = 0; k < 4; ++k) {  // zig-zag of short wavy segments, step-over 0.6 mm
@@ -324,7 +324,7 @@ TEST_CASE("CL samples: end points, spacing, arcs on the arc, plunge keeps the fe
 }
 
 TEST_CASE("slot along an arc: [0, pi] in the arc's own feed frame") {
-  const auto cs = force::make_slices(cutter(force::CutterType::flat), 0.1, 20);
+  const auto cs = force::make_slices(cutter(stock::EndShape::flat), 0.1, 20);
   auto z = stock::zmap_from_box(stock::parse_box("box:-40,-40,-20,40,40,0"));
   interp::Motion arc;
   arc.kind = interp::MotionKind::arc_cw;
@@ -338,9 +338,9 @@ TEST_CASE("slot along an arc: [0, pi] in the arc's own feed frame") {
   // so every slice is engaged on the front half, [0, pi] in the frame of the exact
   // tangent, up to the chords: the tool arrives along a chord turned by half the
   // chord angle.
-  const stock::Arc a = arc_of(arc);
+  const interp::Arc a = arc_of(arc);
   const int chords = static_cast<int>(motion_vertices(arc, PathOptions{}).size()) - 1;
-  const double half_chord = stock::arc_angle(a) / chords / 2;
+  const double half_chord = interp::arc_angle(a) / chords / 2;
   for (std::size_t i = 0; i < cs.slices.size() && cs.slices[i].z_mm < 2; ++i) {
     REQUIRE(r.e.slices[i].size() == 1);
     const auto& iv = r.e.slices[i][0];

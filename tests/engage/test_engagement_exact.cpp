@@ -153,7 +153,7 @@ void compare_on(stock::ZMap& z, const force::CutterSlices& cs, const Options& op
   }
 }
 
-force::Cutter cutter(force::CutterType type, double D, double rc = 0) {
+force::Cutter cutter(stock::EndShape type, double D, double rc = 0) {
   force::Cutter c;
   c.type = type;
   c.diameter_mm = D;
@@ -172,17 +172,17 @@ TEST_CASE("evaluate equals evaluate_reference bit for bit: ball, flat and bull r
   Tally t;
   stock::ZMap z = wavy_block();
   // Ball D6 along X, step-over 0.7 mm (the default options: tabulated refinement).
-  compare_on(z, force::make_slices(cutter(force::CutterType::ball, 6), 0.2, 8), {}, raster(-1.2, 0.7, 3, false), t);
+  compare_on(z, force::make_slices(cutter(stock::EndShape::ball, 6), 0.2, 8), {}, raster(-1.2, 0.7, 3, false), t);
   // Flat D5 along Y on the stock the ball left (flat bottom on the ramps and
   // the plunge); 9 bisections: the refinement angles computed as they come.
   Options o;
   o.refine_steps = 9;
-  compare_on(z, force::make_slices(cutter(force::CutterType::flat, 5), 0.25, 8), o, raster(-1.6, 1.5, 2, true), t);
+  compare_on(z, force::make_slices(cutter(stock::EndShape::flat, 5), 0.25, 8), o, raster(-1.6, 1.5, 2, true), t);
   // Bull nose D8 r1.5 along X, 40 samples a turn, again on the stock as cut.
   o = {};
   o.angle_samples = 40;
   o.refine_steps = 4;
-  compare_on(z, force::make_slices(cutter(force::CutterType::bull, 8, 1.5), 0.2, 8), o, raster(-2.1, 1.2, 3, false), t);
+  compare_on(z, force::make_slices(cutter(stock::EndShape::bull, 8, 1.5), 0.2, 8), o, raster(-2.1, 1.2, 3, false), t);
   MESSAGE(t.samples, " CL samples: ", t.engaged, " engaged, ", t.partial, " with partial slices, ", t.bottom,
           " with a flat bottom cutting; up to ", t.max_pending, " pending sweeps");
   // The views are the demanding kind: mostly engaged, transitions to refine,

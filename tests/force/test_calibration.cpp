@@ -41,7 +41,7 @@ TEST_CASE("calibration recovers the coefficients of simulated helical slot tests
   // closed form the calibration inverts.
   const Coefficients k = truth();
   Cutter c;
-  c.type = CutterType::flat;
+  c.type = deflex::stock::EndShape::flat;
   c.diameter_mm = 12;
   c.flutes = 4;
   c.helix_deg = 30;

@@ -21,7 +21,7 @@ constexpr double pi = std::numbers::pi;
 // Morelli's tool (§3.1): D 12, 4 flutes, helix 45, flat.
 Cutter morelli_cutter() {
   Cutter c;
-  c.type = CutterType::flat;
+  c.type = deflex::stock::EndShape::flat;
   c.diameter_mm = 12;
   c.flutes = 4;
   c.helix_deg = 45;

@@ -106,17 +106,17 @@ TEST_CASE("a material entry written by to_yaml reads back the same") {
 TEST_CASE("a tool-library entry gives the force model its cutting geometry") {
   const auto lib = deflex::stiffness::load_tool_library(src + "/tests/force/data/tools.yaml");
   const Cutter f = cutter_of(deflex::stiffness::find_tool(lib, "F12"));
-  CHECK(f.type == CutterType::flat);
+  CHECK(f.type == deflex::stock::EndShape::flat);
   CHECK(f.diameter_mm == 12);
   CHECK(f.corner_radius_mm == 0);
   CHECK(f.flutes == 4);
   CHECK(f.helix_deg == 45);
   CHECK(f.flute_length_mm == 26);
   const Cutter r = cutter_of(deflex::stiffness::find_tool(lib, "R12"));
-  CHECK(r.type == CutterType::bull);
+  CHECK(r.type == deflex::stock::EndShape::bull);
   CHECK(r.corner_radius_mm == 1.5);
   const Cutter b = cutter_of(deflex::stiffness::find_tool(lib, "B10"));
-  CHECK(b.type == CutterType::ball);
+  CHECK(b.type == deflex::stock::EndShape::ball);
   CHECK(b.corner_radius_mm == 0);  // the force model takes a ball's from D
   CHECK(error_of([&] { deflex::stiffness::find_tool(lib, "T99"); }, ErrorKind::settings).find("B10") != std::string::npos);
 }

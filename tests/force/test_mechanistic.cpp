@@ -16,7 +16,7 @@ constexpr double pi = std::numbers::pi;
 
 Cutter flat(double D, int flutes, double helix_deg) {
   Cutter c;
-  c.type = CutterType::flat;
+  c.type = deflex::stock::EndShape::flat;
   c.diameter_mm = D;
   c.flutes = flutes;
   c.helix_deg = helix_deg;
@@ -26,7 +26,7 @@ Cutter flat(double D, int flutes, double helix_deg) {
 
 Cutter ball(double D, int flutes, double helix_deg) {
   Cutter c = flat(D, flutes, helix_deg);
-  c.type = CutterType::ball;
+  c.type = deflex::stock::EndShape::ball;
   return c;
 }
 
@@ -204,7 +204,7 @@ TEST_CASE("ball end in a full slot at a_p = R: mean force matches the hemisphere
 TEST_CASE("forces are periodic in the tooth pitch") {
   const Coefficients k = al_like();
   Cutter bull = flat(10, 3, 35);
-  bull.type = CutterType::bull;
+  bull.type = deflex::stock::EndShape::bull;
   bull.corner_radius_mm = 1.5;
   for (const Cutter& c : {flat(12, 4, 30), ball(10, 2, 30), bull}) {
     const CutterSlices sl = make_slices(c, 0.1, 6);
@@ -252,7 +252,7 @@ TEST_CASE("bull nose of corner radius R is a ball; of tiny radius, nearly flat")
   const Coefficients k = al_like();
   Cutter b = ball(10, 2, 30);
   Cutter t = b;
-  t.type = CutterType::bull;
+  t.type = deflex::stock::EndShape::bull;
   t.corner_radius_mm = 5;
   const CutterSlices sb = make_slices(b, 0.05, 4), st = make_slices(t, 0.05, 4);
   Engagement eb, et;
@@ -263,7 +263,7 @@ TEST_CASE("bull nose of corner radius R is a ball; of tiny radius, nearly flat")
 
   Cutter f = flat(10, 2, 30);
   Cutter tn = f;
-  tn.type = CutterType::bull;
+  tn.type = deflex::stock::EndShape::bull;
   tn.corner_radius_mm = 0.01;
   const CutterSlices sf = make_slices(f, 0.05, 4), stn = make_slices(tn, 0.05, 4);
   Engagement ef, etn;
@@ -319,7 +319,7 @@ TEST_CASE("surface-generating forces equal the force at the instant each slice p
   // and a bull nose in up- and down-milling.
   const Coefficients k = al_like();
   Cutter bull = flat(12, 4, 35);
-  bull.type = CutterType::bull;
+  bull.type = deflex::stock::EndShape::bull;
   bull.corner_radius_mm = 2;
   for (const Cutter& c : {ball(10, 2, 30), bull}) {
     const CutterSlices sl = make_slices(c, 0.1, 8);
@@ -333,7 +333,7 @@ TEST_CASE("surface-generating forces equal the force at the instant each slice p
       std::vector<std::size_t> engaged;
       for (std::size_t i = 0; i < e.slices.size(); ++i)
         if (!e.slices[i].empty()) engaged.push_back(i);
-      CHECK(engaged.size() == (c.type == CutterType::ball ? 36u : 40u));
+      CHECK(engaged.size() == (c.type == deflex::stock::EndShape::ball ? 36u : 40u));
       REQUIRE(sf.size() == engaged.size());
       for (std::size_t q = 0; q < sf.size(); ++q) {
         const std::size_t i = engaged[q];

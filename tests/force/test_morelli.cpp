@@ -56,7 +56,7 @@ TEST_CASE("Eq. 6: the single-flute slot F_y peaks at phi_max in the simulation")
     in.ap_mm = ap;
     const MorelliAngles a = morelli_angles(in);
     Cutter c;
-    c.type = CutterType::flat;
+    c.type = deflex::stock::EndShape::flat;
     c.diameter_mm = 12;
     c.flutes = 1;
     c.helix_deg = 45;

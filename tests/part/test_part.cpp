@@ -107,7 +107,7 @@ TEST_SUITE("part") {
 
 TEST_CASE("part model: ball contacts on analytic surfaces give their normals within 0.2 deg, gaps within the mesh sagitta") {
   stiffness::Tool ball;
-  ball.type = stiffness::ToolType::ball;
+  ball.type = stock::EndShape::ball;
   ball.diameter_mm = 10;
   ball.corner_radius_mm = 5;
   ball.flute_length_mm = 20;
@@ -147,11 +147,11 @@ TEST_CASE("part model: flat and bull-nose flank and floor contacts") {
   quad({0, 20, 0}, {-20, 20, 0}, {-20, 20, 10}, {0, 20, 10});
   quad({-20, -20, -10}, {-20, 20, -10}, {20, 20, -10}, {20, -20, -10});  // base
   const part::PartModel pm(box);
-  for (auto type : {stiffness::ToolType::flat, stiffness::ToolType::bull}) {
+  for (auto type : {stock::EndShape::flat, stock::EndShape::bull}) {
     stiffness::Tool t;
     t.type = type;
     t.diameter_mm = 12;
-    t.corner_radius_mm = type == stiffness::ToolType::bull ? 2 : 0;
+    t.corner_radius_mm = type == stock::EndShape::bull ? 2 : 0;
     t.flute_length_mm = 30;
     const part::CutterShape shape = part::cutter_shape(t);
     // Flank on the wall, 0.05 mm off it, tip 1 mm above the floor: contact on the wall.

@@ -34,11 +34,11 @@ stock::ZMap rest_after(const stock::ZMap& target, const plan::RoughingPlan& p, c
   return z;
 }
 
-stock::ToolProfile tool(stock::ToolKind k, double r, double rc = 0) {
+stock::ToolProfile tool(stock::EndShape k, double r, double rc = 0) {
   stock::ToolProfile t;
   t.kind = k;
   t.radius_mm = r;
-  t.corner_radius_mm = k == stock::ToolKind::ball ? r : rc;
+  t.corner_radius_mm = k == stock::EndShape::ball ? r : rc;
   return t;
 }
 
@@ -49,15 +49,15 @@ TEST_SUITE("plan") {
     const double s = std::tan(20 * M_PI / 180);
     const stock::ZMap z = surface([s](double x, double) { return s * x; });
     // A flat end rests on its rim, uphill: tip = s (x + R).
-    CHECK(std::fabs(plan::drop_height(z, tool(stock::ToolKind::flat, 5), 20, 15) - s * 25) <= s * kCell);
+    CHECK(std::fabs(plan::drop_height(z, tool(stock::EndShape::flat, 5), 20, 15) - s * 25) <= s * kCell);
     // A ball touches the plane where its normal does: tip = s x + R (sqrt(1 + s^2) - 1).
-    const double ball = plan::drop_height(z, tool(stock::ToolKind::ball, 4), 20, 15);
+    const double ball = plan::drop_height(z, tool(stock::EndShape::ball, 4), 20, 15);
     CHECK(std::fabs(ball - (s * 20 + 4 * (std::sqrt(1 + s * s) - 1))) <= 2e-4);
     // Outside the grid by more than the radius: nothing under the tool.
-    CHECK(plan::drop_height(z, tool(stock::ToolKind::flat, 5), -6, 15) == stock::no_material);
+    CHECK(plan::drop_height(z, tool(stock::EndShape::flat, 5), -6, 15) == stock::no_material);
     // The grown cutter: a flat end R becomes a bull nose R + a with corner a.
-    const stock::ToolProfile g = plan::grown(tool(stock::ToolKind::flat, 5), 0.5);
-    CHECK(g.kind == stock::ToolKind::bull);
+    const stock::ToolProfile g = plan::grown(tool(stock::EndShape::flat, 5), 0.5);
+    CHECK(g.kind == stock::EndShape::bull);
     CHECK(g.radius_mm == 5.5);
     CHECK(g.corner_radius_mm == 0.5);
   }
@@ -66,7 +66,7 @@ TEST_SUITE("plan") {
     const double s = std::tan(20 * M_PI / 180);
     const stock::ZMap target = surface([s](double x, double) { return s * x; });
     plan::RoughingOptions o;
-    o.tool = tool(stock::ToolKind::flat, 5);
+    o.tool = tool(stock::EndShape::flat, 5);
     o.allowance_mm = 0.5;
     o.stepdown_mm = 3;
     o.stepover_mm = 4;
@@ -113,7 +113,7 @@ TEST_SUITE("plan") {
       return r2 < 64 ? std::sqrt(64 - r2) : 0.0;
     };
     const stock::ZMap target = surface(dome);
-    for (const stock::ToolProfile& t : {tool(stock::ToolKind::ball, 3), tool(stock::ToolKind::bull, 4, 1)}) {
+    for (const stock::ToolProfile& t : {tool(stock::EndShape::ball, 3), tool(stock::EndShape::bull, 4, 1)}) {
       CAPTURE(static_cast<int>(t.kind));
       plan::RoughingOptions o;
       o.tool = t;
@@ -135,7 +135,7 @@ TEST_SUITE("plan") {
       // hundredths may be eaten at the dome's foot; the allowance absorbs it.
       CHECK(lo >= 0.3 - 0.03);
       // On the flat: a ball leaves scallops of p^2 / 8R between lines; a bull nose's flat bottom none.
-      const double scallop = t.kind == stock::ToolKind::ball ? 0.5 * 0.5 / (8 * 3) : 0.0;
+      const double scallop = t.kind == stock::EndShape::ball ? 0.5 * 0.5 / (8 * 3) : 0.0;
       CHECK(flat_hi <= 0.3 + scallop + 2e-3);
       CHECK(flat_hi >= 0.3 - 1e-3);
     }
@@ -144,7 +144,7 @@ TEST_SUITE("plan") {
   TEST_CASE("the written program reads back as the plan, tool called, every level entered outside the stock") {
     const stock::ZMap target = surface([](double x, double y) { return 2 * std::sin(x / 6) * std::cos(y / 5); });
     plan::RoughingOptions o;
-    o.tool = tool(stock::ToolKind::flat, 4);
+    o.tool = tool(stock::EndShape::flat, 4);
     o.tool_number = 12;
     o.stepdown_mm = 1.5;
     const plan::RoughingPlan p = plan::plan_roughing(target, 3, o);

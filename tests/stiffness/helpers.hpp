@@ -13,7 +13,7 @@ namespace deflex::stiffness::testing {
 inline Tool cylinder(double d_mm, double L_mm, Material m = {"steel", 210000.0, 0.3}) {
   Tool t;
   t.id = "cyl";
-  t.type = ToolType::flat;
+  t.type = stock::EndShape::flat;
   t.diameter_mm = d_mm;
   t.shank_diameter_mm = d_mm;
   t.flute_length_mm = L_mm;

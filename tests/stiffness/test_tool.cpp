@@ -50,13 +50,13 @@ TEST_SUITE("stiffness") {
     const ToolLibrary lib = load_tool_library(sample_path("samples/tools.yaml"));
     bool ball = false, flat = false, bull = false;
     for (const auto& [id, t] : lib.tools) {
-      ball |= t.type == ToolType::ball;
-      flat |= t.type == ToolType::flat;
-      bull |= t.type == ToolType::bull;
+      ball |= t.type == stock::EndShape::ball;
+      flat |= t.type == stock::EndShape::flat;
+      bull |= t.type == stock::EndShape::bull;
     }
     CHECK((ball && flat && bull));
     const Tool& t5 = find_tool(lib, "T5");
-    CHECK(t5.type == ToolType::ball);
+    CHECK(t5.type == stock::EndShape::ball);
     CHECK(t5.diameter_mm == 16);
     CHECK(t5.corner_radius_mm == 8);
     CHECK(t5.flutes == 2);
@@ -127,7 +127,7 @@ TEST_SUITE("stiffness") {
 
   TEST_CASE("shape: equivalent profile of a fluted ball end") {
     Tool t = cylinder(16, 80);
-    t.type = ToolType::ball;
+    t.type = stock::EndShape::ball;
     t.corner_radius_mm = 8;
     t.flute_length_mm = 30;
     t.flute_diameter_ratio = 0.8;

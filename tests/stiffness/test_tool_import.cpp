@@ -34,7 +34,7 @@ TEST_SUITE("stiffness") {
     const ToolLibrary lib = load_tool_library("samples/tool-libraries/fusion_library.json");
     REQUIRE(lib.tools.size() == 5);
     const Tool& f = lib.tools.at("T11");
-    CHECK(f.type == ToolType::flat);
+    CHECK(f.type == stock::EndShape::flat);
     CHECK(f.diameter_mm == 10);
     CHECK(f.flutes == 3);
     CHECK(f.flute_length_mm == 22);
@@ -42,12 +42,12 @@ TEST_SUITE("stiffness") {
     CHECK(f.shank_diameter_mm == 10);
     CHECK(f.material.name == "carbide");
     const Tool& b = lib.tools.at("T12");  // the first T12: the later duplicate is skipped
-    CHECK(b.type == ToolType::ball);
+    CHECK(b.type == stock::EndShape::ball);
     CHECK(b.diameter_mm == 6);
     CHECK(b.corner_radius_mm == 3);
     CHECK(b.stickout_mm == 30);
     const Tool& r = lib.tools.at("T13");
-    CHECK(r.type == ToolType::bull);
+    CHECK(r.type == stock::EndShape::bull);
     CHECK(r.corner_radius_mm == 1.5);
     CHECK(r.flutes == 4);
     const Tool& in = lib.tools.at("T14");  // inches to mm
@@ -72,7 +72,7 @@ TEST_SUITE("stiffness") {
     const ToolLibrary lib = load_tool_library("samples/tool-libraries/linuxcnc.tbl");
     REQUIRE(lib.tools.size() == 3);
     CHECK(lib.tools.at("T2").diameter_mm == 6);
-    CHECK(lib.tools.at("T2").type == ToolType::flat);  // the stated default
+    CHECK(lib.tools.at("T2").type == stock::EndShape::flat);  // the stated default
     CHECK(lib.tools.at("T3").flute_length_mm == 36);   // 3 D
     CHECK(lib.tools.at("T3").stickout_mm == 48);       // 4 D
     const ImportedLibrary imp = import_tool_library("samples/tool-libraries/linuxcnc.tbl");

@@ -30,8 +30,8 @@ namespace {
 // along X and a flat D4 pocket 2 mm deep: flat, curved and vertical.
 ZMap cut_box() {
   ZMap z = make_stock("box:0,0,-5,20,10,0", {0.1});
-  sweep_line(z, {ToolKind::ball, 3, 3}, {2, 5, -1}, {18, 5, -1});
-  sweep_line(z, {ToolKind::flat, 2, 0}, {15, 2.5, -2}, {15, 2.5, -2});
+  sweep_line(z, {EndShape::ball, 3, 3}, {2, 5, -1}, {18, 5, -1});
+  sweep_line(z, {EndShape::flat, 2, 0}, {15, 2.5, -2}, {15, 2.5, -2});
   return z;
 }
 
@@ -107,7 +107,7 @@ TEST_SUITE("stock") {
     };
     const ZMap ramp = make_ramp();
     ZMap z = make_ramp();
-    sweep_line(z, {ToolKind::ball, 8, 8}, {6, 5, -2.15 - 1}, {6, 5, -2.15 - 1});
+    sweep_line(z, {EndShape::ball, 8, 8}, {6, 5, -2.15 - 1}, {6, 5, -2.15 - 1});
     const double full = 2.0 * 201 * 101;
     const std::vector<Triangle> plane = zmap_mesh(ramp, 0.001);
     CHECK(plane.size() < full / 5);  // the strip along the outline stays fine: its ring of vertices is level

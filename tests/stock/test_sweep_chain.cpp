@@ -32,9 +32,9 @@ double sweep_one_by_one(ZMap& z, std::span<const LineSweep> s, bool first_start_
 ToolProfile random_tool(std::mt19937& rng, int kind) {
   std::uniform_real_distribution<double> u01(0, 1);
   const double R = 1 + 3 * u01(rng);
-  if (kind == 0) return {ToolKind::ball, R, R};
-  if (kind == 1) return {ToolKind::flat, R, 0};
-  return {ToolKind::bull, R, R * (0.1 + 0.9 * u01(rng))};
+  if (kind == 0) return {EndShape::ball, R, R};
+  if (kind == 1) return {EndShape::flat, R, 0};
+  return {EndShape::bull, R, R * (0.1 + 0.9 * u01(rng))};
 }
 
 // A CAM-like chain inside [cx - 7, cx + 7]^2 around z = 0 (shape by mode).
@@ -45,7 +45,7 @@ std::vector<Point3> random_chain(std::mt19937& rng, int mode, double cx, double 
   if (mode == 5) {  // arc or helix as chords (start tangent anywhere)
     const double r = 0.5 + 6 * u01(rng), t0 = 2 * pi * u01(rng);
     const Point3 c{pts[0][0] - r * std::cos(t0), pts[0][1] - r * std::sin(t0), pts[0][2]};
-    Arc a{pts[0], {}, c, 17, u01(rng) < 0.5};
+    deflex::interp::Arc a{pts[0], {}, c, 17, u01(rng) < 0.5};
     const double t1 = t0 + (a.cw ? -1 : 1) * (0.2 + 5 * u01(rng));
     a.end_mm = {c[0] + r * std::cos(t1), c[1] + r * std::sin(t1), pts[0][2] + (u01(rng) - 0.5) * 2};
     return arc_polyline(a, std::clamp(arc_chord_count(a, 0.0005 + 0.01 * u01(rng)), 2, 80));
@@ -116,7 +116,7 @@ TEST_CASE("chained moves leaving cells to the next one equal one-by-one sweeps, 
         ZMap fast(g, 0.0f, -50), ref(g, 0.0f, -50);
         if (rep % 2 == 1)  // a pre-cut surface: earlier passes leave some cells lower than the new ones
           for (ZMap* z : {&fast, &ref})
-            sweep_line_reference(*z, LineSweep({ToolKind::ball, 4, 4}, {cx - 13, cy - 2, -1.2},
+            sweep_line_reference(*z, LineSweep({EndShape::ball, 4, 4}, {cx - 13, cy - 2, -1.2},
                                                {cx + 13, cy + 3, -0.8}));
         const std::vector<Point3> pts = random_chain(rng, mode, cx, cy);
         std::vector<LineSweep> segs;
@@ -175,9 +175,9 @@ TEST_CASE("cells left to the next move: inside its row range and its height is n
   for (int it = 0; it < 3000; ++it) {
     const int kind = it % 3;
     const double R = it % 7 == 0 ? 10 + 15 * u01(rng) : 0.5 + 8 * u01(rng);
-    const ToolProfile t = kind == 0 ? ToolProfile{ToolKind::ball, R, R}
-                          : kind == 1 ? ToolProfile{ToolKind::flat, R, 0}
-                                      : ToolProfile{ToolKind::bull, R, R * (0.05 + 0.95 * u01(rng))};
+    const ToolProfile t = kind == 0 ? ToolProfile{EndShape::ball, R, R}
+                          : kind == 1 ? ToolProfile{EndShape::flat, R, 0}
+                                      : ToolProfile{EndShape::bull, R, R * (0.05 + 0.95 * u01(rng))};
     auto slope = [&] {
       const double r = u01(rng);
       if (r < 0.3) return 0.0;
@@ -218,7 +218,7 @@ TEST_CASE("cells left to the next move: inside its row range and its height is n
         REQUIRE(x >= na);
         REQUIRE(x <= nb);
         REQUIRE(hn[static_cast<std::size_t>(i)] <= hk[static_cast<std::size_t>(i)]);
-        // With the margin of sweep.cpp (>= 1.4e-5 mm lower; rounding is far below).
+        // With the margin of handoff.cpp (>= 1.4e-5 mm lower; rounding is far below).
         const double lk = k.lower_height(x, y);
         if (lk != std::numeric_limits<double>::infinity()) REQUIRE(n.lower_height(x, y) <= lk - 1e-5);
       }
@@ -236,7 +236,7 @@ TEST_CASE("short pieces of a row (hand-off gaps) equal the cells one by one, bit
   // The vector kernels finish a piece with a partly used block of 4 cells.
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-3, 3);
-  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 3, 0}, {ToolKind::bull, 4, 1.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 4, 1.5}};
   const double c = 0.05, gx0 = -7.1;
   int compared = 0;
   for (const ToolProfile& t : tools)
@@ -263,7 +263,7 @@ TEST_CASE("short pieces of a row (hand-off gaps) equal the cells one by one, bit
 TEST_CASE("a straight chain leaves most of each move's front half-disc to the next move") {
   // What makes chains of short moves fast: a level ball move 0.5 mm long evaluates
   // its band and only a sliver of the D16 front half-disc.
-  const ToolProfile ball{ToolKind::ball, 8, 8};
+  const ToolProfile ball{EndShape::ball, 8, 8};
   const LineSweep k(ball, {0, 0, -1}, {0.5, 0, -1}), n(ball, {0.5, 0, -1}, {1, 0, -1});
   double half_disc = 0, left = 0;
   for (double y = -8; y <= 8; y += 0.05) {

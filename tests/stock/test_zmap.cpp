@@ -33,7 +33,7 @@ double seg_dist(double x, double y, const Point3& a, const Point3& b) {
 // sqrt(r^2 - (rho - (D/2 - r))^2); no tool beyond D/2 (infinite).
 double lower_surface_mm(const ToolProfile& tool, double rho) {
   const double R = tool.radius_mm;
-  const double r = tool.kind == ToolKind::ball ? R : tool.kind == ToolKind::flat ? 0.0 : tool.corner_radius_mm;
+  const double r = tool.kind == EndShape::ball ? R : tool.kind == EndShape::flat ? 0.0 : tool.corner_radius_mm;
   if (rho > R) return std::numeric_limits<double>::infinity();
   const double u = std::max(0.0, rho - (R - r));
   return r - std::sqrt(std::max(0.0, r * r - u * u));
@@ -59,7 +59,7 @@ TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above th
   // against lower_height at every cell of random rows and the cells themselves.
   std::mt19937 rng(14);
   std::uniform_real_distribution<double> u(0, 1);
-  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 3, 0}, {ToolKind::bull, 5, 1.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 5, 1.5}};
   int rows = 0;
   for (const ToolProfile& t : tools)
     for (int k = 0; k < 40; ++k) {
@@ -75,7 +75,7 @@ TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above th
     }
   CHECK(rows > 1000);
   ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
-  sweep_line_reference(z, LineSweep({ToolKind::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  sweep_line_reference(z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
   for (int j = 0; j < z.grid().ny; j += 7)
     for (int i0 = 0; i0 < z.grid().nx; i0 += 29) {
       const int i1 = std::min(z.grid().nx - 1, i0 + 90);
@@ -115,7 +115,7 @@ TEST_CASE("box z-map: heights, overhanging cells, outside") {
 TEST_CASE("ball along a line leaves the circular trench, exact at cell centres") {
   const double c = 0.05, R = 5, top = 0, ap = 2;
   ZMap z = zmap_from_box(parse_box("box:0,0,-20,60,30,0"), c);
-  const ToolProfile ball{ToolKind::ball, R, R};
+  const ToolProfile ball{EndShape::ball, R, R};
   const Point3 a{10, 15.01, top - ap}, b{50, 15.01, top - ap};
   const double removed = sweep_line(z, ball, a, b);
   const double half_width = std::sqrt(ap * (2 * R - ap));
@@ -149,7 +149,7 @@ TEST_CASE("ball along a line leaves the circular trench, exact at cell centres")
 TEST_CASE("flat end along a diagonal line leaves a rectangular trench") {
   const double c = 0.05, R = 3;
   ZMap z = zmap_from_box(parse_box("box:0,0,-20,40,40,0"), c);
-  const ToolProfile flat{ToolKind::flat, R, 0};
+  const ToolProfile flat{EndShape::flat, R, 0};
   const Point3 a{8, 9, -1.5}, b{31, 27, -1.5};
   sweep_line(z, flat, a, b);
   for (int j = 0; j < z.grid().ny; j += 3)
@@ -166,7 +166,7 @@ TEST_CASE("bull nose along a line: torus profile across the trench") {
   // rho (lower_surface_mm); beyond D/2 the stock is untouched.
   const double D = 8, r = 1, tip_z = -0.8;
   ZMap z = zmap_from_box(parse_box("box:0,0,-20,40,20,0"), 0.05);
-  const ToolProfile bull{ToolKind::bull, D / 2, r};
+  const ToolProfile bull{EndShape::bull, D / 2, r};
   sweep_line(z, bull, {5, 10, tip_z}, {35, 10, tip_z});
   const int i = z.ix(20);
   int on_corner = 0;
@@ -189,7 +189,7 @@ TEST_CASE("bull nose along a line: torus profile across the trench") {
 TEST_CASE("ramps and plunges: closed-form envelope equals the brute-force minimum") {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-9, 9);
-  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 4, 0}, {ToolKind::bull, 4, 1.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 4, 0}, {EndShape::bull, 4, 1.5}};
   const Point3 segs[][2] = {
       {{0, 0, 0}, {6, 2, -3}},    // descending ramp
       {{0, 0, -3}, {5, -3, 1}},   // ascending ramp
@@ -222,9 +222,9 @@ TEST_CASE("ramps and plunges: closed-form envelope equals the brute-force minimu
 TEST_CASE("arc and helix: toroidal trench within the chordal tolerance") {
   const double R = 3, tol = 1e-3;
   ZMap z = zmap_from_box(parse_box("box:-30,-30,-20,30,30,0"), 0.05);
-  const ToolProfile ball{ToolKind::ball, R, R};
+  const ToolProfile ball{EndShape::ball, R, R};
   // Quarter circle of radius 20 about the origin, ccw from +X to +Y, helix -1 -> -2.
-  Arc arc{{20, 0, -1}, {0, 20, -2}, {0, 0, -1}, 17, false};
+  interp::Arc arc{{20, 0, -1}, {0, 20, -2}, {0, 0, -1}, 17, false};
   CHECK(arc_angle(arc) == doctest::Approx(std::numbers::pi / 2));
   CHECK(arc_length_mm(arc) == doctest::Approx(std::hypot(10 * std::numbers::pi, 1.0)));
   sweep_arc(z, ball, arc, tol);
@@ -245,11 +245,11 @@ TEST_CASE("arc and helix: toroidal trench within the chordal tolerance") {
       CHECK(std::fabs(z.at(i, j) - expect) < 2 * tol);
     }
   // Full circle (start == end) sweeps 2 pi.
-  Arc full{{5, 0, -1}, {5, 0, -1}, {0, 0, -1}, 17, true};
+  interp::Arc full{{5, 0, -1}, {5, 0, -1}, {0, 0, -1}, 17, true};
   CHECK(arc_angle(full) == doctest::Approx(2 * std::numbers::pi));
   CHECK(arc_point(full, 0.25)[1] == doctest::Approx(-5));  // clockwise from +X goes to -Y
   // G18 (ZX) arc: the point moves in X and Z, Y stays.
-  Arc zx{{0, 1, 0}, {5, 1, 5}, {5, 1, 0}, 18, true};
+  interp::Arc zx{{0, 1, 0}, {5, 1, 5}, {5, 1, 0}, 18, true};
   const Point3 mid = arc_point(zx, 0.5);
   CHECK(mid[1] == doctest::Approx(1));
   CHECK(std::hypot(mid[0] - 5, mid[2]) == doctest::Approx(5));
@@ -262,7 +262,7 @@ TEST_CASE("500 x 500 mm stock at the default resolution stays well under 1 GB") 
   CHECK(z.allocated_bytes() < 2'000'000);  // tile headers only
   // Even with every tile allocated (the whole top cut), the map is < 1 GB.
   CHECK(z.worst_case_bytes() < 500'000'000ull);
-  const ToolProfile ball{ToolKind::ball, 5, 5};
+  const ToolProfile ball{EndShape::ball, 5, 5};
   for (int k = 0; k < 3; ++k) sweep_line(z, ball, {0, 100.0 + 100 * k, -1}, {500, 100.0 + 100 * k, -1});
   // A D10 trench is 200 cells wide: at most 5 tile rows of 157 tiles per pass.
   CHECK(z.allocated_tiles() <= 3 * 5 * 157);
@@ -277,8 +277,8 @@ TEST_CASE("chained sweeps in parallel bands equal one-by-one sweeps, cell for ce
   // shortcut must never skip a cell that a full sweep would lower.
   const std::vector<Point3> pts = {{5, 5, -1},  {15, 5, -1},  {20, 8, -0.5}, {26, 12, -2.5}, {26, 12, -4},
                                    {26, 12, -1}, {12, 20, -1.2}, {12, 30, -0.8}, {30, 30, -0.8}, {30, 20, -3}};
-  for (const ToolProfile& t : {ToolProfile{ToolKind::ball, 4, 4}, ToolProfile{ToolKind::flat, 3, 0},
-                               ToolProfile{ToolKind::bull, 4, 1}}) {
+  for (const ToolProfile& t : {ToolProfile{EndShape::ball, 4, 4}, ToolProfile{EndShape::flat, 3, 0},
+                               ToolProfile{EndShape::bull, 4, 1}}) {
     ZMap a = zmap_from_box(parse_box("box:0,0,-20,40,40,0"), 0.1);
     ZMap b = zmap_from_box(parse_box("box:0,0,-20,40,40,0"), 0.1);
     std::vector<LineSweep> segs;
@@ -301,7 +301,7 @@ TEST_CASE("chained sweeps in parallel bands equal one-by-one sweeps, cell for ce
 TEST_CASE("row kernels equal lower_height; AVX2 lanes equal the scalar tail") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-6, 6), dz(-3, 3);
-  const ToolProfile tools[] = {{ToolKind::ball, 4, 4}, {ToolKind::flat, 3, 0}, {ToolKind::bull, 4, 1.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 4, 1.5}};
   const double c = 0.05, gx0 = -12.3;
   int compared = 0;
   for (const ToolProfile& t : tools)
@@ -342,7 +342,7 @@ TEST_CASE("chains of short moves with the fast paths equal straightforward sweep
   // reference sweep of every move over its whole footprint.
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> u01(0, 1);
-  const ToolProfile tools[] = {{ToolKind::ball, 3, 3}, {ToolKind::flat, 2.5, 0}, {ToolKind::bull, 3, 1}, {ToolKind::bull, 3, 2.5}};
+  const ToolProfile tools[] = {{EndShape::ball, 3, 3}, {EndShape::flat, 2.5, 0}, {EndShape::bull, 3, 1}, {EndShape::bull, 3, 2.5}};
   for (const ToolProfile& t : tools)
     for (int mode = 0; mode < 5; ++mode) {  // 0 level, 1 rising, 2 descending, 3 steep descents, 4 mixed + plunges
       CAPTURE(static_cast<int>(t.kind));
@@ -351,7 +351,7 @@ TEST_CASE("chains of short moves with the fast paths equal straightforward sweep
       ZMap fast = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
       ZMap ref = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
       // A pre-cut surface, so earlier "passes" leave cells below the new ones.
-      for (ZMap* z : {&fast, &ref}) sweep_line_reference(*z, LineSweep({ToolKind::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+      for (ZMap* z : {&fast, &ref}) sweep_line_reference(*z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
       std::vector<Point3> pts{{6 + 4 * u01(rng), 6 + 4 * u01(rng), -0.5}};
       double heading = 2 * std::numbers::pi * u01(rng);
       for (int k = 0; k < 160; ++k) {
@@ -408,7 +408,7 @@ TEST_CASE("chains of short moves with the fast paths equal straightforward sweep
 TEST_CASE("max_height_in follows the cuts") {
   ZMap z = zmap_from_box(parse_box("box:0,0,-10,20,20,0"), 0.05);
   CHECK(z.max_height_in(5, 5, 8, 8) == 0);
-  const ToolProfile flat{ToolKind::flat, 6, 0};
+  const ToolProfile flat{EndShape::flat, 6, 0};
   sweep_line(z, flat, {-10, 10, -2}, {30, 10, -2});  // cuts y in [4, 16] to -2
   CHECK(z.max_height_in(2, 8, 18, 12) == doctest::Approx(-2));
   CHECK(z.max_height_in(2, 3, 18, 12) == 0);  // touches the uncut row y < 4
@@ -488,7 +488,7 @@ TEST_CASE("lower_row: cells, removed volume and row / tile maxima equal a per-ce
 TEST_CASE("row_ranges equals row_range per row, bit for bit") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 1);
-  const ToolProfile tools[] = {{ToolKind::ball, 8, 8}, {ToolKind::bull, 5, 1.5}, {ToolKind::flat, 3, 0}};
+  const ToolProfile tools[] = {{EndShape::ball, 8, 8}, {EndShape::bull, 5, 1.5}, {EndShape::flat, 3, 0}};
   long long rows = 0, hits = 0;
   for (int it = 0; it < 3000; ++it) {
     const ToolProfile& t = tools[it % 3];

@@ -30,8 +30,8 @@ namespace {
 // D10 pocket through the base at one corner (cells without material).
 ZMap scallop_field() {
   ZMap z = make_stock("box:0,0,-5,40,30,0", {0.05});
-  for (double y = 0; y <= 30; y += 0.5) sweep_line(z, {ToolKind::ball, 3, 3}, {-4, y, -1 - y / 20}, {44, y, -2.5 - y / 20});
-  sweep_line(z, {ToolKind::flat, 5, 0}, {36, 26, -6}, {36, 26, -6});
+  for (double y = 0; y <= 30; y += 0.5) sweep_line(z, {EndShape::ball, 3, 3}, {-4, y, -1 - y / 20}, {44, y, -2.5 - y / 20});
+  sweep_line(z, {EndShape::flat, 5, 0}, {36, 26, -6}, {36, 26, -6});
   return z;
 }
 

@@ -17,7 +17,7 @@
 // handled as well as lines. Every in/out transition is refined by bisection.
 // evaluate() settles most of those tests without making them (arcs of samples
 // above every Z-map cell they could read, pending sweeps out of reach of a slice
-// or a point; engagement.cpp), with the results of making them all,
+// or a point; src/engage/probe.hpp), with the results of making them all,
 // evaluate_reference(), bit for bit.
 //
 // Plunges and ramps. The feed frame takes the XY direction of travel; a pure

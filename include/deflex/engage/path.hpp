@@ -16,7 +16,6 @@
 
 #include "deflex/engage/engagement.hpp"
 #include "deflex/interp/motion.hpp"
-#include "deflex/stock/sweep.hpp"
 
 namespace deflex::engage {
 
@@ -32,8 +31,6 @@ struct CLSample {
   int index = 0, count = 0;  // sample index in the motion, 1..count (count: the end point)
   bool rapid = false;
 };
-
-stock::Arc arc_of(const interp::Motion& m);  // requires an arc motion
 
 // Vertices v_0 .. v_n of a motion (see above); v_0 = start, v_n = end exactly.
 std::vector<Point3> motion_vertices(const interp::Motion& m, const PathOptions& o);

@@ -9,22 +9,20 @@
 #include <string>
 #include <vector>
 
-namespace deflex::force {
+#include "deflex/stock/end_shape.hpp"
 
-enum class CutterType { flat, ball, bull };
+namespace deflex::force {
 
 // The cutting part of a helical end mill. For a ball end the corner radius is
 // D/2 (it is ignored); for a flat end mill it is 0.
 struct Cutter {
-  CutterType type = CutterType::flat;
+  stock::EndShape type = stock::EndShape::flat;
   double diameter_mm = 10.0;
   double corner_radius_mm = 0.0;  // bull nose only
   int flutes = 2;
   double helix_deg = 30.0;        // helix angle i0 on the cylinder, right-hand
   double flute_length_mm = 20.0;  // cutting length above the tip
 };
-
-const char* to_string(CutterType t);
 
 // Throws deflex::Error(ErrorKind::config) when the geometry cannot be cut with.
 void validate(const Cutter& c);

@@ -5,9 +5,9 @@
 #include <optional>
 #include <string>
 
-namespace deflex::stiffness {
+#include "deflex/stock/end_shape.hpp"
 
-enum class ToolType { ball, flat, bull };
+namespace deflex::stiffness {
 
 // Linear-elastic isotropic material.
 struct Material {
@@ -36,7 +36,7 @@ struct Neck {
 
 struct Tool {
   std::string id;
-  ToolType type = ToolType::flat;
+  stock::EndShape type = stock::EndShape::flat;
   double diameter_mm = 0;
   double corner_radius_mm = 0;  // bull: corner; ball: diameter/2; flat: 0
   int flutes = 2;
@@ -70,7 +70,5 @@ ToolLibrary parse_tool_library(const std::string& yaml_text, const std::string& 
 
 // Throws Error(ErrorKind::settings) naming the known tools when `id` is missing.
 const Tool& find_tool(const ToolLibrary& lib, const std::string& id);
-
-std::string to_string(ToolType t);
 
 }  // namespace deflex::stiffness

@@ -16,8 +16,8 @@
 #pragma once
 #include <array>
 #include <span>
-#include <vector>
 
+#include "deflex/interp/arc.hpp"
 #include "deflex/stock/tool.hpp"
 #include "deflex/stock/zmap.hpp"
 
@@ -60,7 +60,7 @@ class LineSweep {
   // interval; false if none. Those cells are in next's row_range(y, .., true), this
   // move cannot lower them below the tool at b, and next lowers them below it by a
   // margin far above the rounding of the row kernels, so next's height is <= this
-  // move's (as floats) and leaving them out changes no cell (see sweep.cpp). Leaves
+  // move's (as floats) and leaving them out changes no cell (see handoff.cpp). Leaves
   // out nothing for plunges, other tools, very short or very steep moves and a
   // flat end that next does not lower.
   bool end_handoff(const LineSweep& next, double y_mm, double& x0_mm, double& x1_mm) const;
@@ -117,23 +117,7 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut);
 // Consecutive points joined by lines.
 double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> pts_mm);
 
-// A circular or helical arc as the interpreter gives it (interp::Motion): plane
-// 17 (XY, helix along Z), 18 (ZX, along Y) or 19 (YZ, along X); cw seen from the
-// positive normal axis; the centre's normal coordinate equals the start's; end ==
-// start (in the plane) is a full circle.
-struct Arc {
-  Point3 start_mm{}, end_mm{}, centre_mm{};
-  int plane = 17;
-  bool cw = true;
-};
-double arc_radius_mm(const Arc& a);
-double arc_angle(const Arc& a);                  // swept angle, rad, in (0, 2 pi]
-double arc_length_mm(const Arc& a);              // including the helical rise
-Point3 arc_point(const Arc& a, double u);        // u in [0, 1]; exact at both ends
-Point3 arc_tangent(const Arc& a, double u);      // unit, direction of travel
-// Chords so that the sagitta r (1 - cos(dtheta / 2)) <= chord_tol_mm.
-int arc_chord_count(const Arc& a, double chord_tol_mm);
-std::vector<Point3> arc_polyline(const Arc& a, int chords);
-double sweep_arc(ZMap& z, const ToolProfile& tool, const Arc& a, double chord_tol_mm);
+// An arc or helix (interp/arc.hpp) as the chords of arc_chord_count(a, chord_tol_mm).
+double sweep_arc(ZMap& z, const ToolProfile& tool, const interp::Arc& a, double chord_tol_mm);
 
 }  // namespace deflex::stock

@@ -7,20 +7,18 @@
 #include <cmath>
 #include <limits>
 
+#include "deflex/stock/end_shape.hpp"
+
 namespace deflex::stock {
 
-enum class ToolKind { flat, ball, bull };
-
 struct ToolProfile {
-  ToolKind kind = ToolKind::flat;
+  EndShape kind = EndShape::flat;
   double radius_mm = 5.0;         // R0 = D/2
   double corner_radius_mm = 0.0;  // bull nose r_c in (0, R0]; ball: R0; flat: 0
 };
 
 // Corner radius actually used by the geometry (R0 for a ball, 0 for a flat end).
-inline double corner_of(const ToolProfile& t) {
-  return t.kind == ToolKind::ball ? t.radius_mm : t.kind == ToolKind::flat ? 0.0 : t.corner_radius_mm;
-}
+inline double corner_of(const ToolProfile& t) { return corner_radius_mm(t.kind, t.radius_mm, t.corner_radius_mm); }
 
 // Height of the lower surface above the tip at distance d from the axis;
 // +inf beyond the radius. Flat end: 0; corner arc of radius r_c centred at
