@@ -69,7 +69,8 @@ bool is_float(const std::string& name) { return name != "line" && name != "norma
 Columns::Columns() : names_(header_names()) {
   for (const std::string& n : names_) {
     if (!is_float(n)) continue;
-    if (!getters().count(n)) throw std::logic_error("points.csv column '" + n + "' has no Python binding (python/src/columns.cpp)");
+    if (!getters().count(n))
+      throw std::logic_error("points.csv column '" + n + "' has no Python binding (python/src/columns.cpp)");
     values_.emplace_back();
   }
 }

@@ -25,10 +25,10 @@ class Columns {
   py::dict to_numpy() const;
 
  private:
-  std::vector<std::string> names_;            // the header's columns
+  std::vector<std::string> names_;  // the header's columns
   std::vector<std::uint32_t> lines_;
   std::vector<std::string> normal_sources_;
-  std::vector<std::vector<double>> values_;   // per float column of names_, in order
+  std::vector<std::vector<double>> values_;  // per float column of names_, in order
 };
 
 }  // namespace deflex::python

@@ -13,11 +13,16 @@ namespace {
 
 const char* class_of(Exit code) {
   switch (code) {
-    case Exit::input: return "InputError";
-    case Exit::usage: return "UsageError";
-    case Exit::config: return "ConfigError";
-    case Exit::io: return "FileError";
-    default: return "InternalError";
+    case Exit::input:
+      return "InputError";
+    case Exit::usage:
+      return "UsageError";
+    case Exit::config:
+      return "ConfigError";
+    case Exit::io:
+      return "FileError";
+    default:
+      return "InternalError";
   }
 }
 

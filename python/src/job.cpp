@@ -1,12 +1,13 @@
 // _deflex.Job: job::Settings from keywords or a job file, and the runs of the
 // job API (job/job.hpp) with the GIL released, their results as Python objects
 // (deflex/results.py wraps them).
+#include "deflex/job/job.hpp"
+
 #include <pybind11/stl.h>
 
 #include <sstream>
 
 #include "bindings.hpp"
-#include "deflex/job/job.hpp"
 #include "observer.hpp"
 #include "settings.hpp"
 

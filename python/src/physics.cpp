@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <optional>
 
@@ -28,6 +29,13 @@ namespace {
 namespace st = deflex::stiffness;
 namespace fo = deflex::force;
 
+// A number as a message shows it (printf's %g: 500, not 500.000000).
+std::string shown(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
 std::string opt_path(const char* what, const py::object& v) { return v.is_none() ? "" : path_text(what, v); }
 
 // Heights along the flutes: the ones given (each on the flutes), or seven
@@ -39,15 +47,16 @@ std::vector<double> load_heights(const std::optional<std::vector<double>>& given
     for (int i = 0; i <= 6; ++i) h.push_back(std::round(top * i / 6 * 1000) / 1000);
   for (double v : given.value_or(std::vector<double>()))
     if (!(v >= 0 && v <= top + 1e-9))
-      throw Error(Exit::usage, "heights_mm: " + std::to_string(v) + " is not along the flutes of " + t.id + " (0 to " +
-                                   std::to_string(top) + " mm)");
+      throw Error(Exit::usage,
+                  "heights_mm: " + shown(v) + " is not along the flutes of " + t.id + " (0 to " + shown(top) + " mm)");
   return given ? *given : h;
 }
 
 py::dict compliance(const std::string& tool, const py::object& tool_file, const py::object& machine,
                     const std::optional<std::vector<double>>& heights_mm, bool tool_only, const std::string& method,
                     double mesh_mm) {
-  if (method != "beam" && method != "solid") throw Error(Exit::usage, "method must be beam or solid, not '" + method + "'");
+  if (method != "beam" && method != "solid")
+    throw Error(Exit::usage, "method must be beam or solid, not '" + method + "'");
   const profile::Config cfg = profile::load_config();
   const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
   const st::Tool& t = st::find_tool(lib, tool);
@@ -64,7 +73,8 @@ py::dict compliance(const std::string& tool, const py::object& tool_file, const 
     py::gil_scoped_release nogil;  // the solid model meshes and solves for seconds
     st::SolidOptions so;
     so.mesh_size_mm = mesh_mm;
-    const st::ComplianceTable table = method == "beam" ? st::beam_compliance(t, m, only) : st::solid_compliance(t, m, only, so);
+    const st::ComplianceTable table =
+        method == "beam" ? st::beam_compliance(t, m, only) : st::solid_compliance(t, m, only, so);
     rows = st::sample(table, hs);
   }
   py::array_t<double> h(py::ssize_t(rows.size())), c({py::ssize_t(rows.size()), py::ssize_t(3), py::ssize_t(3)});
@@ -100,15 +110,16 @@ py::dict forces(const std::string& tool, const py::object& tool_file, const job:
   require_positive("ap_mm", ap_mm);
   require_positive("fz_mm", fz_mm, true);
   require_positive("dz_mm", dz_mm);
-  if (milling != "up" && milling != "down") throw Error(Exit::usage, "milling must be 'up' or 'down', not '" + milling + "'");
+  if (milling != "up" && milling != "down")
+    throw Error(Exit::usage, "milling must be 'up' or 'down', not '" + milling + "'");
   if (steps < 4 || steps > 1000000) throw Error(Exit::usage, "steps must be between 4 and 1000000");
   const fo::Coefficients k = material_of(mat);
   const profile::Config cfg = profile::load_config();
   const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
   const fo::Cutter cutter = fo::cutter_of(st::find_tool(lib, tool));
   if (ap_mm > cutter.flute_length_mm)
-    throw Error(Exit::usage, "ap_mm " + std::to_string(ap_mm) + " exceeds the flute length of tool " + tool + " (" +
-                                 std::to_string(cutter.flute_length_mm) + " mm)");
+    throw Error(Exit::usage, "ap_mm " + shown(ap_mm) + " exceeds the flute length of tool " + tool + " (" +
+                                 shown(cutter.flute_length_mm) + " mm)");
   // At least 20 axial slices, as `deflex forces` cuts them.
   const fo::CutterSlices slices = fo::make_slices(cutter, std::min(dz_mm, ap_mm / 20), ap_mm);
   fo::Engagement eng;
@@ -134,7 +145,8 @@ py::dict forces(const std::string& tool, const py::object& tool_file, const job:
 // Mikó et al. Eq. 4 and 7 (process/cusp.hpp), angles in degrees.
 double cusp_height_mm(double diameter_mm, double stepover_mm, double inclination_deg, double direction_deg) {
   constexpr double rad = std::numbers::pi / 180;
-  return process::cusp_height_mm(diameter_mm, stepover_mm, process::cusp_alpha3_rad(direction_deg * rad, inclination_deg * rad));
+  return process::cusp_height_mm(diameter_mm, stepover_mm,
+                                 process::cusp_alpha3_rad(direction_deg * rad, inclination_deg * rad));
 }
 
 }  // namespace
@@ -145,11 +157,12 @@ void bind_physics(py::module_& m) {
         py::arg("mesh_mm") = 0.0);
   m.def(
       "forces",
-      [](const std::string& tool, const py::object& tool_file, const py::object& material, const py::object& material_file,
-         std::optional<double> kt, std::optional<double> kr, std::optional<double> ka, std::optional<double> kte,
-         std::optional<double> kre, std::optional<double> kae, double ae_mm, double ap_mm, double fz_mm,
-         const std::string& milling, int steps, double dz_mm) {
-        job::MaterialSettings mat{opt_path("material", material), opt_path("material_file", material_file), kt, kr, ka, kte, kre, kae};
+      [](const std::string& tool, const py::object& tool_file, const py::object& material,
+         const py::object& material_file, std::optional<double> kt, std::optional<double> kr, std::optional<double> ka,
+         std::optional<double> kte, std::optional<double> kre, std::optional<double> kae, double ae_mm, double ap_mm,
+         double fz_mm, const std::string& milling, int steps, double dz_mm) {
+        job::MaterialSettings mat{
+            opt_path("material", material), opt_path("material_file", material_file), kt, kr, ka, kte, kre, kae};
         return forces(tool, tool_file, mat, ae_mm, ap_mm, fz_mm, milling, steps, dz_mm);
       },
       py::kw_only(), py::arg("tool"), py::arg("tool_file") = py::none(), py::arg("material") = py::none(),

@@ -32,8 +32,8 @@ std::string text(const char* name, py::handle v) {
 
 double number(const char* name, py::handle v) {
   // bool is an int in Python: refused, tolerance_mm=True is a mistake.
-  if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) ||
-                                        py::hasattr(v, "__float__")))
+  if (py::isinstance<py::bool_>(v) ||
+      !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) || py::hasattr(v, "__float__")))
     wrong_type(name, "a number", v);
   return py::cast<double>(v);
 }
@@ -104,7 +104,8 @@ Field stock_from_field() {
           [](const Settings& s) {
             py::list l;
             for (const job::EarlierOp& e : s.stock_from)
-              l.append(e.tool_file.empty() ? py::object(py::str(e.program)) : py::object(py::make_tuple(e.program, e.tool_file)));
+              l.append(e.tool_file.empty() ? py::object(py::str(e.program))
+                                           : py::object(py::make_tuple(e.program, e.tool_file)));
             return py::object(l);
           }};
 }
@@ -113,12 +114,14 @@ Field stock_from_field() {
 Field block_delete_field() {
   return {"block_delete",
           [](Settings& s, py::handle v) {
-            s.read.block_delete = py::isinstance<py::bool_>(v) ? (v.cast<bool>() ? "on" : "off") : text("block_delete", v);
+            s.read.block_delete =
+                py::isinstance<py::bool_>(v) ? (v.cast<bool>() ? "on" : "off") : text("block_delete", v);
           },
           [](const Settings& s) { return py::object(py::bool_(s.read.block_delete == "on")); }};
 }
 
-#define DEFLEX_REF(expr) [](Settings& s) -> auto& { return s.expr; }
+#define DEFLEX_REF(expr) \
+  [](Settings & s) -> auto& { return s.expr; }
 
 const std::vector<Field>& fields() {
   static const std::vector<Field> all = {
