@@ -2,9 +2,11 @@
 # Install deflex's build and test dependencies from Debian 12 packages.
 # Idempotent: packages already present are skipped; apt-get runs only when
 # something is missing. Must run as root (or with sudo available).
-#   scripts/install-deps.sh          build + run dependencies
+#   scripts/install-deps.sh          build + run dependencies (pybind11, Python's headers and NumPy:
+#                                    the Python bindings in python/)
 #   scripts/install-deps.sh --test   also what the test suite needs: LinuxCNC's rs274, Chromium and
-#                                    libpng (report_browser), bash-completion (cli_completion)
+#                                    libpng (report_browser), bash-completion (cli_completion),
+#                                    pytest and matplotlib (python: python/tests, examples/)
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
 #   scripts/install-deps.sh --fuzz   also clang 14 and its runtimes (ASan, UBSan, libFuzzer)
 #   scripts/install-deps.sh --package  also what CPack's .deb needs (file, dpkg-shlibdeps)
@@ -12,10 +14,11 @@ set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-three libjs-dygraphs help2man"
+libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-three libjs-dygraphs help2man
+pybind11-dev python3-dev python3-numpy"
 for a in "$@"; do
   case "$a" in
-    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion" ;;
+    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion python3-pytest python3-matplotlib" ;;
     --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
     --fuzz)  pkgs="$pkgs clang-14 libclang-rt-14-dev" ;;
     --package) pkgs="$pkgs file dpkg-dev" ;;

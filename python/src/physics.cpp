@@ -1,0 +1,177 @@
+// The physics as plain calls, the library functions behind `deflex stiffness`
+// (src/cli/cmd_stiffness.cpp), `deflex forces` (src/cli/cmd_forces.cpp) and
+// the cusp height (process/cusp.hpp): numbers and NumPy arrays, units in the
+// names. Libraries default as a job's do (job/setup.hpp: config.yaml, else
+// the installed samples).
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+
+#include "bindings.hpp"
+#include "deflex/force/mechanistic.hpp"
+#include "deflex/force/tool.hpp"
+#include "deflex/job/setup.hpp"
+#include "deflex/process/cusp.hpp"
+#include "deflex/profile/profile.hpp"
+#include "deflex/stiffness/beam.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stiffness/compliance.hpp"
+#include "deflex/stiffness/solid.hpp"
+#include "settings.hpp"
+
+namespace deflex::python {
+namespace {
+
+namespace st = deflex::stiffness;
+namespace fo = deflex::force;
+
+// A number as a message shows it (printf's %g: 500, not 500.000000).
+std::string shown(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+std::string opt_path(const char* what, const py::object& v) { return v.is_none() ? "" : path_text(what, v); }
+
+// Heights along the flutes: the ones given (each on the flutes), or seven
+// evenly spaced from the tip, as `deflex stiffness` prints them.
+std::vector<double> load_heights(const std::optional<std::vector<double>>& given, const st::Tool& t) {
+  const double top = std::min(t.flute_length_mm, t.stickout_mm);
+  std::vector<double> h;
+  if (!given)
+    for (int i = 0; i <= 6; ++i) h.push_back(std::round(top * i / 6 * 1000) / 1000);
+  for (double v : given.value_or(std::vector<double>()))
+    if (!(v >= 0 && v <= top + 1e-9))
+      throw Error(ErrorKind::settings,
+                  "heights_mm: " + shown(v) + " is not along the flutes of " + t.id + " (0 to " + shown(top) + " mm)");
+  return given ? *given : h;
+}
+
+py::dict compliance(const std::string& tool, const py::object& tool_file, const py::object& machine,
+                    const std::optional<std::vector<double>>& heights_mm, bool tool_only, const std::string& method,
+                    double mesh_mm) {
+  if (method != "beam" && method != "solid")
+    throw Error(ErrorKind::settings, "method must be beam or solid, not '" + method + "'");
+  const profile::Config cfg = profile::load_config();
+  const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
+  const st::Tool& t = st::find_tool(lib, tool);
+  // No machine: the tool clamped rigidly at the holder face, as `deflex stiffness` without --machine.
+  const bool only = tool_only || machine.is_none();
+  st::MachineStiffness m;
+  if (!only) {
+    const profile::MachineProfile mp = profile::load_machine(path_text("machine", machine));
+    m = st::parse_machine_stiffness(mp.root, mp.file);
+  }
+  const std::vector<double> hs = load_heights(heights_mm, t);
+  std::vector<st::ComplianceRow> rows;
+  {
+    py::gil_scoped_release nogil;  // the solid model meshes and solves for seconds
+    st::SolidOptions so;
+    so.mesh_size_mm = mesh_mm;
+    const st::ComplianceTable table =
+        method == "beam" ? st::beam_compliance(t, m, only) : st::solid_compliance(t, m, only, so);
+    rows = st::sample(table, hs);
+  }
+  py::array_t<double> h(py::ssize_t(rows.size())), c({py::ssize_t(rows.size()), py::ssize_t(3), py::ssize_t(3)});
+  auto hw = h.mutable_unchecked<1>();
+  auto cw = c.mutable_unchecked<3>();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    hw(py::ssize_t(i)) = rows[i].height_mm;
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) cw(py::ssize_t(i), r, k) = rows[i].matrix_mm_per_N(r, k);
+  }
+  py::dict d;
+  d["heights_mm"] = h;
+  d["matrix_mm_per_N"] = c;
+  return d;
+}
+
+// The work material as a job resolves it (job/open.cpp resolve_physics):
+// given by name or by coefficients, else config.yaml's material.
+fo::Coefficients material_of(job::MaterialSettings mat) {
+  const profile::Config cfg = profile::load_config();
+  if (!mat.material.empty() || !mat.kt) mat.material_file = job::material_library_path(mat.material_file, cfg);
+  return job::coefficients_of(mat, job::config_string(cfg, "material"));
+}
+
+void require_positive(const char* name, double v, bool zero_ok = false) {
+  if (!std::isfinite(v) || v < 0 || (!zero_ok && v == 0))
+    throw Error(ErrorKind::settings, std::string(name) + (zero_ok ? " must be >= 0" : " must be > 0"));
+}
+
+py::dict forces(const std::string& tool, const py::object& tool_file, const job::MaterialSettings& mat, double ae_mm,
+                double ap_mm, double fz_mm, const std::string& milling, int steps, double dz_mm) {
+  require_positive("ae_mm", ae_mm);
+  require_positive("ap_mm", ap_mm);
+  require_positive("fz_mm", fz_mm, true);
+  require_positive("dz_mm", dz_mm);
+  if (milling != "up" && milling != "down")
+    throw Error(ErrorKind::settings, "milling must be 'up' or 'down', not '" + milling + "'");
+  if (steps < 4 || steps > 1000000) throw Error(ErrorKind::settings, "steps must be between 4 and 1000000");
+  const fo::Coefficients k = material_of(mat);
+  const profile::Config cfg = profile::load_config();
+  const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
+  const fo::Cutter cutter = fo::cutter_of(st::find_tool(lib, tool));
+  if (ap_mm > cutter.flute_length_mm)
+    throw Error(ErrorKind::settings, "ap_mm " + shown(ap_mm) + " exceeds the flute length of tool " + tool + " (" +
+                                 shown(cutter.flute_length_mm) + " mm)");
+  // At least 20 axial slices, as `deflex forces` cuts them.
+  const fo::CutterSlices slices = fo::make_slices(cutter, std::min(dz_mm, ap_mm / 20), ap_mm);
+  fo::Engagement eng;
+  fo::simple_engagement(slices, ae_mm, ap_mm, milling == "up" ? fo::MillingMode::up : fo::MillingMode::down, eng);
+  const std::vector<fo::Vec3> F = fo::revolution_forces(slices, k, fz_mm, eng, steps);
+  const fo::ForceSummary s = fo::summarize(F);
+  py::array_t<double> angle(static_cast<py::ssize_t>(steps)), force({py::ssize_t(steps), py::ssize_t(3)});
+  auto aw = angle.mutable_unchecked<1>();
+  auto fw = force.mutable_unchecked<2>();
+  for (int j = 0; j < steps; ++j) {
+    aw(j) = 360.0 * j / steps;
+    for (int c = 0; c < 3; ++c) fw(j, c) = F[std::size_t(j)][c];
+  }
+  auto vec = [](const fo::Vec3& v) { return py::array_t<double>(3, v.data()); };
+  py::dict d;
+  d["angle_deg"] = angle;
+  d["force_N"] = force;
+  d["mean_N"] = vec(s.mean_N);
+  d["peak_abs_N"] = vec(s.peak_abs_N);
+  return d;
+}
+
+// Mikó et al. Eq. 4 and 7 (process/cusp.hpp), angles in degrees.
+double cusp_height_mm(double diameter_mm, double stepover_mm, double inclination_deg, double direction_deg) {
+  constexpr double rad = std::numbers::pi / 180;
+  return process::cusp_height_mm(diameter_mm, stepover_mm,
+                                 process::cusp_alpha3_rad(direction_deg * rad, inclination_deg * rad));
+}
+
+}  // namespace
+
+void bind_physics(py::module_& m) {
+  m.def("compliance", &compliance, py::arg("tool"), py::arg("tool_file") = py::none(), py::arg("machine") = py::none(),
+        py::arg("heights_mm") = py::none(), py::arg("tool_only") = false, py::arg("method") = "beam",
+        py::arg("mesh_mm") = 0.0);
+  m.def(
+      "forces",
+      [](const std::string& tool, const py::object& tool_file, const py::object& material,
+         const py::object& material_file, std::optional<double> kt, std::optional<double> kr, std::optional<double> ka,
+         std::optional<double> kte, std::optional<double> kre, std::optional<double> kae, double ae_mm, double ap_mm,
+         double fz_mm, const std::string& milling, int steps, double dz_mm) {
+        job::MaterialSettings mat{
+            opt_path("material", material), opt_path("material_file", material_file), kt, kr, ka, kte, kre, kae};
+        return forces(tool, tool_file, mat, ae_mm, ap_mm, fz_mm, milling, steps, dz_mm);
+      },
+      py::kw_only(), py::arg("tool"), py::arg("tool_file") = py::none(), py::arg("material") = py::none(),
+      py::arg("material_file") = py::none(), py::arg("kt_N_per_mm2") = py::none(), py::arg("kr_N_per_mm2") = py::none(),
+      py::arg("ka_N_per_mm2") = py::none(), py::arg("kte_N_per_mm") = py::none(), py::arg("kre_N_per_mm") = py::none(),
+      py::arg("kae_N_per_mm") = py::none(), py::arg("ae_mm"), py::arg("ap_mm"), py::arg("fz_mm"),
+      py::arg("milling") = "down", py::arg("steps") = 360, py::arg("dz_mm") = 0.05);
+  m.def("cusp_height_mm", py::vectorize(&cusp_height_mm), py::arg("diameter_mm"), py::arg("stepover_mm"),
+        py::arg("inclination_deg") = 0.0, py::arg("direction_deg") = 0.0);
+}
+
+}  // namespace deflex::python
