@@ -10,8 +10,8 @@ compensation gives both curves: each row of the compensated program carries
 the error of the program as written at the same place (points.csv's
 surface_error_as_written_mm), so the sample is simulated once, inside it.
 The plot shows one pass across the six surfaces (the pass nearest Y_MM, default
-the middle of the part) against X, and below it the error's distribution over
-the whole program.
+the pass of the worst point as written: the extremes matter, not the median)
+against X, and below it the error's distribution over the whole program.
 """
 
 import argparse
@@ -39,6 +39,8 @@ def one_pass(points, y_mm):
 def plot(result, png, y_mm):
     p = result.points
     tol = result.tolerance_mm
+    if y_mm is None:  # the pass of the largest |error| as written
+        y_mm = p["y_mm"][np.nanargmax(np.abs(p["surface_error_as_written_mm"]))]
     sel = one_pass(p, y_mm)
     order = np.argsort(p["x_mm"][sel])
     x = p["x_mm"][sel][order]
@@ -61,7 +63,8 @@ def plot(result, png, y_mm):
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("png", help="the plot to write (PNG)")
-    ap.add_argument("--pass", dest="y_mm", type=float, default=39.0, help="the pass nearest this Y, mm")
+    ap.add_argument("--pass", dest="y_mm", type=float, default=None,
+                    help="the pass nearest this Y, mm (default: the pass of the worst point as written)")
     a = ap.parse_args(argv)
     result = deflex.Job(**SAMPLE).compensate()  # the compensated program stays in memory: not needed here
     e0, e1 = result.error_as_written, result.error
