@@ -1,7 +1,8 @@
 # The consumer test (cmake/tests.cmake): installs this build into a new prefix,
 # builds tests/consumer there as another project would (find_package(deflex),
 # deflex::deflex), and checks that its compensation of the six-surface sample
-# writes the command line's bytes and summary.json.
+# writes the command line's bytes and summary.json; then the same from a
+# Python script (tests/consumer/consumer.py) through the installed package.
 # -DBUILD=build folder -DSRC=source folder -DWORK=scratch folder -DDEFLEX=the
 # binary -DGENERATOR=CMake generator [-DLAUNCHER=compiler launcher]
 function(run what)
@@ -43,5 +44,34 @@ foreach(pair "consumer.nc;cli.nc" "consumer.json;cli_report/summary.json")
     message(FATAL_ERROR "the consumer's ${a} differs from the command line's ${b} (in ${WORK})")
   endif()
 endforeach()
+
+# The same from Python through the installed package, where the build has it
+# (python/: built when pybind11 is installed). Debian's python3: the module is
+# built for it (a python3 of pyenv or a venv may come first in PATH).
+file(GLOB_RECURSE init ${WORK}/prefix/__init__.py)
+list(FILTER init INCLUDE REGEX "/deflex/__init__\\.py$")
+if(init)
+  list(GET init 0 init)
+  get_filename_component(pkg ${init} DIRECTORY)
+  get_filename_component(site ${pkg} DIRECTORY)
+  set(py /usr/bin/python3)
+  if(NOT EXISTS ${py})
+    find_program(py python3 REQUIRED)
+  endif()
+  run("the Python consumer" ${CMAKE_COMMAND} -E chdir ${SRC} ${CMAKE_COMMAND} -E env PYTHONPATH=${site}
+      ${py} ${SRC}/tests/consumer/consumer.py ${args} ${WORK}/python.nc ${WORK}/python.json)
+  message(STATUS "Python consumer: ${out}")
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${WORK}/python.nc ${WORK}/cli.nc RESULT_VARIABLE differ)
+  if(differ)
+    message(FATAL_ERROR "the Python consumer's program differs from the command line's (in ${WORK})")
+  endif()
+  # The same document, whatever the two JSON writers' spacing.
+  run("comparing summary.json" ${py} -c
+      "import json,sys; a,b=(json.load(open(f)) for f in sys.argv[1:]); sys.exit(a!=b)"
+      ${WORK}/python.json ${WORK}/cli_report/summary.json)
+  message(STATUS "Python consumer: the program and summary.json are the command line's")
+else()
+  message(STATUS "no Python package in the install (pybind11 missing): the Python consumer not run")
+endif()
 file(SIZE ${WORK}/cli.nc size)
 message(STATUS "consumer: the compensated program (${size} bytes) and summary.json are the command line's")
