@@ -15,12 +15,10 @@
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/tool.hpp"
 #include "deflex/job/setup.hpp"
+#include "deflex/job/stiffness.hpp"
 #include "deflex/process/cusp.hpp"
 #include "deflex/profile/profile.hpp"
-#include "deflex/stiffness/beam.hpp"
-#include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/compliance.hpp"
-#include "deflex/stiffness/solid.hpp"
 #include "settings.hpp"
 
 namespace deflex::python {
@@ -38,44 +36,22 @@ std::string shown(double v) {
 
 std::string opt_path(const char* what, const py::object& v) { return v.is_none() ? "" : path_text(what, v); }
 
-// Heights along the flutes: the ones given (each on the flutes), or seven
-// evenly spaced from the tip, as `deflex stiffness` prints them.
-std::vector<double> load_heights(const std::optional<std::vector<double>>& given, const st::Tool& t) {
-  const double top = std::min(t.flute_length_mm, t.stickout_mm);
-  std::vector<double> h;
-  if (!given)
-    for (int i = 0; i <= 6; ++i) h.push_back(std::round(top * i / 6 * 1000) / 1000);
-  for (double v : given.value_or(std::vector<double>()))
-    if (!(v >= 0 && v <= top + 1e-9))
-      throw Error(ErrorKind::settings,
-                  "heights_mm: " + shown(v) + " is not along the flutes of " + t.id + " (0 to " + shown(top) + " mm)");
-  return given ? *given : h;
-}
-
 py::dict compliance(const std::string& tool, const py::object& tool_file, const py::object& machine,
                     const std::optional<std::vector<double>>& heights_mm, bool tool_only, const std::string& method,
                     double mesh_mm) {
-  if (method != "beam" && method != "solid")
-    throw Error(ErrorKind::settings, "method must be beam or solid, not '" + method + "'");
-  const profile::Config cfg = profile::load_config();
-  const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
-  const st::Tool& t = st::find_tool(lib, tool);
+  job::ComplianceSettings cs;
+  cs.tool = tool;
+  cs.tool_file = opt_path("tool_file", tool_file);
   // No machine: the tool clamped rigidly at the holder face, as `deflex stiffness` without --machine.
-  const bool only = tool_only || machine.is_none();
-  st::MachineStiffness m;
-  if (!only) {
-    const profile::MachineProfile mp = profile::load_machine(path_text("machine", machine));
-    m = st::parse_machine_stiffness(mp.root, mp.file);
-  }
-  const std::vector<double> hs = load_heights(heights_mm, t);
+  cs.machine = tool_only ? "" : opt_path("machine", machine);
+  cs.heights_mm = heights_mm.value_or(std::vector<double>());
+  if (heights_mm && heights_mm->empty()) throw Error(ErrorKind::settings, "heights_mm: give at least one height");
+  cs.method = method;
+  cs.mesh_mm = mesh_mm;
   std::vector<st::ComplianceRow> rows;
   {
     py::gil_scoped_release nogil;  // the solid model meshes and solves for seconds
-    st::SolidOptions so;
-    so.mesh_size_mm = mesh_mm;
-    const st::ComplianceTable table =
-        method == "beam" ? st::beam_compliance(t, m, only) : st::solid_compliance(t, m, only, so);
-    rows = st::sample(table, hs);
+    rows = job::compliance(cs).rows;
   }
   py::array_t<double> h(py::ssize_t(rows.size())), c({py::ssize_t(rows.size()), py::ssize_t(3), py::ssize_t(3)});
   auto hw = h.mutable_unchecked<1>();

@@ -29,7 +29,7 @@ def test_compliance_at_heights_and_tool_only():
     assert list(free.heights_mm) == [0.0, 5.0]
     # Holder, spindle and machine in series add compliance.
     assert held.matrix_mm_per_N[0, 0, 0] > free.matrix_mm_per_N[0, 0, 0] > 0
-    with pytest.raises(deflex.UsageError, match="heights_mm"):
+    with pytest.raises(deflex.UsageError, match="load height"):
         deflex.compliance("T5", tool_file="samples/tools.yaml", heights_mm=[500.0])
 
 

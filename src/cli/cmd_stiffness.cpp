@@ -1,18 +1,13 @@
 // deflex stiffness: the compliance C(h) of a tool in its holder on a machine.
 #include <boost/program_options.hpp>
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <ostream>
 
 #include "common.hpp"
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
-#include "deflex/profile/search.hpp"
+#include "deflex/job/stiffness.hpp"
 #include "deflex/report/compliance.hpp"
-#include "deflex/stiffness/beam.hpp"
-#include "deflex/stiffness/machine.hpp"
-#include "deflex/stiffness/solid.hpp"
 #include "deflex/stiffness/tool.hpp"
 
 namespace deflex::cli {
@@ -43,28 +38,6 @@ const char* kHelp =
     "--tool-only, the tool is clamped rigidly at the holder face.\n"
     "\n"
     "JSON: {\"compliance\": [{\"height_mm\": H, \"matrix_mm_per_N\": [[..],[..],[..]]}]}\n";
-
-std::string resolve_machine(const std::string& m) {
-  if (m.find('/') != std::string::npos || m.ends_with(".yaml") || std::filesystem::exists(m)) return m;
-  const std::string f = profile::find_machine(m);
-  return f.empty() ? m : f;
-}
-
-// Heights to print: the user's, checked against the flutes, or seven evenly spaced.
-std::vector<double> heights(const std::vector<double>& at, const st::Tool& t) {
-  const double top = std::min(t.flute_length_mm, t.stickout_mm);
-  for (double h : at)
-    if (!(h >= 0 && h <= top + 1e-9)) {
-      char b[160];
-      std::snprintf(b, sizeof b, "--at %g: the load height must lie along the flutes of %s (0 to %g mm)",
-                    h, t.id.c_str(), top);
-      throw Error(ErrorKind::settings, b);
-    }
-  if (!at.empty()) return at;
-  std::vector<double> h;
-  for (int i = 0; i <= 6; ++i) h.push_back(std::round(top * i / 6 * 1000) / 1000);
-  return h;
-}
 
 std::string describe(const st::Tool& t) {
   char b[200];
@@ -111,26 +84,20 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
     throw Error(ErrorKind::settings, "stiffness: --method must be beam or solid, not '" + method + "'");
   if (format != "text" && format != "json")
     throw Error(ErrorKind::settings, "stiffness: --format must be text or json, not '" + format + "'");
-  if (mesh_mm < 0) throw Error(ErrorKind::settings, "stiffness: --mesh-mm must be > 0");
 
-  const st::ToolLibrary lib = st::load_tool_library(tool_file);
-  const st::Tool& tool = st::find_tool(lib, tool_id);
-  const bool tool_only = vm.count("tool-only") || machine.empty();
-  st::MachineStiffness m;
-  if (!tool_only) m = st::load_machine_stiffness(resolve_machine(machine));
-  const std::vector<double> hs = heights(at, tool);
-
-  st::ComplianceTable table;
+  job::ComplianceSettings cs;
+  cs.tool = tool_id;
+  cs.tool_file = tool_file;
+  cs.machine = vm.count("tool-only") ? "" : machine;
+  cs.heights_mm = at;
+  cs.method = method;
+  cs.mesh_mm = mesh_mm;
+  cs.cache = !vm.count("no-cache");
+  if (method == "solid" && io.err_is_terminal) io.err << "deflex stiffness: solving the solid model of " << tool_id << "...\n";
+  const job::ComplianceResult r = job::compliance(cs);
   std::string note;
-  if (method == "beam") {
-    table = st::beam_compliance(tool, m, tool_only);
-  } else {
-    st::SolidOptions o;
-    o.mesh_size_mm = mesh_mm;
-    if (vm.count("no-cache")) o.cache_dir = "";
-    if (io.err_is_terminal) io.err << "deflex stiffness: solving the solid model of " << tool.id << "...\n";
-    st::SolidInfo info;
-    table = st::solid_compliance(tool, m, tool_only, o, &info);
+  if (r.solid) {
+    const st::SolidInfo& info = *r.solid;
     char b[200];
     if (info.from_cache)
       std::snprintf(b, sizeof b, "solid model: from cache %s\n", info.cache_file.c_str());
@@ -139,16 +106,15 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
                     info.nodes, info.elements, info.dofs, info.seconds);
     note = b;
   }
-  const auto rows = st::sample(table, hs);
   if (format == "json") {
-    io.out << report::compliance_json(rows);
+    io.out << report::compliance_json(r.rows);
     return 0;
   }
-  std::string title = describe(tool) + "\nmethod: " + method + "; " +
-                      (tool_only ? std::string("tool only, clamped rigidly at the holder face")
-                                 : "tool in holder on machine " + resolve_machine(machine)) +
+  std::string title = describe(r.tool) + "\nmethod: " + method + "; " +
+                      (r.tool_only ? std::string("tool only, clamped rigidly at the holder face")
+                                   : "tool in holder on machine " + r.machine_file) +
                       "\n" + note;
-  io.out << report::compliance_text(rows, title);
+  io.out << report::compliance_text(r.rows, title);
   return 0;
 }
 
