@@ -19,6 +19,7 @@ class Forces(NamedTuple):
     force_N: "numpy.ndarray"     # (steps, 3) Fx, Fy, Fz on the tool, machine axes (feed +X, M3, Z up)
     mean_N: "numpy.ndarray"      # (3,) over the revolution
     peak_abs_N: "numpy.ndarray"  # (3,) largest |F| per axis
+    shape_code: "str | None"     # Morelli's code of the curve (flat end, down-milling), else None
 
 
 def compliance(tool, tool_file=None, machine=None, heights_mm=None, tool_only=False, method="beam", mesh_mm=0.0):
@@ -43,7 +44,7 @@ def forces(*, tool, ae_mm, ap_mm, fz_mm, milling="down", tool_file=None, materia
                        kt_N_per_mm2=kt_N_per_mm2, kr_N_per_mm2=kr_N_per_mm2, ka_N_per_mm2=ka_N_per_mm2,
                        kte_N_per_mm=kte_N_per_mm, kre_N_per_mm=kre_N_per_mm, kae_N_per_mm=kae_N_per_mm,
                        ae_mm=ae_mm, ap_mm=ap_mm, fz_mm=fz_mm, milling=milling, steps=steps, dz_mm=dz_mm)
-    return Forces(d["angle_deg"], d["force_N"], d["mean_N"], d["peak_abs_N"])
+    return Forces(d["angle_deg"], d["force_N"], d["mean_N"], d["peak_abs_N"], d.get("shape_code"))
 
 
 def cusp_height_mm(diameter_mm, stepover_mm, inclination_deg=0.0, direction_deg=0.0):

@@ -15,7 +15,7 @@
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/tool.hpp"
 #include "deflex/job/setup.hpp"
-#include "deflex/job/stiffness.hpp"
+#include "deflex/job/physics.hpp"
 #include "deflex/process/cusp.hpp"
 #include "deflex/profile/profile.hpp"
 #include "deflex/stiffness/compliance.hpp"
@@ -26,13 +26,6 @@ namespace {
 
 namespace st = deflex::stiffness;
 namespace fo = deflex::force;
-
-// A number as a message shows it (printf's %g: 500, not 500.000000).
-std::string shown(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 
 std::string opt_path(const char* what, const py::object& v) { return v.is_none() ? "" : path_text(what, v); }
 
@@ -67,54 +60,32 @@ py::dict compliance(const std::string& tool, const py::object& tool_file, const 
   return d;
 }
 
-// The work material as a job resolves it (job/open.cpp resolve_physics):
-// given by name or by coefficients, else config.yaml's material.
-fo::Coefficients material_of(job::MaterialSettings mat) {
-  const profile::Config cfg = profile::load_config();
-  if (!mat.material.empty() || !mat.kt) mat.material_file = job::material_library_path(mat.material_file, cfg);
-  return job::coefficients_of(mat, job::config_string(cfg, "material"));
-}
-
-void require_positive(const char* name, double v, bool zero_ok = false) {
-  if (!std::isfinite(v) || v < 0 || (!zero_ok && v == 0))
-    throw Error(ErrorKind::settings, std::string(name) + (zero_ok ? " must be >= 0" : " must be > 0"));
-}
-
 py::dict forces(const std::string& tool, const py::object& tool_file, const job::MaterialSettings& mat, double ae_mm,
                 double ap_mm, double fz_mm, const std::string& milling, int steps, double dz_mm) {
-  require_positive("ae_mm", ae_mm);
-  require_positive("ap_mm", ap_mm);
-  require_positive("fz_mm", fz_mm, true);
-  require_positive("dz_mm", dz_mm);
   if (milling != "up" && milling != "down")
     throw Error(ErrorKind::settings, "milling must be 'up' or 'down', not '" + milling + "'");
-  if (steps < 4 || steps > 1000000) throw Error(ErrorKind::settings, "steps must be between 4 and 1000000");
-  const fo::Coefficients k = material_of(mat);
-  const profile::Config cfg = profile::load_config();
-  const st::ToolLibrary lib = st::load_tool_library(job::tool_library_path(opt_path("tool_file", tool_file), cfg));
-  const fo::Cutter cutter = fo::cutter_of(st::find_tool(lib, tool));
-  if (ap_mm > cutter.flute_length_mm)
-    throw Error(ErrorKind::settings, "ap_mm " + shown(ap_mm) + " exceeds the flute length of tool " + tool + " (" +
-                                 shown(cutter.flute_length_mm) + " mm)");
-  // At least 20 axial slices, as `deflex forces` cuts them.
-  const fo::CutterSlices slices = fo::make_slices(cutter, std::min(dz_mm, ap_mm / 20), ap_mm);
-  fo::Engagement eng;
-  fo::simple_engagement(slices, ae_mm, ap_mm, milling == "up" ? fo::MillingMode::up : fo::MillingMode::down, eng);
-  const std::vector<fo::Vec3> F = fo::revolution_forces(slices, k, fz_mm, eng, steps);
-  const fo::ForceSummary s = fo::summarize(F);
+  job::ForceSettings fs;
+  fs.tool = tool;
+  fs.tool_file = opt_path("tool_file", tool_file);
+  fs.material = mat;
+  fs.ae_mm = ae_mm, fs.ap_mm = ap_mm, fs.fz_mm = fz_mm, fs.dz_mm = dz_mm;
+  fs.up_milling = milling == "up";
+  fs.steps = steps;
+  const job::ForceResult r = job::forces(fs);
   py::array_t<double> angle(static_cast<py::ssize_t>(steps)), force({py::ssize_t(steps), py::ssize_t(3)});
   auto aw = angle.mutable_unchecked<1>();
   auto fw = force.mutable_unchecked<2>();
   for (int j = 0; j < steps; ++j) {
     aw(j) = 360.0 * j / steps;
-    for (int c = 0; c < 3; ++c) fw(j, c) = F[std::size_t(j)][c];
+    for (int c = 0; c < 3; ++c) fw(j, c) = r.force_N[std::size_t(j)][c];
   }
   auto vec = [](const fo::Vec3& v) { return py::array_t<double>(3, v.data()); };
   py::dict d;
   d["angle_deg"] = angle;
   d["force_N"] = force;
-  d["mean_N"] = vec(s.mean_N);
-  d["peak_abs_N"] = vec(s.peak_abs_N);
+  d["mean_N"] = vec(r.summary.mean_N);
+  d["peak_abs_N"] = vec(r.summary.peak_abs_N);
+  if (r.shape_code) d["shape_code"] = *r.shape_code;
   return d;
 }
 

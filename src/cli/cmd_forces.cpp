@@ -11,6 +11,8 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "deflex/job/physics.hpp"
+#include "deflex/writer/writer.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/force/calibration.hpp"
 #include "deflex/force/material.hpp"
@@ -85,11 +87,6 @@ std::string shortest(double v) {
 }
 
 
-void require_positive(const char* opt, double v, bool allow_zero = false) {
-  if (!std::isfinite(v) || v < 0 || (!allow_zero && v == 0))
-    throw Error(ErrorKind::settings, std::string("--") + opt + " must be " + (allow_zero ? ">= 0" : "> 0"));
-}
-
 struct ForcesArgs {
   std::string tool_file, tool, format = "csv";
   MaterialOptions mat;
@@ -97,24 +94,6 @@ struct ForcesArgs {
   bool up = false, down = false, help = false;
   int steps = 360;
 };
-
-std::optional<std::string> shape_code(const fo::Cutter& c, const fo::Coefficients& k, double ae,
-                                      double ap, bool down) {
-  if (c.type != stock::EndShape::flat || !down) return std::nullopt;
-  fo::MorelliInput in;
-  in.diameter_mm = c.diameter_mm;
-  in.helix_deg = c.helix_deg;
-  in.flutes = c.flutes;
-  in.ar_mm = std::min(ae, c.diameter_mm);
-  in.ap_mm = ap;
-  in.Ktc_N_per_mm2 = k.Ktc_N_per_mm2;
-  in.Krc_N_per_mm2 = k.Krc_N_per_mm2;
-  try {
-    return fo::morelli_shape_code(in);
-  } catch (const Error&) {
-    return std::nullopt;  // outside the classification (straight flutes, K_rc <= 0)
-  }
-}
 
 report::Json json_vec(const fo::Vec3& v) { return report::xyz(v.x(), v.y(), v.z(), 3); }
 
@@ -153,26 +132,15 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   if (a.up == a.down) throw Error(ErrorKind::settings, "forces: give exactly one of --up and --down");
   if (a.format != "csv" && a.format != "json")
     throw Error(ErrorKind::settings, "forces: --format must be csv or json");
-  require_positive("ae", a.ae);
-  require_positive("ap", a.ap);
-  require_positive("fz", a.fz, true);
-  require_positive("dz", a.dz);
-  if (a.steps < 4 || a.steps > 1000000) throw Error(ErrorKind::settings, "--steps must be between 4 and 1000000");
-
-  // The material library: --material-file, else the config's (search order
-  // of profile/search.hpp), else the installed one.
-  if (!a.mat.material.empty()) a.mat.material_file = material_library_path(a.mat.material_file, profile::load_config());
-  const fo::Coefficients k = coefficients_of(a.mat);
-  const fo::Cutter cutter = fo::cutter_of(stiffness::find_tool(stiffness::load_tool_library(a.tool_file), a.tool));
-  if (a.ap > cutter.flute_length_mm)
-    throw Error(ErrorKind::settings, "forces: --ap " + shortest(a.ap) + " exceeds the flute length of tool " +
-                                 a.tool + " (" + shortest(cutter.flute_length_mm) + " mm)");
-  const double dz = std::min(a.dz, a.ap / 20);
-  const fo::CutterSlices slices = fo::make_slices(cutter, dz, a.ap);
-  fo::Engagement eng;
-  fo::simple_engagement(slices, a.ae, a.ap, a.up ? fo::MillingMode::up : fo::MillingMode::down, eng);
-  const std::vector<fo::Vec3> F = fo::revolution_forces(slices, k, a.fz, eng, a.steps);
-
+  job::ForceSettings fs;
+  fs.tool = a.tool;
+  fs.tool_file = a.tool_file;
+  fs.material = a.mat;
+  fs.ae_mm = a.ae, fs.ap_mm = a.ap, fs.fz_mm = a.fz, fs.dz_mm = a.dz;
+  fs.up_milling = a.up;
+  fs.steps = a.steps;
+  const job::ForceResult r = job::forces(fs);
+  const std::vector<fo::Vec3>& F = r.force_N;
   if (a.format == "csv") {
     io.out << "angle_deg,Fx_N,Fy_N,Fz_N\n";
     for (int j = 0; j < a.steps; ++j)
@@ -180,9 +148,8 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
              << "," << fixed(F[j].z(), 3) << "\n";
     return 0;
   }
-  const fo::ForceSummary s = fo::summarize(F);
-  report::Json j{{"mean_N", json_vec(s.mean_N)}, {"peak_abs_N", json_vec(s.peak_abs_N)}};
-  if (const auto code = shape_code(cutter, k, a.ae, a.ap, a.down)) j["shape_code"] = *code;
+  report::Json j{{"mean_N", json_vec(r.summary.mean_N)}, {"peak_abs_N", json_vec(r.summary.peak_abs_N)}};
+  if (r.shape_code) j["shape_code"] = *r.shape_code;
   io.out << report::line(j);
   return 0;
 }
@@ -219,23 +186,6 @@ std::string calibration_report(const fo::SlotTestData& d, const fo::SlotCalibrat
   return o.str();
 }
 
-void write_file_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(ErrorKind::io, path + ": error: cannot write the file");
-    out << text;
-    out.close();
-    if (!out) throw Error(ErrorKind::io, path + ": error: write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(ErrorKind::io, path + ": error: cannot write the file");
-  }
-}
-
 }  // namespace
 
 int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
@@ -258,6 +208,7 @@ int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (file.empty()) throw Error(ErrorKind::settings, "calibrate: missing FILE.csv (see --help)");
+  if (!output.empty()) writer::check_output_path(output, file);
 
   const fo::SlotTestData d = fo::load_slot_tests(file);
   const fo::SlotCalibration c = fo::calibrate_slot_tests(d);
@@ -277,7 +228,7 @@ int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
   if (output.empty()) {
     io.out << "\nmaterial entry:\n" << yaml;
   } else {
-    write_file_atomic(output, yaml);
+    writer::write_file_atomically(output, file, [&](std::ostream& o) { o << yaml; });
     io.out << "\nmaterial entry '" << m.name << "' written to " << output << "\n";
   }
   return 0;

@@ -6,7 +6,7 @@
 #include "common.hpp"
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
-#include "deflex/job/stiffness.hpp"
+#include "deflex/job/physics.hpp"
 #include "deflex/report/compliance.hpp"
 #include "deflex/stiffness/tool.hpp"
 
