@@ -1,11 +1,13 @@
 // Helpers shared by the tests: interpret a program given as text, run the CLI
 // in-process, read files.
 #pragma once
+#include <stdlib.h>
 #include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -21,6 +23,24 @@
 #include "deflex/profile/profile.hpp"
 
 namespace deflex::test {
+
+// A new folder of its own under the temporary folder (mkdtemp: no two tests,
+// nor two runs at once, share one), removed with everything in it at the end.
+struct TempDir {
+  std::filesystem::path p;
+  explicit TempDir(const std::string& what = "test") {
+    std::string t = (std::filesystem::temp_directory_path() / ("deflex-" + what + "-XXXXXX")).string();
+    if (!::mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed: " + t);
+    p = t;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(p, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string operator/(const std::string& name) const { return (p / name).string(); }
+};
 
 struct Interpreted {
   std::vector<interp::Motion> motions;

@@ -21,12 +21,7 @@ using namespace deflex;
 
 namespace {
 
-struct TempDir {
-  fs::path p = fs::temp_directory_path() / ("deflex-golden-wall-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(p); }
-  ~TempDir() { fs::remove_all(p); }
-  std::string operator/(const std::string& name) const { return (p / name).string(); }
-};
+using test::TempDir;
 
 // The arguments of tests/golden/<name>.args, `more` after them.
 std::vector<std::string> golden_args(const std::string& name, const std::vector<std::string>& more) {

@@ -16,14 +16,7 @@ namespace {
 const char* kWall = "samples/programs/side_wall.nc";
 
 // A fresh folder under the system temporary folder, removed at the end.
-struct TempDir {
-  fs::path p;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "deflex-out-XXXXXX").string();
-    p = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(p); }
-};
+using test::TempDir;
 
 }  // namespace
 

@@ -38,12 +38,7 @@ std::string replaced(std::string text, const std::vector<std::pair<std::string, 
 // From the first line of the summary on (the file name differs).
 std::string summary(const std::string& err) { return err.substr(err.find(" points compensated") - 3); }
 
-struct TempDir {
-  fs::path p = fs::temp_directory_path() / ("deflex-sub-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(p); }
-  ~TempDir() { fs::remove_all(p); }
-  std::string operator/(const std::string& name) const { return (p / name).string(); }
-};
+using test::TempDir;
 
 }  // namespace
 

@@ -19,12 +19,7 @@ using namespace deflex;
 
 namespace {
 
-struct TempDir {
-  fs::path p = fs::temp_directory_path() / ("deflex-job-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(p); }
-  ~TempDir() { fs::remove_all(p); }
-  std::string operator/(const std::string& name) const { return (p / name).string(); }
-};
+using test::TempDir;
 
 // tests/golden/compensate_wall.args as settings: the wall on its box stock.
 job::Settings wall_settings() {

@@ -84,12 +84,7 @@ void write_stl(const TopoDS_Shape& s, const std::string& path, double deflection
   REQUIRE(w.Write(s, path.c_str()));
 }
 
-struct TempDir {
-  fs::path path = fs::temp_directory_path() / ("deflex-part-import-" + std::to_string(::getpid()));
-  TempDir() { fs::create_directories(path); }
-  ~TempDir() { fs::remove_all(path); }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using test::TempDir;
 
 // occt.step and occt.stl of pocketed_block() in tmp.
 void write_occt_solid(const TempDir& tmp, double stl_deflection_mm) {

@@ -28,17 +28,7 @@ using namespace deflex;
 
 namespace {
 
-struct TempDir {
-  fs::path p;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "deflex-browser-XXXXXX").string();
-    p = mkdtemp(t.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(p, ec);
-  }
-};
+using test::TempDir;
 
 #ifdef DEFLEX_HAVE_PNG
 constexpr bool kHavePng = true;
