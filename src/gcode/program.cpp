@@ -59,9 +59,9 @@ const double kPow10[] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10,
 // One line being lexed: the cursor `i` over the line's bytes up to `e` (its
 // end without the line end), the block it fills and whether all went well.
 // Program::lex runs once per block (and again at every subprogram repeat):
-// its steps are inlined into it, so the cursor stays in a register (out of
-// line, address() and word() cost 13% on six_surfaces.nc, bench/micro.cpp's
-// way of timing).
+// its steps are inlined into it, so the cursor stays in a register (left to
+// the compiler, items() and address() stayed out of line and lexing
+// six_surfaces.nc took 13% longer).
 struct LineLexer {
   const std::string& s;
   const SourceText& src;
