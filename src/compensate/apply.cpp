@@ -123,6 +123,181 @@ static void write_increments(writer::Rewriter& w, const gcode::Block& b, const i
   }
 }
 
+namespace {
+
+const char kAxes[] = {'X', 'Y', 'Z'};
+
+// apply_offsets' pass over the motions: the edits of each motion's block, and
+// what the output program's control holds as it goes (axes and feed, in
+// WriteState, so a piece goes on from the one before).
+class OffsetWriter {
+ public:
+  OffsetWriter(const gcode::Program& prog, const profile::Dialect& d, const std::vector<interp::Motion>& motions,
+               const std::vector<V3>& offsets, const std::vector<bool>* inserted, const std::vector<double>* feeds,
+               WriteState& ws, writer::Rewriter& w, WriteStats& st)
+      : prog_(prog), d_(d), motions_(motions), offsets_(offsets), inserted_(inserted), feeds_(feeds), ws_(ws),
+        w_(w), st_(st), carried_(ws.carried_mm), contour_(detail::contour_targets(motions, offsets, d)) {}
+
+  void motion(std::size_t i) {
+    const interp::Motion& m = motions_[i];
+    const V3 o = offsets_.empty() ? V3(V3::Zero()) : offsets_[i];
+    if (inserted_ && (*inserted_)[i]) {
+      insert_piece(i, o);
+      return;
+    }
+    // Under G41/G42 the motion is the tool centre's; its block states the
+    // contour's point, which the writer moves (the centre moves with it), and
+    // a piece the control adds at a corner has no block.
+    if (m.corner) return;
+    const interp::Vec3& end = m.comp ? m.contour_end_mm : m.end_mm;
+    if (!m.plain) {
+      // Cycles, G28/G30/G53, subprograms, G91: never moved, and never preceded
+      // by a moved point (compensate::movable), so they end where they did.
+      for (int a = 0; a < 3; ++a) carried_[a] = end[a];
+      feed_edit(i);
+      return;
+    }
+    // An arc whose first part went into inserted chords: its centre words,
+    // relative to the new start (what the control holds after the last chord).
+    const bool arc = interp::is_arc(m);
+    prog_.lex(m.line, b_, quiet_);
+    if (arc && inserted_ && i > 0 && (*inserted_)[i - 1]) reaim_centre(m, o);
+    if (m.incremental) write_increments(w_, b_, m, o, carried_, d_, st_);
+    else write_axes(i, m, o, end);
+    feed_edit(i);
+  }
+
+  // --feed-limit: the modal F of the output program, mm/min (ws.carried_feed),
+  // after the F words of the untouched lines before `line` (blocks deflex does
+  // not touch may set F themselves; ws.scanned is the last line looked at).
+  void feed_words_up_to(std::uint32_t line, bool inch) {
+    for (std::uint32_t l = ws_.scanned + 1; l < line; ++l) {
+      prog_.lex(l, b_, quiet_);
+      if (const gcode::Word* f = b_.find('F')) ws_.carried_feed = f->value * (inch ? 25.4 : 1.0);
+    }
+    ws_.scanned = std::max(ws_.scanned, line);
+  }
+
+ private:
+  // The F word a feed motion needs after --feed-limit (called after its
+  // coordinate words, so an added F comes last in the block).
+  void feed_edit(std::size_t i) {
+    const interp::Motion& m = motions_[i];
+    if (!feeds_ || m.kind == interp::MotionKind::rapid || (inserted_ && (*inserted_)[i])) return;
+    feed_words_up_to(m.line, m.inch);
+    const double want = (*feeds_)[i];
+    const double scale = m.inch ? 25.4 : 1.0;
+    prog_.lex(m.line, b_, quiet_);
+    const gcode::Word* f = b_.find('F');
+    if (f && std::fabs(want - m.feed_mm_per_min) > 1e-9) {
+      w_.set_number(*f, want / scale, m.inch);
+      ++st_.feeds_changed;
+    } else if (!f && !(std::fabs(ws_.carried_feed - want) <= 1e-9)) {
+      w_.insert_word(b_.words.back().end, 'F', want / scale, m.inch);
+      ++st_.feeds_changed;
+    }
+    ws_.carried_feed = want;
+  }
+
+  // A new G1 block before its parent's block, with all three axes (and the
+  // parent's F, so the split piece runs at the programmed feed).
+  void insert_piece(std::size_t i, const V3& o) {
+    const interp::Motion& m = motions_[i];
+    std::vector<std::pair<char, double>> words;
+    for (int a = 0; a < 3; ++a) {
+      const double want = m.comp ? contour_[i][a] : m.end_mm[a] + o[a];
+      if (m.incremental) {  // in G91: increments from where the written program stands
+        const double step = step_to(carried_, a, m, want, d_);
+        words.push_back({kAxes[a], m.inch ? step / 25.4 : step});
+        continue;
+      }
+      words.push_back({kAxes[a], m.inch ? want / 25.4 : want});
+      carried_[a] = written_mm(want, m.inch, d_);
+    }
+    prog_.lex(m.line, b_, quiet_);
+    if (feeds_) {
+      feed_words_up_to(m.line, m.inch);
+      if (!(std::fabs(ws_.carried_feed - (*feeds_)[i]) <= 1e-9)) words.push_back({'F', (*feeds_)[i] / (m.inch ? 25.4 : 1.0)});
+      ws_.carried_feed = (*feeds_)[i];
+    } else if (const gcode::Word* f = b_.find('F')) {
+      words.push_back({'F', f->value});
+    }
+    // The pieces run in the distance mode of the block they split: where it
+    // sets the mode itself, they say it too (they come before it).
+    bool sets_mode = false;
+    for (const gcode::Word& x : b_.words) sets_mode = sets_mode || (x.letter == 'G' && (x.code10() == 900 || x.code10() == 910));
+    const char* lead = !sets_mode ? "G1" : m.incremental ? "G91 G1" : "G90 G1";
+    w_.insert_block_before(m.line, w_.format_block(m.line - 1, words, m.inch, "", lead));
+    ++st_.blocks_inserted;
+  }
+
+  // The centre words of the arc lexed into b_, from where the control stands.
+  void reaim_centre(const interp::Motion& m, const V3& o) {
+    static const char centre[] = {'I', 'J', 'K'};
+    const int normal = interp::plane_axes(m.plane).n;
+    for (int a = 0; a < 3; ++a) {
+      if (a == normal) continue;
+      const double want = m.center_mm[a] + o[a] - carried_[a];
+      const gcode::Word* word = b_.find(centre[a]);
+      if (word) {
+        w_.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
+        ++st_.numbers_changed;
+      } else {
+        // After the centre word before it in I, J, K, else after the axis words.
+        const gcode::Word* after = nullptr;
+        for (const gcode::Word& x : b_.words)
+          if (x.letter >= 'I' && x.letter < centre[a]) after = &x;
+        w_.insert_word(after ? after->end : insert_position(b_, '['), centre[a], m.inch ? want / 25.4 : want, m.inch);
+        ++st_.words_inserted;
+      }
+    }
+  }
+
+  // The axis words of the G90 block lexed into b_ for the moved end.
+  void write_axes(std::size_t i, const interp::Motion& m, const V3& o, const interp::Vec3& end) {
+    for (int a = 0; a < 3; ++a) {
+      const double want = m.comp ? contour_[i][a] : end[a] + o[a];
+      const gcode::Word* word = b_.find(kAxes[a]);
+      if (word) {
+        // Splice only when the number written changes (an offset below the
+        // last written digit leaves the programmer's text alone).
+        if (want != end[a] && written_mm(want, m.inch, d_) != written_mm(end[a], m.inch, d_)) {
+          w_.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
+          carried_[a] = written_mm(want, m.inch, d_);
+          ++st_.numbers_changed;
+        } else {
+          carried_[a] = end[a];
+        }
+      } else if (!(std::fabs(carried_[a] - want) <= 1e-9) &&  // the cheap test first: most blocks hold it
+                 !(std::fabs(carried_[a] - written_mm(want, m.inch, d_)) <= 1e-9)) {
+        // The block relies on the modal value, which the previous block moved
+        // (or which is unknown): say what this block means, unless the
+        // number written would be the one the control holds.
+        if (std::isnan(carried_[a]) && o[a] == 0.0) continue;
+        w_.insert_word(insert_position(b_, kAxes[a]), kAxes[a], m.inch ? want / 25.4 : want, m.inch);
+        carried_[a] = written_mm(want, m.inch, d_);
+        ++st_.words_inserted;
+      }
+    }
+  }
+
+  const gcode::Program& prog_;
+  const profile::Dialect& d_;
+  const std::vector<interp::Motion>& motions_;
+  const std::vector<V3>& offsets_;
+  const std::vector<bool>* inserted_;
+  const std::vector<double>* feeds_;
+  WriteState& ws_;
+  writer::Rewriter& w_;
+  WriteStats& st_;
+  double* carried_;  // what the output program's control holds, mm (ws.carried_mm)
+  Diagnostics quiet_{nullptr, 0};
+  gcode::Block b_;
+  const std::vector<interp::Vec3> contour_;
+};
+
+}  // namespace
+
 std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
                           const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets,
                           WriteStats* stats, const std::vector<bool>* inserted,
@@ -131,151 +306,13 @@ std::string apply_offsets(const gcode::Program& prog, const profile::Dialect& d,
   WriteState& ws = state ? *state : whole;
   writer::Rewriter w(prog, d, &ws.numbers_taken);
   WriteStats st;
-  Diagnostics quiet(nullptr, 0);
-  gcode::Block b;
-  static const char axes[] = {'X', 'Y', 'Z'};
-  double* carried = ws.carried_mm;  // what the output program's control holds, mm
-  // --feed-limit: the modal F of the output program, mm/min. Blocks deflex does
-  // not touch may set F themselves; `scanned` is the last line looked at for that.
-  double& carried_feed = ws.carried_feed;
-  std::uint32_t& scanned = ws.scanned;
-  auto feed_words_up_to = [&](std::uint32_t line, bool inch) {  // F words of untouched lines before `line`
-    for (std::uint32_t l = scanned + 1; l < line; ++l) {
-      prog.lex(l, b, quiet);
-      if (const gcode::Word* f = b.find('F')) carried_feed = f->value * (inch ? 25.4 : 1.0);
-    }
-    scanned = std::max(scanned, line);
-  };
-  // The F word a feed motion needs after --feed-limit (called after its
-  // coordinate words, so an added F comes last in the block).
-  auto feed_edit = [&](std::size_t i) {
-    const interp::Motion& m = motions[i];
-    if (!feeds || m.kind == interp::MotionKind::rapid || (inserted && (*inserted)[i])) return;
-    feed_words_up_to(m.line, m.inch);
-    const double want = (*feeds)[i];
-    const double scale = m.inch ? 25.4 : 1.0;
-    prog.lex(m.line, b, quiet);
-    const gcode::Word* f = b.find('F');
-    if (f && std::fabs(want - m.feed_mm_per_min) > 1e-9) {
-      w.set_number(*f, want / scale, m.inch);
-      ++st.feeds_changed;
-    } else if (!f && !(std::fabs(carried_feed - want) <= 1e-9)) {
-      w.insert_word(b.words.back().end, 'F', want / scale, m.inch);
-      ++st.feeds_changed;
-    }
-    carried_feed = want;
-  };
-  const std::vector<interp::Vec3> contour = detail::contour_targets(motions, offsets, d);
-  for (std::size_t i = 0; i < motions.size(); ++i) {
-    const interp::Motion& m = motions[i];
-    const V3 o = offsets.empty() ? V3(V3::Zero()) : offsets[i];
-    if (inserted && (*inserted)[i]) {
-      // A new G1 block before its parent's block, with all three axes (and the
-      // parent's F, so the split piece runs at the programmed feed).
-      std::vector<std::pair<char, double>> words;
-      for (int a = 0; a < 3; ++a) {
-        const double want = m.comp ? contour[i][a] : m.end_mm[a] + o[a];
-        if (m.incremental) {  // in G91: increments from where the written program stands
-          const double step = step_to(carried, a, m, want, d);
-          words.push_back({axes[a], m.inch ? step / 25.4 : step});
-          continue;
-        }
-        words.push_back({axes[a], m.inch ? want / 25.4 : want});
-        carried[a] = written_mm(want, m.inch, d);
-      }
-      prog.lex(m.line, b, quiet);
-      if (feeds) {
-        feed_words_up_to(m.line, m.inch);
-        if (!(std::fabs(carried_feed - (*feeds)[i]) <= 1e-9)) words.push_back({'F', (*feeds)[i] / (m.inch ? 25.4 : 1.0)});
-        carried_feed = (*feeds)[i];
-      } else if (const gcode::Word* f = b.find('F')) {
-        words.push_back({'F', f->value});
-      }
-      // The pieces run in the distance mode of the block they split: where it
-      // sets the mode itself, they say it too (they come before it).
-      bool sets_mode = false;
-      for (const gcode::Word& x : b.words) sets_mode = sets_mode || (x.letter == 'G' && (x.code10() == 900 || x.code10() == 910));
-      const char* lead = !sets_mode ? "G1" : m.incremental ? "G91 G1" : "G90 G1";
-      w.insert_block_before(m.line, w.format_block(m.line - 1, words, m.inch, "", lead));
-      ++st.blocks_inserted;
-      continue;
-    }
-    // Under G41/G42 the motion is the tool centre's; its block states the
-    // contour's point, which the writer moves (the centre moves with it), and
-    // a piece the control adds at a corner has no block.
-    if (m.corner) continue;
-    const interp::Vec3& end = m.comp ? m.contour_end_mm : m.end_mm;
-    if (!m.plain) {
-      // Cycles, G28/G30/G53, subprograms, G91: never moved, and never preceded
-      // by a moved point (compensate::movable), so they end where they did.
-      for (int a = 0; a < 3; ++a) carried[a] = end[a];
-      feed_edit(i);
-      continue;
-    }
-    bool lexed = false;
-    // An arc whose first part went into inserted chords: its centre words,
-    // relative to the new start (what the control holds after the last chord).
-    const bool arc = interp::is_arc(m);
-    if (arc && inserted && i > 0 && (*inserted)[i - 1]) {
-      prog.lex(m.line, b, quiet);
-      lexed = true;
-      static const char centre[] = {'I', 'J', 'K'};
-      const int normal = interp::plane_axes(m.plane).n;
-      for (int a = 0; a < 3; ++a) {
-        if (a == normal) continue;
-        const double want = m.center_mm[a] + o[a] - carried[a];
-        const gcode::Word* word = b.find(centre[a]);
-        if (word) {
-          w.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
-          ++st.numbers_changed;
-        } else {
-          // After the centre word before it in I, J, K, else after the axis words.
-          const gcode::Word* after = nullptr;
-          for (const gcode::Word& x : b.words)
-            if (x.letter >= 'I' && x.letter < centre[a]) after = &x;
-          w.insert_word(after ? after->end : insert_position(b, '['), centre[a], m.inch ? want / 25.4 : want, m.inch);
-          ++st.words_inserted;
-        }
-      }
-    }
-    if (m.incremental) {
-      if (!lexed) prog.lex(m.line, b, quiet);
-      write_increments(w, b, m, o, carried, d, st);
-      feed_edit(i);
-      continue;
-    }
-    for (int a = 0; a < 3; ++a) {
-      const double want = m.comp ? contour[i][a] : end[a] + o[a];
-      if (!lexed) { prog.lex(m.line, b, quiet); lexed = true; }
-      const gcode::Word* word = b.find(axes[a]);
-      if (word) {
-        // Splice only when the number written changes (an offset below the
-        // last written digit leaves the programmer's text alone).
-        if (want != end[a] && written_mm(want, m.inch, d) != written_mm(end[a], m.inch, d)) {
-          w.set_number(*word, m.inch ? want / 25.4 : want, m.inch);
-          carried[a] = written_mm(want, m.inch, d);
-          ++st.numbers_changed;
-        } else {
-          carried[a] = end[a];
-        }
-      } else if (!(std::fabs(carried[a] - want) <= 1e-9) &&  // the cheap test first: most blocks hold it
-                 !(std::fabs(carried[a] - written_mm(want, m.inch, d)) <= 1e-9)) {
-        // The block relies on the modal value, which the previous block moved
-        // (or which is unknown): say what this block means, unless the
-        // number written would be the one the control holds.
-        if (std::isnan(carried[a]) && o[a] == 0.0) continue;
-        w.insert_word(insert_position(b, axes[a]), axes[a], m.inch ? want / 25.4 : want, m.inch);
-        carried[a] = written_mm(want, m.inch, d);
-        ++st.words_inserted;
-      }
-    }
-    feed_edit(i);
-  }
+  OffsetWriter ow(prog, d, motions, offsets, inserted, feeds, ws, w, st);
+  for (std::size_t i = 0; i < motions.size(); ++i) ow.motion(i);
   const std::uint32_t first = ws.first_line ? ws.first_line : prog.first_line();
   const std::uint32_t last = ws.last_line ? ws.last_line : prog.last_line();
   // The F words of the lines after the last motion: the next piece starts
   // from the feed they leave.
-  if (feeds && state && last >= first) feed_words_up_to(last + 1, ws.inch_after);
+  if (feeds && state && last >= first) ow.feed_words_up_to(last + 1, ws.inch_after);
   if (stats) *stats = st;
   if (!state && w.edits() == 0) return prog.bytes();
   if (prog.line_count() == 0) return prog.bytes();

@@ -65,6 +65,58 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   return cache.emplace(id, std::move(m)).first->second;
 }
 
+namespace {
+
+// Height of the resultant: centre of the engaged edge length along the flutes.
+double resultant_height_mm(const force::Engagement& eng, const ToolModel& tm) {
+  double wz = 0, w = 0;
+  for (std::size_t i = 0; i < eng.slices.size(); ++i) {
+    double ang = 0;
+    for (const auto& iv : eng.slices[i]) ang += iv.end - iv.start;
+    const double wi = ang * tm.slices.slices[i].width_mm;
+    wz += wi * tm.slices.slices[i].z_mm;
+    w += wi;
+  }
+  return w > 0 ? wz / w : 0.0;
+}
+
+// The wall profile e(z) (force/flank.hpp) of a flank cut, all in the feed
+// frame: the design normal and the structure's compliance turned into it.
+// Sets p's flank figures, and its error to the profile's mid offset.
+void flank_profile(Point& p, const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng,
+                   const ToolModel& tm, const force::Coefficients& k, double fz, bool keep_profile) {
+  const double fx = cl.point.feed_x, fy = cl.point.feed_y;
+  const V3 xf(fx, fy, 0.0), yf(-fy, fx, 0.0);
+  force::Mat3 R;
+  R.col(0) = xf;
+  R.col(1) = yf;
+  R.col(2) = V3::UnitZ();
+  const V3 nf = R.transpose() * p.normal;
+  const force::Mat3 sf = R.transpose() * tm.structure * R;
+  const force::MillingMode mode = mt.up_share <= 0.5 ? force::MillingMode::down : force::MillingMode::up;
+  thread_local force::GeneratingLoads loads;
+  thread_local force::FlankProfile prof;
+  const force::FlankInput in{tm.slices, k, fz, eng, force::generating_phi(mode), nf};
+  force::flank_error_profile(in, tm.flank_c, loads, prof);
+  if (prof.points.empty()) return;
+  // The structure translates the whole tool: S times the force of every
+  // slice at the instant z is generated.
+  for (std::size_t i = 0; i < loads.size(); ++i) {
+    force::Vec3 sum = force::Vec3::Zero();
+    for (std::size_t j = 0; j < loads.size(); ++j) sum += loads.at(i, j);
+    prof.points[i].error_mm += nf.dot(sf * sum);
+  }
+  force::summarize_profile(nf, prof);
+  p.flank = true;
+  p.flank_min_mm = prof.min_mm;
+  p.flank_max_mm = prof.max_mm;
+  p.flank_z_min_mm = prof.z_of_min_mm;
+  p.flank_z_max_mm = prof.z_of_max_mm;
+  p.error_mm = prof.mid_offset_mm;
+  if (keep_profile) p.flank_profile = prof.points;
+}
+
+}  // namespace
 
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
@@ -104,51 +156,10 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   // Feed frame X' = feed, Y' = Z x X' -> machine axes.
   const double fx = cl.point.feed_x, fy = cl.point.feed_y;
   p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
-  // Height of the resultant: centre of the engaged edge length along the flutes.
-  double wz = 0, w = 0;
-  for (std::size_t i = 0; i < eng.slices.size(); ++i) {
-    double ang = 0;
-    for (const auto& iv : eng.slices[i]) ang += iv.end - iv.start;
-    const double wi = ang * tm.slices.slices[i].width_mm;
-    wz += wi * tm.slices.slices[i].z_mm;
-    w += wi;
-  }
-  p.height_mm = w > 0 ? wz / w : 0.0;
+  p.height_mm = resultant_height_mm(eng, tm);
   p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
   p.error_mm = p.delta_mm.dot(p.normal);
-  if (tm.flank_c.n && flank_cut(mt, tm.tool)) {
-    // The wall profile e(z) (force/flank.hpp), all in the feed frame: the
-    // design normal and the structure's compliance turned into it.
-    const V3 xf(fx, fy, 0.0), yf(-fy, fx, 0.0);
-    force::Mat3 R;
-    R.col(0) = xf;
-    R.col(1) = yf;
-    R.col(2) = V3::UnitZ();
-    const V3 nf = R.transpose() * p.normal;
-    const force::Mat3 sf = R.transpose() * tm.structure * R;
-    const force::MillingMode mode = mt.up_share <= 0.5 ? force::MillingMode::down : force::MillingMode::up;
-    thread_local force::GeneratingLoads loads;
-    thread_local force::FlankProfile prof;
-    const force::FlankInput in{tm.slices, k, fz, eng, force::generating_phi(mode), nf};
-    force::flank_error_profile(in, tm.flank_c, loads, prof);
-    if (!prof.points.empty()) {
-      // The structure translates the whole tool: S times the force of every
-      // slice at the instant z is generated.
-      for (std::size_t i = 0; i < loads.size(); ++i) {
-        force::Vec3 sum = force::Vec3::Zero();
-        for (std::size_t j = 0; j < loads.size(); ++j) sum += loads.at(i, j);
-        prof.points[i].error_mm += nf.dot(sf * sum);
-      }
-      force::summarize_profile(nf, prof);
-      p.flank = true;
-      p.flank_min_mm = prof.min_mm;
-      p.flank_max_mm = prof.max_mm;
-      p.flank_z_min_mm = prof.z_of_min_mm;
-      p.flank_z_max_mm = prof.z_of_max_mm;
-      p.error_mm = prof.mid_offset_mm;
-      if (keep_profile) p.flank_profile = prof.points;
-    }
-  }
+  if (tm.flank_c.n && flank_cut(mt, tm.tool)) flank_profile(p, cl, mt, eng, tm, k, fz, keep_profile);
   return p;
 }
 

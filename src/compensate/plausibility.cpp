@@ -197,6 +197,11 @@ struct PlausibilityScan::State {
     run_mm = 0;
   }
   void add(const Point& p);
+  void check_flutes(const Point& p, const stiffness::Tool& t, const std::string& id);
+  void check_force(const Point& p, const stiffness::Tool& t, const std::string& id);
+  void check_cap(const Point& p, const std::string& id);
+  void check_ball_depth(const Point& p, const stiffness::Tool& t, const std::string& id);
+  void check_slot(const Point& p, const stiffness::Tool& t, const std::string& id);
   void fold(bool all);
   void motion_step(const Point& p);
   void judge_held(bool at_end, double R);
@@ -281,57 +286,21 @@ void PlausibilityScan::State::add(const Point& p) {
   const auto it = tools.tools.find(id);
   if (it == tools.tools.end()) return;
   const stiffness::Tool& t = it->second;
-  const double D = t.diameter_mm, R = 0.5 * D;
   if (!(p.air || p.plunge)) {
     material = true;
   } else if (!air_points++) {
     first_air_line = p.line;
     first_air_tool = id;
   }
-  // 1. Above the flutes: the engaged edge reaches their top and the stock stands higher.
-  if (!p.air && p.ap_mm >= t.flute_length_mm - s.slice_mm && p.stock_depth_mm > t.flute_length_mm + 0.01) {
-    flute.add(p.line, p.stock_depth_mm, id);
-    flute.f.limit = t.flute_length_mm;
-  }
-  // 2. Peak force over the limit (the worst by its ratio to its tool's limit).
-  if (!p.air) {
-    auto li = limits.find(id);
-    if (li == limits.end()) li = limits.emplace(id, force_limit(t)).first;
-    const double lim = li->second.N;
-    if (p.peak_N > lim) {
-      const bool worse = !force.any || p.peak_N / lim > force.f.worst;
-      force.add(p.line, p.peak_N / lim, id);
-      if (worse) {
-        force_peak = p.peak_N;
-        force_lim = lim;
-      }
-    }
-  }
-  // 3. The offset cap bites (by the nominal error; finish() redoes it with the capped lines).
-  if (!p.air && !p.plunge) {
-    if (s.gain * std::fabs(p.error_mm) > s.max_offset_mm) {
-      cap.add(p.line, std::fabs(p.error_mm), id);
-      cap.f.limit = s.max_offset_mm;
-    }
-    last_line = std::max(last_line, p.line);
-    if (p.line >= base) {
-      const std::size_t k = p.line - base;
-      if (k >= line_worst_mm.size()) {
-        line_worst_mm.resize(k + 1, -1.0);
-        line_tool.resize(k + 1);
-      }
-      if (std::fabs(p.error_mm) > line_worst_mm[k]) {
-        line_worst_mm[k] = std::fabs(p.error_mm);
-        line_tool[k] = tool_index(id);
-      }
-    }
-  }
+  check_flutes(p, t, id);
+  if (!p.air) check_force(p, t, id);
+  if (!p.air && !p.plunge) check_cap(p, id);
   // 4. A plunge into material with an end that does not cut at its centre.
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
     centre.add(p.line, std::max(p.ap_mm, p.stock_depth_mm), id);
   }
   // Air over the stock earlier programs cut below this program's surface.
-  if (earlier_stock) earlier.add(p, id, s.tolerance_mm, D);
+  if (earlier_stock) earlier.add(p, id, s.tolerance_mm, t.diameter_mm);
   // 5. Roughing under a finishing tool. A ball end deeper than its radius (a_p
   // counts no graze, engage::Metrics); not by its cross-section: a raster on a
   // raw blank removes a strip one step-over wide, less than a ball slot R deep
@@ -340,37 +309,90 @@ void PlausibilityScan::State::add(const Point& p) {
   // Not on a move the gouge check finds cutting into the part: the program
   // gouges there, as that check says, and the stock is not to blame.
   if (p.fixed == interp::Fixed::gouge) return;
-  if (t.type == stock::EndShape::ball) {
-    if (p.motion != held_motion && !held.empty()) judge_held(false, R);  // a motion without its end
-    motion_step(p);
-    if (!p.air && p.ap_mm > R + 1e-6) {
-      // a_p stops at the top of the flutes: past them the stock tells the depth.
-      held_tool = id;
-      held.push_back({p.line, p.motion, p.tip_mm,
-                      p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm});
-      rough.f.limit = R;
+  if (t.type == stock::EndShape::ball) check_ball_depth(p, t, id);
+  else check_slot(p, t, id);
+}
+
+// 1. Above the flutes: the engaged edge reaches their top and the stock stands higher.
+void PlausibilityScan::State::check_flutes(const Point& p, const stiffness::Tool& t, const std::string& id) {
+  if (!p.air && p.ap_mm >= t.flute_length_mm - s.slice_mm && p.stock_depth_mm > t.flute_length_mm + 0.01) {
+    flute.add(p.line, p.stock_depth_mm, id);
+    flute.f.limit = t.flute_length_mm;
+  }
+}
+
+// 2. Peak force over the limit (the worst by its ratio to its tool's limit).
+void PlausibilityScan::State::check_force(const Point& p, const stiffness::Tool& t, const std::string& id) {
+  auto li = limits.find(id);
+  if (li == limits.end()) li = limits.emplace(id, force_limit(t)).first;
+  const double lim = li->second.N;
+  if (p.peak_N > lim) {
+    const bool worse = !force.any || p.peak_N / lim > force.f.worst;
+    force.add(p.line, p.peak_N / lim, id);
+    if (worse) {
+      force_peak = p.peak_N;
+      force_lim = lim;
     }
-    if (p.index == p.count) {
-      end = p.tip_mm;
-      end_line = p.line;
-      end_known = true;
-      end_motion = p.motion;
-      judge_held(true, R);
+  }
+}
+
+// 3. The offset cap bites (by the nominal error; finish() redoes it with the
+// capped lines, from the worst |e| per line kept here).
+void PlausibilityScan::State::check_cap(const Point& p, const std::string& id) {
+  if (s.gain * std::fabs(p.error_mm) > s.max_offset_mm) {
+    cap.add(p.line, std::fabs(p.error_mm), id);
+    cap.f.limit = s.max_offset_mm;
+  }
+  last_line = std::max(last_line, p.line);
+  if (p.line >= base) {
+    const std::size_t k = p.line - base;
+    if (k >= line_worst_mm.size()) {
+      line_worst_mm.resize(k + 1, -1.0);
+      line_tool.resize(k + 1);
     }
+    if (std::fabs(p.error_mm) > line_worst_mm[k]) {
+      line_worst_mm[k] = std::fabs(p.error_mm);
+      line_tool[k] = tool_index(id);
+    }
+  }
+}
+
+// 5. for a ball end: its points deeper than R wait for the end of their motion (judge_held).
+void PlausibilityScan::State::check_ball_depth(const Point& p, const stiffness::Tool& t, const std::string& id) {
+  const double R = 0.5 * t.diameter_mm;
+  if (p.motion != held_motion && !held.empty()) judge_held(false, R);  // a motion without its end
+  motion_step(p);
+  if (!p.air && p.ap_mm > R + 1e-6) {
+    // a_p stops at the top of the flutes: past them the stock tells the depth.
+    held_tool = id;
+    held.push_back({p.line, p.motion, p.tip_mm,
+                    p.ap_mm >= t.flute_length_mm - s.slice_mm ? std::max(p.ap_mm, p.stock_depth_mm) : p.ap_mm});
+    rough.f.limit = R;
+  }
+  if (p.index == p.count) {
+    end = p.tip_mm;
+    end_line = p.line;
+    end_known = true;
+    end_motion = p.motion;
+    judge_held(true, R);
+  }
+}
+
+// 5. for other ends: runs of full-width slot points deeper than D/2 (end_run).
+void PlausibilityScan::State::check_slot(const Point& p, const stiffness::Tool& t, const std::string& id) {
+  const double D = t.diameter_mm;
+  const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D && p.section_mm2 > 0.5 * D * D;
+  const RunPoint q{p.line, p.motion, p.tip_mm, p.ap_mm};
+  if (slot && (run.empty() || (run_tool == id && run.back().motion + 1 >= p.motion))) {
+    if (!run.empty()) run_mm += (p.tip_mm - run.back().tip_mm).norm();
+    run.push_back(q);
+    run_tool = id;
+    rough.f.limit = std::max(rough.f.limit, 0.5 * D);
   } else {
-    const bool slot = !p.air && p.ae_mm >= 0.98 * D && p.ap_mm > 0.5 * D && p.section_mm2 > 0.5 * D * D;
-    const RunPoint q{p.line, p.motion, p.tip_mm, p.ap_mm};
-    if (slot && (run.empty() || (run_tool == id && run.back().motion + 1 >= p.motion))) {
-      if (!run.empty()) run_mm += (p.tip_mm - run.back().tip_mm).norm();
+    end_run();
+    if (slot) {
       run.push_back(q);
       run_tool = id;
-      rough.f.limit = std::max(rough.f.limit, 0.5 * D);
-    } else {
-      end_run();
-      if (slot) {
-        run.push_back(q);
-        run_tool = id;
-      }
     }
   }
 }
@@ -384,6 +406,108 @@ void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
   st_->fold(false);
 }
 
+namespace {
+
+// "N points on M lines (l1, l2, ...)": the end of every finding's message.
+std::string lines_text(const Finding& f) {
+  std::string l;
+  for (std::size_t i = 0; i < f.lines.size(); ++i) l += (i ? ", " : "") + std::to_string(f.lines[i]);
+  if (f.line_count > f.lines.size()) l += ", ...";
+  return plural(f.count, "point") + " on " + plural(f.line_count, "line") + " (" + l + ")";
+}
+
+void emit(Plausibility& out, Acc& a, const std::string& msg) {
+  a.f.line_count = a.seen.size();
+  a.f.message = msg + "; " + lines_text(a.f);
+  out.findings.push_back(a.f);
+}
+
+void flute_finding(Plausibility& out, Acc& flute, const stiffness::ToolLibrary& tools) {
+  const auto& t = tools.tools.at(flute.f.tool);
+  flute.f.limit = t.flute_length_mm;
+  emit(out, flute, "the cut reaches " + num(flute.f.worst, 2) + " mm above the tip of " + flute.f.tool +
+                       ", whose flutes are " + num(t.flute_length_mm, 2) + " mm long: the " +
+                       (t.neck ? "neck" : "shank") + " is in the cut and rubs");
+}
+
+// The worst point by its ratio to its tool's limit, told in newtons.
+void force_finding(Plausibility& out, Acc& force, double peak_N, double limit_N, const stiffness::ToolLibrary& tools) {
+  force.f.worst = peak_N;
+  force.f.limit = limit_N;
+  const auto& t = tools.tools.at(force.f.tool);
+  const ForceLimit fl = force_limit(t);
+  const std::string why = t.max_force_N ? std::string("its max_force_N")
+                                        : "bending at " + fl.where + ", " + t.material.name + " " +
+                                              num(t.material.allowable_bending_MPa, 0) +
+                                              " MPa allowable; set max_force_N to override";
+  emit(out, force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
+                       num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
+}
+
+void cap_finding(Plausibility& out, Acc& cap, const Settings& s, bool compensated) {
+  const std::string limit = "the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) + " mm";
+  // On a compensated line the error as programmed may lie under the cap
+  // while the offset needed does not: moving the tool into the material
+  // deepens the cut and the deflection grows with it.
+  const std::string what =
+      cap.f.worst > s.max_offset_mm
+          ? "the deflection along the surface normal reaches " + num(cap.f.worst, 4) + " mm, over " + limit
+          : "the offset these points need exceeds " + limit + " (their deflection along the normal, " +
+                num(cap.f.worst, 4) + " mm as programmed, grows as the offset deepens the cut)";
+  emit(out, cap, what + (compensated ? ": these points are compensated only up to the cap"
+                                     : ": compensate would correct these points only up to the cap"));
+}
+
+void rough_finding(Plausibility& out, Acc& rough, const stiffness::ToolLibrary& tools) {
+  const auto& t = tools.tools.at(rough.f.tool);
+  const bool ball = t.type == stock::EndShape::ball;
+  rough.f.limit = 0.5 * t.diameter_mm;
+  emit(out, rough, std::string("a_p up to ") + num(rough.f.worst, 2) + " mm under " + rough.f.tool + " (" +
+                       (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"
+                             : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
+                       "): the stock looks like a raw blank that needs roughing first");
+}
+
+// The worst dip: its drop `dz_mm` (< 0) over `xy_mm` across at `line`.
+void gouge_finding(Plausibility& out, Acc& g, double dz_mm, double xy_mm, std::uint32_t line) {
+  g.f.line = line;
+  emit(out, g, "the program plunges " + num(-dz_mm, 2) + " mm in one " + num(xy_mm, 2) + " mm step at line " +
+                   std::to_string(line) + " and climbs back at once under " + g.f.tool + " (a ball end of radius " +
+                   num(g.f.limit, 2) + " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
+}
+
+void earlier_finding(Plausibility& out, const AirRuns& e, const Settings& s) {
+  Finding f;
+  f.kind = "earlier_cut";
+  f.count = e.points;
+  f.worst = e.gap_mm;
+  f.limit = s.tolerance_mm;
+  f.line = e.first_line;
+  f.tool = e.tool;
+  f.lines = e.lines;
+  f.line_count = e.line_count;
+  const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
+  f.message = num(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
+              std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
+              num(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
+              "neither compensated nor in the predicted error; " + lines_text(f);
+  out.findings.push_back(f);
+}
+
+void no_material_finding(Plausibility& out, std::size_t air_points, std::uint32_t first_line, const std::string& tool) {
+  Finding f;
+  f.kind = "no_material";
+  f.count = air_points;
+  f.line = first_line;
+  f.tool = tool;
+  f.message = "none of the " + std::to_string(f.count) +
+              " cutting points is in the stock: each cuts air or plunges, so nothing is compensated and the "
+              "error figures say nothing; check --stock (and --stock-from)";
+  out.findings.push_back(f);
+}
+
+}  // namespace
+
 Plausibility PlausibilityScan::finish(bool compensated) {
   State& z = *st_;
   z.end_run();
@@ -391,109 +515,22 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   z.judge_held(false, 0);  // a drop left waiting
   z.earlier.end();
   z.fold(true);
-  const stiffness::ToolLibrary& tools = z.tools;
-  const Settings& s = z.s;
-  Acc &flute = z.flute, &force = z.force, &centre = z.centre, &rough = z.rough;
   Acc cap = compensated ? z.capped : z.cap;
   cap.f.kind = "offset_cap";
-  if (compensated) cap.f.limit = s.max_offset_mm;
-  const double force_peak = z.force_peak, force_lim = z.force_lim;
+  if (compensated) cap.f.limit = z.s.max_offset_mm;
   Plausibility out;
-  auto lines_text = [](const Finding& f) {
-    std::string l;
-    for (std::size_t i = 0; i < f.lines.size(); ++i) l += (i ? ", " : "") + std::to_string(f.lines[i]);
-    if (f.line_count > f.lines.size()) l += ", ...";
-    return plural(f.count, "point") + " on " + plural(f.line_count, "line") + " (" + l + ")";
-  };
-  auto emit = [&](Acc& a, const std::string& msg) {
-    a.f.line_count = a.seen.size();
-    a.f.message = msg + "; " + lines_text(a.f);
-    out.findings.push_back(a.f);
-  };
-  if (flute.any) {
-    const auto& t = tools.tools.at(flute.f.tool);
-    flute.f.limit = t.flute_length_mm;
-    emit(flute, "the cut reaches " + num(flute.f.worst, 2) + " mm above the tip of " + flute.f.tool +
-                    ", whose flutes are " + num(t.flute_length_mm, 2) + " mm long: the " +
-                    (t.neck ? "neck" : "shank") + " is in the cut and rubs");
-  }
-  if (force.any) {
-    force.f.worst = force_peak;
-    force.f.limit = force_lim;
-    const auto& t = tools.tools.at(force.f.tool);
-    const ForceLimit fl = force_limit(t);
-    const std::string why = t.max_force_N ? std::string("its max_force_N")
-                                          : "bending at " + fl.where + ", " + t.material.name + " " +
-                                                num(t.material.allowable_bending_MPa, 0) +
-                                                " MPa allowable; set max_force_N to override";
-    emit(force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
-                    num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
-  }
-  if (cap.any) {
-    const std::string limit = "the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) + " mm";
-    // On a compensated line the error as programmed may lie under the cap
-    // while the offset needed does not: moving the tool into the material
-    // deepens the cut and the deflection grows with it.
-    const std::string what =
-        cap.f.worst > s.max_offset_mm
-            ? "the deflection along the surface normal reaches " + num(cap.f.worst, 4) + " mm, over " + limit
-            : "the offset these points need exceeds " + limit + " (their deflection along the normal, " +
-                  num(cap.f.worst, 4) + " mm as programmed, grows as the offset deepens the cut)";
-    emit(cap, what + (compensated ? ": these points are compensated only up to the cap"
-                                  : ": compensate would correct these points only up to the cap"));
-  }
-  if (centre.any)
-    emit(centre, "plunge into the material with " + centre.f.tool +
-                     ", which does not cut at its centre (centre_cutting: false): ramp or helix in, or pre-drill");
-  if (rough.any) {
-    const auto& t = tools.tools.at(rough.f.tool);
-    const bool ball = t.type == stock::EndShape::ball;
-    rough.f.limit = 0.5 * t.diameter_mm;
-    emit(rough, std::string("a_p up to ") + num(rough.f.worst, 2) + " mm under " + rough.f.tool + " (" +
-                    (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"
-                          : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
-                    "): the stock looks like a raw blank that needs roughing first");
-  }
-  if (z.gouge.any) {
-    Acc& g = z.gouge;
-    g.f.line = z.gouge_line;
-    emit(g, "the program plunges " + num(-z.gouge_dz_mm, 2) + " mm in one " + num(z.gouge_xy_mm, 2) +
-                " mm step at line " + std::to_string(z.gouge_line) + " and climbs back at once under " + g.f.tool +
-                " (a ball end of radius " + num(g.f.limit, 2) +
-                " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
-  }
-  if (z.earlier.points) {
-    const AirRuns& e = z.earlier;
-    Finding f;
-    f.kind = "earlier_cut";
-    f.count = e.points;
-    f.worst = e.gap_mm;
-    f.limit = s.tolerance_mm;
-    f.line = e.first_line;
-    f.tool = e.tool;
-    f.lines = e.lines;
-    f.line_count = e.line_count;
-    const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
-    f.message = num(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
-                std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
-                num(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
-                "neither compensated nor in the predicted error; " + lines_text(f);
-    out.findings.push_back(f);
-  }
-  if (!z.material && z.air_points) {
-    Finding f;
-    f.kind = "no_material";
-    f.count = z.air_points;
-    f.line = z.first_air_line;
-    f.tool = z.first_air_tool;
-    f.message = "none of the " + std::to_string(f.count) +
-                " cutting points is in the stock: each cuts air or plunges, so nothing is compensated and the "
-                "error figures say nothing; check --stock (and --stock-from)";
-    out.findings.push_back(f);
-  }
+  if (z.flute.any) flute_finding(out, z.flute, z.tools);
+  if (z.force.any) force_finding(out, z.force, z.force_peak, z.force_lim, z.tools);
+  if (cap.any) cap_finding(out, cap, z.s, compensated);
+  if (z.centre.any)
+    emit(out, z.centre, "plunge into the material with " + z.centre.f.tool +
+                            ", which does not cut at its centre (centre_cutting: false): ramp or helix in, or pre-drill");
+  if (z.rough.any) rough_finding(out, z.rough, z.tools);
+  if (z.gouge.any) gouge_finding(out, z.gouge, z.gouge_dz_mm, z.gouge_xy_mm, z.gouge_line);
+  if (z.earlier.points) earlier_finding(out, z.earlier, z.s);
+  if (!z.material && z.air_points) no_material_finding(out, z.air_points, z.first_air_line, z.first_air_tool);
   return out;
 }
-
 
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
                           const std::vector<std::uint32_t>* capped_lines, bool earlier_stock) {

@@ -12,14 +12,33 @@ namespace deflex::interp::detail {
 bool Run::do_cycle() {
   if (plane_ != 17) return refuse(nullptr, "canned cycles outside G17 are not interpreted");
   if (comp_ != 400) return refuse(nullptr, "canned cycle under cutter compensation");
+  int repeats = 1;
+  if (const Word* wk = blk_.find(d_.cycle_repeat_word)) {
+    if (!whole(wk, 0, 9999, repeats, "repeat count")) return false;
+  }
+  if (!set_cycle_levels()) return false;
+  const double top = return_ == 980 ? std::max(cyc_init_z_, cyc_r_) : cyc_r_;
+  Vec3 xy_step{0, 0, 0};
+  Vec3 hole = pos_;
+  if (!hole_position(hole, xy_step)) return false;
+  // A tiny Q would make pecks without end (depth - Q == depth in doubles).
+  if ((cycle_ == 730 || cycle_ == 830) && (cyc_r_ - cyc_z_) / cyc_q_ > static_cast<double>(opt_.max_blocks))
+    return refuse(blk_.find('Q'), "peck depth Q gives more than " + std::to_string(opt_.max_blocks) +
+                                      " pecks; --max-blocks raises the limit");
+  for (int k = 0; k < repeats && !stop_; ++k) {
+    if (!absolute_) { hole[0] = pos_[0] + xy_step[0]; hole[1] = pos_[1] + xy_step[1]; }
+    move_to_hole(hole);
+    cycle_moves(top);
+  }
+  return true;
+}
+
+// The cycle's R level, bottom Z and peck depth Q from the block, or the ones
+// before (modal); false when they make no cycle.
+bool Run::set_cycle_levels() {
   const Word* wz = blk_.find('Z');
   const Word* wr = blk_.find('R');
   const Word* wq = blk_.find('Q');
-  const Word* wk = blk_.find(d_.cycle_repeat_word);
-  int repeats = 1;
-  if (wk) {
-    if (!whole(wk, 0, 9999, repeats, "repeat count")) return false;
-  }
   if (!known_[2]) return refuse(wz, "canned cycle before the Z position is known");
   // R and Z: incremental R is from the initial level, incremental Z from R.
   if (wr) { cyc_r_ = absolute_ ? length_mm(*wr) : cyc_init_z_ + length_mm(*wr); cyc_have_r_ = true; }
@@ -33,11 +52,11 @@ bool Run::do_cycle() {
   if (cyc_z_ > cyc_r_) return refuse(wz, "canned cycle bottom Z above the R level");
   if (return_ == 980 && cyc_init_z_ < cyc_r_)
     warn(nullptr, "G98 with the initial level below R: retracting to R");
-  double top = return_ == 980 ? std::max(cyc_init_z_, cyc_r_) : cyc_r_;
+  return true;
+}
 
-  // XY of the hole: absolute once, or incremental per repeat.
-  Vec3 xy_step{0, 0, 0};
-  Vec3 hole = pos_;
+// XY of the hole: absolute once (into `hole`), or incremental per repeat (into `xy_step`).
+bool Run::hole_position(Vec3& hole, Vec3& xy_step) {
   static const char axes[] = {'X', 'Y'};
   for (int i = 0; i < 2; ++i) {
     const Word* w = blk_.find(axes[i]);
@@ -49,64 +68,66 @@ bool Run::do_cycle() {
     }
   }
   if (!known_[0] || !known_[1]) return refuse(nullptr, "canned cycle before the X/Y position is known");
+  return true;
+}
+
+// Rapids over the hole and down to R (up to R first where the dialect's
+// control positions only above it).
+void Run::move_to_hole(const Vec3& hole) {
   const Fixed cc = Fixed::canned_cycle;
-  auto at = [&](double z) { Vec3 p = pos_; p[2] = z; return p; };
-  // A tiny Q would make pecks without end (depth - Q == depth in doubles).
-  if ((cycle_ == 730 || cycle_ == 830) && (cyc_r_ - cyc_z_) / cyc_q_ > static_cast<double>(opt_.max_blocks))
-    return refuse(wq, "peck depth Q gives more than " + std::to_string(opt_.max_blocks) +
-                          " pecks; --max-blocks raises the limit");
-  for (int k = 0; k < repeats && !stop_; ++k) {
-    if (!absolute_) { hole[0] = pos_[0] + xy_step[0]; hole[1] = pos_[1] + xy_step[1]; }
-    if (!d_.cycle_positions_before_raise && pos_[2] < cyc_r_) emit(MotionKind::rapid, at(cyc_r_), cc);
-    Vec3 p = pos_;
-    p[0] = hole[0];
-    p[1] = hole[1];
-    if (p != pos_) emit(MotionKind::rapid, p, cc);
-    if (pos_[2] != cyc_r_) emit(MotionKind::rapid, at(cyc_r_), cc);
-    double z = cyc_z_, r = cyc_r_;
-    switch (cycle_) {
-      case 810: case 820:
-        emit(MotionKind::linear, at(z), cc);
-        emit(MotionKind::rapid, at(top), cc);
-        break;
-      case 860:
-        emit(MotionKind::linear, at(z), cc);
-        emit(MotionKind::rapid, at(top), cc);
-        break;
-      case 840: case 740: case 850: case 890:
-        emit(MotionKind::linear, at(z), cc);
-        emit(MotionKind::linear, at(r), cc);
-        if (top != r) emit(MotionKind::rapid, at(top), cc);
-        break;
-      case 730: case 830: {
-        // G73: retract d after each peck; G83: back to R, then rapid to d above the last depth.
-        double d = d_.peck_retract_mm, depth = r;
-        while (!stop_) {
-          depth = std::max(depth - cyc_q_, z);
-          emit(MotionKind::linear, at(depth), cc);
-          if (depth <= z) break;
-          if (cycle_ == 830) emit(MotionKind::rapid, at(r), cc);
-          emit(MotionKind::rapid, at(std::min(depth + d, r)), cc);
-        }
-        emit(MotionKind::rapid, at(top), cc);
-        break;
+  if (!d_.cycle_positions_before_raise && pos_[2] < cyc_r_) emit(MotionKind::rapid, at_z(cyc_r_), cc);
+  Vec3 p = pos_;
+  p[0] = hole[0];
+  p[1] = hole[1];
+  if (p != pos_) emit(MotionKind::rapid, p, cc);
+  if (pos_[2] != cyc_r_) emit(MotionKind::rapid, at_z(cyc_r_), cc);
+}
+
+// The cycle's own moves from R to the bottom and back up to `top`.
+void Run::cycle_moves(double top) {
+  const Fixed cc = Fixed::canned_cycle;
+  double z = cyc_z_, r = cyc_r_;
+  switch (cycle_) {
+    case 810: case 820:
+      emit(MotionKind::linear, at_z(z), cc);
+      emit(MotionKind::rapid, at_z(top), cc);
+      break;
+    case 860:
+      emit(MotionKind::linear, at_z(z), cc);
+      emit(MotionKind::rapid, at_z(top), cc);
+      break;
+    case 840: case 740: case 850: case 890:
+      emit(MotionKind::linear, at_z(z), cc);
+      emit(MotionKind::linear, at_z(r), cc);
+      if (top != r) emit(MotionKind::rapid, at_z(top), cc);
+      break;
+    case 730: case 830: {
+      // G73: retract d after each peck; G83: back to R, then rapid to d above the last depth.
+      double d = d_.peck_retract_mm, depth = r;
+      while (!stop_) {
+        depth = std::max(depth - cyc_q_, z);
+        emit(MotionKind::linear, at_z(depth), cc);
+        if (depth <= z) break;
+        if (cycle_ == 830) emit(MotionKind::rapid, at_z(r), cc);
+        emit(MotionKind::rapid, at_z(std::min(depth + d, r)), cc);
       }
-      case 760: {
-        emit(MotionKind::linear, at(z), cc);
-        Vec3 s = pos_;
-        int ax = d_.fine_boring_shift[1] == 'X' ? 0 : 1;
-        double sign = d_.fine_boring_shift[0] == '-' ? -1.0 : 1.0;
-        s[ax] += sign * cyc_q_;
-        emit(MotionKind::rapid, s, cc);
-        emit(MotionKind::rapid, at(top), cc);
-        Vec3 back = pos_;
-        back[ax] -= sign * cyc_q_;
-        emit(MotionKind::rapid, back, cc);
-        break;
-      }
+      emit(MotionKind::rapid, at_z(top), cc);
+      break;
+    }
+    case 760: {
+      emit(MotionKind::linear, at_z(z), cc);
+      Vec3 s = pos_;
+      int ax = d_.fine_boring_shift[1] == 'X' ? 0 : 1;
+      double sign = d_.fine_boring_shift[0] == '-' ? -1.0 : 1.0;
+      s[ax] += sign * cyc_q_;
+      emit(MotionKind::rapid, s, cc);
+      emit(MotionKind::rapid, at_z(top), cc);
+      Vec3 back = pos_;
+      back[ax] -= sign * cyc_q_;
+      emit(MotionKind::rapid, back, cc);
+      break;
     }
   }
-  return true;
 }
 
 bool Run::flow(bool m98, bool m99, bool end) {

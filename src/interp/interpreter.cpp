@@ -79,23 +79,33 @@ bool Run::execute() {
   const Word* cw[kGroups] = {};
   for (int& c : codes) c = -1;
   if (!check_words(codes, cw)) return false;
+  const MCodes m = m_codes();
+  // Modal settings in the control's order, units first: every length in this
+  // block is read in the new units.
+  if (!set_units_feed_tool(codes, m.m6) || !set_plane_and_distance(codes, cw) || !set_compensation(codes, cw) ||
+      !set_work_offset(codes, cw))
+    return false;
+  if (codes[g_return] >= 0) return_ = codes[g_return];
+  bool axes_taken = false;
+  if (!non_modal(codes, cw, axes_taken) || !motion_or_cycle(codes, cw, axes_taken)) return false;
+  return flow(m.m98, m.m99, m.end);
+}
 
-  // M codes of the block.
-  bool m6 = false, m98 = false, m99 = false, end = false;
+Run::MCodes Run::m_codes() const {
+  MCodes m;
   for (const Word& w : blk_.words) {
     if (w.letter != 'M') continue;
-    int m = w.code10();
-    if (m == 60) m6 = true;
-    else if (m == 980) m98 = true;
-    else if (m == 990) m99 = true;
-    else if (m == 20 || m == 300) end = true;
+    int c = w.code10();
+    if (c == 60) m.m6 = true;
+    else if (c == 980) m.m98 = true;
+    else if (c == 990) m.m99 = true;
+    else if (c == 20 || c == 300) m.end = true;
   }
-  const Word* wF = blk_.find('F');
-  const Word* wT = blk_.find('T');
-  const Word* wH = blk_.find('H');
-  const Word* wP = blk_.find('P');
+  return m;
+}
 
-  // Units first: every length in this block is read in the new units.
+// G20/G21, then F, T, S and M6 (which take the new units and tool number).
+bool Run::set_units_feed_tool(const int codes[kGroups], bool m6) {
   if (codes[g_units] >= 0) { inch_ = codes[g_units] == 200; units_set_ = true; }
   if (!units_set_ && !warned_units_) {
     for (const Word& w : blk_.words)
@@ -105,13 +115,19 @@ bool Run::execute() {
         break;
       }
   }
-  if (wF) {
+  if (const Word* wF = blk_.find('F')) {
     if (wF->value < 0) return refuse(wF, "negative feed rate");
     feed_ = to_mm(wF->value);
   }
+  const Word* wT = blk_.find('T');
   if (wT && !whole(wT, 0, 99999999, next_tool_, "tool number T")) return false;
   if (const Word* wS = blk_.find('S')) spindle_rpm_ = wS->value;
   if (m6) tool_ = next_tool_;
+  return true;
+}
+
+// G17/G18/G19, G90/G91 and G90.1/G91.1.
+bool Run::set_plane_and_distance(const int codes[kGroups], const Word* const cw[kGroups]) {
   if (codes[g_plane] >= 0) {
     if (cc_.on() && codes[g_plane] != plane_ * 10)
       return refuse(cw[g_plane], "a plane change under cutter compensation: cancel it with G40 first");
@@ -119,6 +135,11 @@ bool Run::execute() {
   }
   if (codes[g_distance] >= 0) absolute_ = codes[g_distance] == 900;
   if (codes[g_arcdist] >= 0) ijk_absolute_ = codes[g_arcdist] == 901;
+  return true;
+}
+
+// D, G40/G41/G42, then G43/G44/G49 with H.
+bool Run::set_compensation(const int codes[kGroups], const Word* const cw[kGroups]) {
   if (const Word* wD = blk_.find('D')) {
     const int before = d_reg_;
     if (!whole(wD, 0, 9999, d_reg_, "offset register D")) return false;
@@ -135,29 +156,38 @@ bool Run::execute() {
   if (codes[g_length] >= 0) {
     length_ = codes[g_length];
     // H may stand anywhere in the block (docs/physics.md, 'H anywhere'); it names an offset register.
+    const Word* wH = blk_.find('H');
     if (wH && !whole(wH, 0, 99999999, h_, "offset register H")) return false;
     if (length_ != 490 && !wH) warn(cw[g_length], gname(length_) + " without H: offset H" + std::to_string(h_) + " stays active");
   }
-  if (codes[g_wcs] >= 0) {
-    int c = codes[g_wcs];
-    std::string key;
-    if (c == 541 || c == 1540) {
-      if (!wP) return refuse(cw[g_wcs], gname(c) + " needs P (extended work offset number)");
-      int p = 0;
-      if (!whole(wP, 1, c == 541 ? 48 : 99, p, "extended work offset P")) return false;
-      key = "G54.1P" + std::to_string(p);
-    } else {
-      key = gname(c);
-    }
-    Vec3 o = offset_of(key);
-    // The tool stays where it is; its coordinates change with the frame.
-    for (int i = 0; i < 3; ++i) pos_[i] += wofs_[i] - o[i];
-    wofs_ = o;
-    wcs_ = key;
-  }
-  if (codes[g_return] >= 0) return_ = codes[g_return];
+  return true;
+}
 
-  // Non-modal codes that take the axis words.
+// G54..G59, G54.1 P / G154 P and G59.x.
+bool Run::set_work_offset(const int codes[kGroups], const Word* const cw[kGroups]) {
+  if (codes[g_wcs] < 0) return true;
+  int c = codes[g_wcs];
+  std::string key;
+  if (c == 541 || c == 1540) {
+    const Word* wP = blk_.find('P');
+    if (!wP) return refuse(cw[g_wcs], gname(c) + " needs P (extended work offset number)");
+    int p = 0;
+    if (!whole(wP, 1, c == 541 ? 48 : 99, p, "extended work offset P")) return false;
+    key = "G54.1P" + std::to_string(p);
+  } else {
+    key = gname(c);
+  }
+  Vec3 o = offset_of(key);
+  // The tool stays where it is; its coordinates change with the frame.
+  for (int i = 0; i < 3; ++i) pos_[i] += wofs_[i] - o[i];
+  wofs_ = o;
+  wcs_ = key;
+  return true;
+}
+
+// Non-modal codes that take the axis words (`axes_taken`: the block's X Y Z
+// are theirs, not a motion's).
+bool Run::non_modal(const int codes[kGroups], const Word* const cw[kGroups], bool& axes_taken) {
   int nm = codes[g_nonmodal];
   if (nm == 40) {  // dwell: X or P is a time, not a position
     if (codes[g_motion] >= 0 || codes[g_cycle] >= 0) return refuse(cw[g_nonmodal], "G4 with a motion code in one block");
@@ -166,31 +196,30 @@ bool Run::execute() {
   } else if (nm == 530) {
     if (!do_machine_move()) return false;
   }
-  bool axes_taken = nm == 40 || nm == 280 || nm == 300 || nm == 530;
+  axes_taken = nm == 40 || nm == 280 || nm == 300 || nm == 530;
+  return true;
+}
 
-  // Motion group: G0..G3 cancel a canned cycle; G80 cancels it explicitly.
+// Motion group: G0..G3 cancel a canned cycle; G80 cancels it explicitly.
+bool Run::motion_or_cycle(const int codes[kGroups], const Word* const cw[kGroups], bool axes_taken) {
   if (codes[g_motion] >= 0 && codes[g_cycle] >= 0 && codes[g_cycle] != 800)
     return refuse(cw[g_cycle], gname(codes[g_motion]) + " and canned cycle " + gname(codes[g_cycle]) + " in one block");
   if (codes[g_motion] >= 0) { motion_ = codes[g_motion]; cycle_ = 800; }
   if (codes[g_cycle] == 800) { cycle_ = 800; cyc_have_z_ = cyc_have_r_ = false; }
-  bool new_cycle = false;
   if (codes[g_cycle] >= 0 && codes[g_cycle] != 800) {
-    new_cycle = cycle_ == 800;
-    if (new_cycle) { cyc_init_z_ = pos_[2]; cyc_have_z_ = cyc_have_r_ = false; }
+    if (cycle_ == 800) { cyc_init_z_ = pos_[2]; cyc_have_z_ = cyc_have_r_ = false; }
     cycle_ = codes[g_cycle];
   }
   bool have_axes = false;
   for (const Word& w : blk_.words)
     if (w.letter == 'X' || w.letter == 'Y' || w.letter == 'Z') have_axes = true;
-  if (!axes_taken) {
-    if (cycle_ != 800) {
-      bool have_r = blk_.find('R') != nullptr;
-      if (have_axes || have_r) { if (!do_cycle()) return false; }
-    } else if (!do_motion(motion_, have_axes)) {
-      return false;
-    }
+  if (axes_taken) return true;
+  if (cycle_ != 800) {
+    bool have_r = blk_.find('R') != nullptr;
+    if (have_axes || have_r) return do_cycle();
+    return true;
   }
-  return flow(m98, m99, end);
+  return do_motion(motion_, have_axes);
 }
 
 // G41/G42: the radius of the D register (LinuxCNC without any D: the tool's).

@@ -281,11 +281,25 @@ class Run {
     execute();
   }
 
+  // Runs the block lexed into blk_ (its steps in interpreter.cpp, in the order they run).
   bool execute();
   bool check_words(int codes[kGroups], const Word* code_word[kGroups]);
+  struct MCodes { bool m6 = false, m98 = false, m99 = false, end = false; };
+  MCodes m_codes() const;
+  bool set_units_feed_tool(const int codes[kGroups], bool m6);
+  bool set_plane_and_distance(const int codes[kGroups], const Word* const cw[kGroups]);
+  bool set_compensation(const int codes[kGroups], const Word* const cw[kGroups]);
+  bool set_work_offset(const int codes[kGroups], const Word* const cw[kGroups]);
+  bool non_modal(const int codes[kGroups], const Word* const cw[kGroups], bool& axes_taken);
+  bool motion_or_cycle(const int codes[kGroups], const Word* const cw[kGroups], bool axes_taken);
   bool do_motion(int mode, bool have_axes);
   bool do_arc(bool cw);
   bool do_cycle();
+  bool set_cycle_levels();
+  bool hole_position(Vec3& hole, Vec3& xy_step);
+  void move_to_hole(const Vec3& hole);
+  void cycle_moves(double top);
+  Vec3 at_z(double z) const { Vec3 p = pos_; p[2] = z; return p; }  // the tool's XY at height z
   bool do_reference_return(bool g30);
   bool do_machine_move();
   bool axis_target(Vec3& target, bool& any);

@@ -176,6 +176,118 @@ void PageSink::worst_add(std::uint32_t line, double key, const std::array<double
   if (key > least->key) *least = {line, key, values};
 }
 
+namespace {
+
+using MapNames = std::vector<std::pair<std::string, std::string>>;
+
+// The plots: buckets of `per` rows, each the first row's path length, the
+// line of the row of largest |e| of the last map, and per series the value
+// of largest magnitude.
+struct Plots {
+  static constexpr std::size_t kBuckets = 4000;
+  int maps;
+  std::size_t per, cols;
+  Json x = Json::array(), lines = Json::array();
+  std::vector<Json> out;
+  std::vector<double> best;
+  std::uint32_t worst_line = 0;
+  std::size_t in_bucket = 0;
+
+  Plots(std::size_t rows, int map_count)
+      : maps(map_count), per(std::max<std::size_t>(1, (rows + kBuckets - 1) / kBuckets)),
+        cols(11 + static_cast<std::size_t>(map_count)), out(cols, Json::array()), best(cols, kNone) {}
+  // Keeps `val` in column c when of larger magnitude; true if kept.
+  bool pick(std::size_t c, double val) {
+    if (std::isnan(val) || !(std::isnan(best[c]) || std::fabs(val) > std::fabs(best[c]))) return false;
+    best[c] = val;
+    return true;
+  }
+  // A row: its path length, line, series (kSeries) and errors (maps).
+  void add(double path_mm, std::uint32_t line, const float* series, const double* e) {
+    if (in_bucket == 0) {
+      x.push_back(fixed(path_mm, 3));
+      worst_line = line;
+    }
+    for (std::size_t c = 0; c < 11; ++c) pick(c, series[c]);
+    for (int m = 0; m < maps; ++m) {
+      const bool worse = pick(11 + static_cast<std::size_t>(m), 1000 * e[m]);
+      if (worse && m == maps - 1) worst_line = line;
+    }
+    if (++in_bucket == per) close();
+  }
+  void close() {
+    for (std::size_t c = 0; c < cols; ++c) out[c].push_back(num_or_null(best[c], c < 11 ? 4 : 3));
+    lines.push_back(worst_line);
+    std::fill(best.begin(), best.end(), kNone);
+    in_bucket = 0;
+  }
+  Json json(std::size_t rows) {
+    Json j = {{"points", rows}, {"per_bucket", per}, {"x", std::move(x)}, {"line", std::move(lines)}};
+    for (std::size_t c = 0; c < 11; ++c) j[kSeries[c]] = std::move(out[c]);
+    for (int m = 0; m < maps; ++m) j["e" + std::to_string(m)] = std::move(out[11 + static_cast<std::size_t>(m)]);
+    return j;
+  }
+};
+
+// The histogram of each map over +-scale, in percent of the map's rows.
+struct Histogram {
+  static constexpr int bins = 60;
+  double scale_mm, w;
+  std::vector<std::vector<double>> hist;
+  std::vector<double> hist_n;
+
+  Histogram(int maps, double scale)
+      : scale_mm(scale), w(2 * scale / bins),
+        hist(static_cast<std::size_t>(maps), std::vector<double>(bins, 0.0)),
+        hist_n(static_cast<std::size_t>(maps), 0.0) {}
+  void add(int m, double e) {
+    if (std::isnan(e)) return;
+    const int b = std::clamp(static_cast<int>(std::floor((e + scale_mm) / w)), 0, bins - 1);
+    hist[static_cast<std::size_t>(m)][static_cast<std::size_t>(b)] += 1;
+    hist_n[static_cast<std::size_t>(m)] += 1;
+  }
+  Json json(const MapNames& maps) const {
+    Json edges = Json::array(), counts = Json::object();
+    for (int b = 0; b < bins; ++b) edges.push_back(fixed(1000 * (-scale_mm + b * w), 3));
+    for (std::size_t m = 0; m < hist.size(); ++m) {
+      Json a = Json::array();
+      const double hn = hist_n[m];
+      for (double c : hist[m]) a.push_back(fixed(hn > 0 ? 100 * c / hn : 0.0, 3));
+      counts[maps[m].first] = std::move(a);
+    }
+    return {{"edges_um", std::move(edges)}, {"bin_um", 1000 * w}, {"counts", std::move(counts)}};
+  }
+};
+
+}  // namespace
+
+// The grid's cell: at least the median step-over, so passes leave no stripes.
+double PageSink::grid_cell_mm() {
+  if (!steps_) return 0;
+  return 1.05 * kth_value(
+                    [&](const std::function<void(double)>& f) {
+                      spill_.each([&](const Rec& r) {
+                        if (!std::isnan(r.stepover_mm)) f(r.stepover_mm);
+                      });
+                    },
+                    steps_, steps_ / 2, step_lo_, step_hi_);
+}
+
+// The worst lines, worst first (equal ones by line).
+Json PageSink::worst_table(const MapNames& maps) {
+  std::sort(worst_.begin(), worst_.end(),
+            [](const Worst& a, const Worst& b) { return a.key != b.key ? a.key > b.key : a.line < b.line; });
+  Json wcols = Json::array(), rows = Json::array();
+  for (int m = maps_; m-- > 0;) wcols.push_back("e " + maps[static_cast<std::size_t>(m)].second + ", µm");
+  wcols.push_back("cusp, µm");
+  for (const Worst& wr : worst_) {
+    Json vals = Json::array();
+    for (int k = 0; k <= maps_; ++k) vals.push_back(num_or_null(wr.values[static_cast<std::size_t>(k)], 6));
+    rows.push_back({{"line", wr.line}, {"values", std::move(vals)}, {"text", ""}});
+  }
+  return {{"columns", std::move(wcols)}, {"rows", std::move(rows)}};
+}
+
 Page PageSink::finish(const ValueStats& cusp) {
   Page pg;
   if (maps_ == 2) pg.maps = {{"surface_error_as_written_mm", "as written"}, {"surface_error_mm", "compensated"}};
@@ -184,91 +296,23 @@ Page PageSink::finish(const ValueStats& cusp) {
   pg.cusp = cusp;
   pg.cusp_max_mm = cusp_max_;
   const std::size_t n = spill_.size();
-  // The grid's cell: at least the median step-over, so passes leave no stripes.
-  double step = 0;
-  if (steps_) {
-    step = 1.05 * kth_value(
-                      [&](const std::function<void(double)>& f) {
-                        spill_.each([&](const Rec& r) {
-                          if (!std::isnan(r.stepover_mm)) f(r.stepover_mm);
-                        });
-                      },
-                      steps_, steps_ / 2, step_lo_, step_hi_);
-  }
-  GridBuilder gb(x0_, y0_, x1_, y1_, static_cast<std::size_t>(maps_) + 1, step);
-  // The plots: buckets of `per` rows, each the first row's path length, the
-  // line of the row of largest |e| of the last map, and per series the value
-  // of largest magnitude.
-  const std::size_t buckets = 4000;
-  const std::size_t per = std::max<std::size_t>(1, (n + buckets - 1) / buckets);
-  const std::size_t cols = 11 + static_cast<std::size_t>(maps_);
-  Json x = Json::array(), lines = Json::array();
-  std::vector<Json> out(cols, Json::array());
-  std::vector<double> best(cols, kNone);
-  std::uint32_t worst_line = 0;
-  std::size_t in_bucket = 0;
-  auto close = [&] {
-    for (std::size_t c = 0; c < cols; ++c) out[c].push_back(num_or_null(best[c], c < 11 ? 4 : 3));
-    lines.push_back(worst_line);
-    std::fill(best.begin(), best.end(), kNone);
-    in_bucket = 0;
-  };
-  // The histogram of each map over +-scale.
-  const int bins = 60;
-  const double w = 2 * pg.scale_mm / bins;
-  std::vector<std::vector<double>> hist(static_cast<std::size_t>(maps_), std::vector<double>(bins, 0.0));
-  std::vector<double> hist_n(static_cast<std::size_t>(maps_), 0.0);
+  GridBuilder gb(x0_, y0_, x1_, y1_, static_cast<std::size_t>(maps_) + 1, grid_cell_mm());
+  Plots plots(n, maps_);
+  Histogram hist(maps_, pg.scale_mm);
+  // One pass over the rows on disk feeds the grid, the plots and the histogram.
   spill_.each([&](const Rec& r) {
     double v[3];
     for (int m = 0; m < maps_; ++m) v[m] = r.e[m];
     v[maps_] = r.cusp_mm;
     gb.add(V3(r.contact_mm[0], r.contact_mm[1], r.contact_mm[2]), v);
-    if (in_bucket == 0) {
-      x.push_back(fixed(r.path_mm, 3));
-      worst_line = r.line;
-    }
-    auto pick = [&](std::size_t c, double val) {
-      if (std::isnan(val) || !(std::isnan(best[c]) || std::fabs(val) > std::fabs(best[c]))) return false;
-      best[c] = val;
-      return true;
-    };
-    for (std::size_t c = 0; c < 11; ++c) pick(c, r.series[c]);
-    for (int m = 0; m < maps_; ++m) {
-      const bool worse = pick(11 + static_cast<std::size_t>(m), 1000 * r.e[m]);
-      if (worse && m == maps_ - 1) worst_line = r.line;
-      if (std::isnan(r.e[m])) continue;
-      const int b = std::clamp(static_cast<int>(std::floor((r.e[m] + pg.scale_mm) / w)), 0, bins - 1);
-      hist[static_cast<std::size_t>(m)][static_cast<std::size_t>(b)] += 1;
-      hist_n[static_cast<std::size_t>(m)] += 1;
-    }
-    if (++in_bucket == per) close();
+    plots.add(r.path_mm, r.line, r.series, r.e);
+    for (int m = 0; m < maps_; ++m) hist.add(m, r.e[m]);
   });
-  if (in_bucket) close();
+  if (plots.in_bucket) plots.close();
   pg.grid = gb.finish();
-  pg.series = {{"points", n}, {"per_bucket", per}, {"x", std::move(x)}, {"line", std::move(lines)}};
-  for (std::size_t c = 0; c < 11; ++c) pg.series[kSeries[c]] = std::move(out[c]);
-  for (int m = 0; m < maps_; ++m) pg.series["e" + std::to_string(m)] = std::move(out[11 + static_cast<std::size_t>(m)]);
-  Json edges = Json::array(), counts = Json::object();
-  for (int b = 0; b < bins; ++b) edges.push_back(fixed(1000 * (-pg.scale_mm + b * w), 3));
-  for (int m = 0; m < maps_; ++m) {
-    Json a = Json::array();
-    const double hn = hist_n[static_cast<std::size_t>(m)];
-    for (double c : hist[static_cast<std::size_t>(m)]) a.push_back(fixed(hn > 0 ? 100 * c / hn : 0.0, 3));
-    counts[pg.maps[static_cast<std::size_t>(m)].first] = std::move(a);
-  }
-  pg.histogram = {{"edges_um", std::move(edges)}, {"bin_um", 1000 * w}, {"counts", std::move(counts)}};
-  // The worst lines, worst first (equal ones by line).
-  std::sort(worst_.begin(), worst_.end(),
-            [](const Worst& a, const Worst& b) { return a.key != b.key ? a.key > b.key : a.line < b.line; });
-  Json wcols = Json::array(), rows = Json::array();
-  for (int m = maps_; m-- > 0;) wcols.push_back("e " + pg.maps[static_cast<std::size_t>(m)].second + ", µm");
-  wcols.push_back("cusp, µm");
-  for (const Worst& wr : worst_) {
-    Json vals = Json::array();
-    for (int k = 0; k <= maps_; ++k) vals.push_back(num_or_null(wr.values[static_cast<std::size_t>(k)], 6));
-    rows.push_back({{"line", wr.line}, {"values", std::move(vals)}, {"text", ""}});
-  }
-  pg.worst = {{"columns", std::move(wcols)}, {"rows", std::move(rows)}};
+  pg.series = plots.json(n);
+  pg.histogram = hist.json(pg.maps);
+  pg.worst = worst_table(pg.maps);
   return pg;
 }
 

@@ -43,6 +43,8 @@ class PageSink {
     std::array<double, 3> values;  // the maps, last first, then the cusp (unused: NaN)
   };
   void worst_add(std::uint32_t line, double key, const std::array<double, 3>& values);
+  double grid_cell_mm();
+  Json worst_table(const std::vector<std::pair<std::string, std::string>>& maps);
 
   Spill<Rec> spill_;
   int maps_;

@@ -3,6 +3,8 @@
 // written by yaml-cpp's emitter (quoting and escaping are theirs).
 #include "deflex/stiffness/tool_import.hpp"
 
+#include "deflex/stock/end_shape.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -18,7 +20,6 @@
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/profile/yaml.hpp"
-#include "deflex/stock/end_shape.hpp"
 
 namespace deflex::stiffness {
 namespace {
@@ -155,6 +156,59 @@ ImportedLibrary import_fusion_json(const std::string& text, const std::string& f
 
 namespace {
 
+// The tool number of a Fusion tool (post-process.number, 1..99999), or 0.
+int fusion_number(const Json& t) {
+  if (const auto pp = t.is_object() ? t.find("post-process") : t.end(); t.is_object() && pp != t.end() && pp->is_object())
+    if (const auto n = pp->find("number"); n != pp->end() && n->is_number_integer() && n->get<long long>() >= 1 &&
+                                           n->get<long long>() <= 99999)
+      return static_cast<int>(n->get<long long>());
+  return 0;
+}
+
+// One end mill's entry from its geometry (Fusion 360's keys: DC diameter, RE
+// corner radius, NOF flutes, LCF flute length, LB length below the holder,
+// SFDM shank diameter, BMC material); defaults noted where the library is silent.
+Entry fusion_entry(const FusionTool& ft, int number, const std::string& desc, stock::EndShape type) {
+  Entry e;
+  e.number = number;
+  e.description = desc;
+  e.type = type;
+  const auto dc = ft.length("DC");
+  if (!dc || *dc <= 0) fail(ft.where, "geometry.DC (the cutting diameter) is missing or 0");
+  e.d_mm = *dc;
+  if (e.type == stock::EndShape::bull) {
+    const auto re = ft.length("RE");
+    if (!re || *re <= 0 || *re > e.d_mm / 2)
+      fail(ft.where, "a bull nose needs geometry.RE (the corner radius) in (0, DC/2]");
+    e.corner_mm = *re;
+  }
+  if (const Json* nof = ft.geometry("NOF")) {
+    if (!nof->is_number() || nof->get<double>() < 1 || nof->get<double>() > 100 || std::floor(nof->get<double>()) != nof->get<double>())
+      fail(ft.where, "geometry.NOF must be a whole number of flutes, 1..100 (" + nof->dump() + ")");
+    e.flutes = nof->get<int>();
+  } else {
+    e.note["flutes"] = "default: the library gives no NOF";
+  }
+  e.note["helix_deg"] = "default: a Fusion library gives no helix angle; set the vendor's";
+  if (const auto lcf = ft.length("LCF"); lcf && *lcf > 0) e.flute_mm = *lcf;
+  else { e.flute_mm = 2 * e.d_mm; e.note["flute_length_mm"] = "default 2 D: the library gives no LCF"; }
+  if (const auto lb = ft.length("LB"); lb && *lb > 0) e.stickout_mm = *lb;
+  else { e.stickout_mm = e.flute_mm + e.d_mm; e.note["stickout_mm"] = "default LCF + D: the library gives no LB (length below the holder)"; }
+  if (const auto sf = ft.length("SFDM"); sf && *sf > 0) e.shank_mm = *sf;
+  // What deflex's reader requires of every tool, said here of the source.
+  const double corner = stock::corner_radius_mm(e.type, e.d_mm / 2, e.corner_mm);
+  for (const auto& [k, v] : {std::pair("DC", e.d_mm), std::pair("LCF", e.flute_mm), std::pair("LB", e.stickout_mm),
+                             std::pair("SFDM", e.shank_mm.value_or(1.0))})
+    if (!(v <= 1000)) fail(ft.where, std::string("geometry.") + k + " is " + number_text(v) + " mm: more than 1000 mm");
+  if (e.flute_mm < corner) fail(ft.where, "geometry.LCF (flute length) must reach past the corner radius");
+  if (e.stickout_mm <= corner) fail(ft.where, "geometry.LB (length below the holder) must exceed the corner radius");
+  const Json* bmc = ft.geometry("BMC");
+  const std::string m = bmc && bmc->is_string() ? bmc->get<std::string>() : "";
+  if (m == "carbide" || m == "hss") e.material = m;
+  else e.note["material"] = "default: the library says " + (m.empty() ? std::string("nothing") : "'" + m + "'");
+  return e;
+}
+
 ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
   ImportedLibrary out;
   out.format = "Fusion 360 JSON";
@@ -165,11 +219,7 @@ ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
     const Json& t = data[i];
     const std::string desc = text_of(t, "description", "");
     const std::string type = text_of(t, "type", "?");
-    int number = 0;
-    if (const auto pp = t.is_object() ? t.find("post-process") : t.end(); t.is_object() && pp != t.end() && pp->is_object())
-      if (const auto n = pp->find("number"); n != pp->end() && n->is_number_integer() && n->get<long long>() >= 1 &&
-                                             n->get<long long>() <= 99999)
-        number = static_cast<int>(n->get<long long>());
+    const int number = fusion_number(t);
     const std::string name = "data[" + std::to_string(i) + "] '" + desc + "' (" + type + ")";
     if (!t.is_object()) fail(file, "data[" + std::to_string(i) + "] is not a tool object");
     const auto kind = fusion_types().find(type);
@@ -188,46 +238,9 @@ ImportedLibrary fusion_tools(const Json& root, const std::string& file) {
     const std::string unit = text_of(t, "unit", "millimeters");
     if (unit != "millimeters" && unit != "inches")
       fail(file + ": " + name, "unit must be \"millimeters\" or \"inches\" (" + unit + ")");
-    FusionTool ft{t, file + ": " + name + " T" + std::to_string(number), unit == "inches" ? 25.4 : 1.0};
-    Entry e;
-    e.number = number;
-    e.description = desc;
-    e.type = kind->second;
-    const auto dc = ft.length("DC");
-    if (!dc || *dc <= 0) fail(ft.where, "geometry.DC (the cutting diameter) is missing or 0");
-    e.d_mm = *dc;
-    if (e.type == stock::EndShape::bull) {
-      const auto re = ft.length("RE");
-      if (!re || *re <= 0 || *re > e.d_mm / 2)
-        fail(ft.where, "a bull nose needs geometry.RE (the corner radius) in (0, DC/2]");
-      e.corner_mm = *re;
-    }
-    if (const Json* nof = ft.geometry("NOF")) {
-      if (!nof->is_number() || nof->get<double>() < 1 || nof->get<double>() > 100 || std::floor(nof->get<double>()) != nof->get<double>())
-        fail(ft.where, "geometry.NOF must be a whole number of flutes, 1..100 (" + nof->dump() + ")");
-      e.flutes = nof->get<int>();
-    } else {
-      e.note["flutes"] = "default: the library gives no NOF";
-    }
-    e.note["helix_deg"] = "default: a Fusion library gives no helix angle; set the vendor's";
-    if (const auto lcf = ft.length("LCF"); lcf && *lcf > 0) e.flute_mm = *lcf;
-    else { e.flute_mm = 2 * e.d_mm; e.note["flute_length_mm"] = "default 2 D: the library gives no LCF"; }
-    if (const auto lb = ft.length("LB"); lb && *lb > 0) e.stickout_mm = *lb;
-    else { e.stickout_mm = e.flute_mm + e.d_mm; e.note["stickout_mm"] = "default LCF + D: the library gives no LB (length below the holder)"; }
-    if (const auto sf = ft.length("SFDM"); sf && *sf > 0) e.shank_mm = *sf;
-    // What deflex's reader requires of every tool, said here of the source.
-    const double corner = stock::corner_radius_mm(e.type, e.d_mm / 2, e.corner_mm);
-    for (const auto& [k, v] : {std::pair("DC", e.d_mm), std::pair("LCF", e.flute_mm), std::pair("LB", e.stickout_mm),
-                               std::pair("SFDM", e.shank_mm.value_or(1.0))})
-      if (!(v <= 1000)) fail(ft.where, std::string("geometry.") + k + " is " + number_text(v) + " mm: more than 1000 mm");
-    if (e.flute_mm < corner) fail(ft.where, "geometry.LCF (flute length) must reach past the corner radius");
-    if (e.stickout_mm <= corner) fail(ft.where, "geometry.LB (length below the holder) must exceed the corner radius");
-    const Json* bmc = ft.geometry("BMC");
-    const std::string m = bmc && bmc->is_string() ? bmc->get<std::string>() : "";
-    if (m == "carbide" || m == "hss") e.material = m;
-    else e.note["material"] = "default: the library says " + (m.empty() ? std::string("nothing") : "'" + m + "'");
+    const FusionTool ft{t, file + ": " + name + " T" + std::to_string(number), unit == "inches" ? 25.4 : 1.0};
+    tools.push_back(fusion_entry(ft, number, desc, kind->second));
     taken[number] = "'" + desc + "'";
-    tools.push_back(e);
   }
   out.tools = static_cast<int>(tools.size());
   out.yaml = to_yaml(tools,
