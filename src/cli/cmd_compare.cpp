@@ -38,7 +38,6 @@ int cmd_compare(const std::vector<std::string>& args, Io& io) {
                kCompareHelp, desc);
     return 0;
   }
-  if (!s.reference.empty()) throw Error(ErrorKind::settings, "compare: --reference is for simulate");
   if (format != "text" && format != "csv" && format != "json")
     throw Error(ErrorKind::settings, "--format must be text, csv or json");
   const job::CompareResult c = job::compare(s, files, io, command_of("compare", args));

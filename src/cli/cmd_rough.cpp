@@ -10,15 +10,6 @@
 #include "deflex/report/summary.hpp"
 
 namespace deflex::cli {
-namespace {
-
-std::string fmt(double v, int decimals) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
-
-}  // namespace
 
 int cmd_rough(const std::vector<std::string>& args, Io& io) {
   job::RoughSettings s;
@@ -64,9 +55,9 @@ int cmd_rough(const std::vector<std::string>& args, Io& io) {
   const job::RoughResult r = job::rough(s, io.out, io);
   const process::MachiningTime& t = r.time;
   io.err << r.name << ": " << r.plan.levels_mm.size() << (r.plan.levels_mm.size() == 1 ? " level" : " levels")
-         << " from Z" << fmt(r.plan.top_mm, 3) << " to the floor (lowest Z" << fmt(r.plan.floor_min_mm, 3) << "), "
-         << r.plan.line_y_mm.size() << " lines " << fmt(r.line_spacing_mm, 3) << " mm apart, " << plural(r.moves, "move")
-         << "; " << s.rough_tool << " leaves " << fmt(s.plan.allowance_mm, 3) << " mm over the surface of "
+         << " from Z" << fixed_decimals(r.plan.top_mm, 3) << " to the floor (lowest Z" << fixed_decimals(r.plan.floor_min_mm, 3) << "), "
+         << r.plan.line_y_mm.size() << " lines " << fixed_decimals(r.line_spacing_mm, 3) << " mm apart, " << plural(r.moves, "move")
+         << "; " << s.rough_tool << " leaves " << fixed_decimals(s.plan.allowance_mm, 3) << " mm over the surface of "
          << s.finish_program << "; machining time " << report::clock(t.program.total_s)
          << (report::clock_has_hours(t.program.total_s) ? " [h:mm:ss]\n" : " [m:ss]\n");
   return 0;

@@ -80,8 +80,6 @@ int cmd_stiffness(const std::vector<std::string>& args, Io& io) {
   }
   if (tool_file.empty() || tool_id.empty())
     throw Error(ErrorKind::settings, "stiffness: --tool-file and --tool are required");
-  if (method != "beam" && method != "solid")
-    throw Error(ErrorKind::settings, "stiffness: --method must be beam or solid, not '" + method + "'");
   if (format != "text" && format != "json")
     throw Error(ErrorKind::settings, "stiffness: --format must be text or json, not '" + format + "'");
 

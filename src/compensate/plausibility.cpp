@@ -41,12 +41,6 @@ ForceLimit force_limit(const stiffness::Tool& t) {
 
 namespace {
 
-std::string num(double v, int prec) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", prec, v);
-  return b;
-}
-
 struct Acc {
   Finding f;
   std::set<std::uint32_t> seen;
@@ -425,8 +419,8 @@ void emit(Plausibility& out, Acc& a, const std::string& msg) {
 void flute_finding(Plausibility& out, Acc& flute, const stiffness::ToolLibrary& tools) {
   const auto& t = tools.tools.at(flute.f.tool);
   flute.f.limit = t.flute_length_mm;
-  emit(out, flute, "the cut reaches " + num(flute.f.worst, 2) + " mm above the tip of " + flute.f.tool +
-                       ", whose flutes are " + num(t.flute_length_mm, 2) + " mm long: the " +
+  emit(out, flute, "the cut reaches " + fixed_decimals(flute.f.worst, 2) + " mm above the tip of " + flute.f.tool +
+                       ", whose flutes are " + fixed_decimals(t.flute_length_mm, 2) + " mm long: the " +
                        (t.neck ? "neck" : "shank") + " is in the cut and rubs");
 }
 
@@ -438,22 +432,22 @@ void force_finding(Plausibility& out, Acc& force, double peak_N, double limit_N,
   const ForceLimit fl = force_limit(t);
   const std::string why = t.max_force_N ? std::string("its max_force_N")
                                         : "bending at " + fl.where + ", " + t.material.name + " " +
-                                              num(t.material.allowable_bending_MPa, 0) +
+                                              fixed_decimals(t.material.allowable_bending_MPa, 0) +
                                               " MPa allowable; set max_force_N to override";
-  emit(out, force, "predicted peak cutting force " + num(force.f.worst, 0) + " N exceeds the limit " +
-                       num(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
+  emit(out, force, "predicted peak cutting force " + fixed_decimals(force.f.worst, 0) + " N exceeds the limit " +
+                       fixed_decimals(force.f.limit, 0) + " N of " + force.f.tool + " (" + why + "): the tool may break");
 }
 
 void cap_finding(Plausibility& out, Acc& cap, const Settings& s, bool compensated) {
-  const std::string limit = "the offset cap max_offset_mm = " + num(s.max_offset_mm, 4) + " mm";
+  const std::string limit = "the offset cap max_offset_mm = " + fixed_decimals(s.max_offset_mm, 4) + " mm";
   // On a compensated line the error as programmed may lie under the cap
   // while the offset needed does not: moving the tool into the material
   // deepens the cut and the deflection grows with it.
   const std::string what =
       cap.f.worst > s.max_offset_mm
-          ? "the deflection along the surface normal reaches " + num(cap.f.worst, 4) + " mm, over " + limit
+          ? "the deflection along the surface normal reaches " + fixed_decimals(cap.f.worst, 4) + " mm, over " + limit
           : "the offset these points need exceeds " + limit + " (their deflection along the normal, " +
-                num(cap.f.worst, 4) + " mm as programmed, grows as the offset deepens the cut)";
+                fixed_decimals(cap.f.worst, 4) + " mm as programmed, grows as the offset deepens the cut)";
   emit(out, cap, what + (compensated ? ": these points are compensated only up to the cap"
                                      : ": compensate would correct these points only up to the cap"));
 }
@@ -462,18 +456,18 @@ void rough_finding(Plausibility& out, Acc& rough, const stiffness::ToolLibrary& 
   const auto& t = tools.tools.at(rough.f.tool);
   const bool ball = t.type == stock::EndShape::ball;
   rough.f.limit = 0.5 * t.diameter_mm;
-  emit(out, rough, std::string("a_p up to ") + num(rough.f.worst, 2) + " mm under " + rough.f.tool + " (" +
-                       (ball ? "a ball end of radius " + num(rough.f.limit, 2) + " mm"
-                             : "a full-width slot deeper than D/2 = " + num(rough.f.limit, 2) + " mm") +
+  emit(out, rough, std::string("a_p up to ") + fixed_decimals(rough.f.worst, 2) + " mm under " + rough.f.tool + " (" +
+                       (ball ? "a ball end of radius " + fixed_decimals(rough.f.limit, 2) + " mm"
+                             : "a full-width slot deeper than D/2 = " + fixed_decimals(rough.f.limit, 2) + " mm") +
                        "): the stock looks like a raw blank that needs roughing first");
 }
 
 // The worst dip: its drop `dz_mm` (< 0) over `xy_mm` across at `line`.
 void gouge_finding(Plausibility& out, Acc& g, double dz_mm, double xy_mm, std::uint32_t line) {
   g.f.line = line;
-  emit(out, g, "the program plunges " + num(-dz_mm, 2) + " mm in one " + num(xy_mm, 2) + " mm step at line " +
+  emit(out, g, "the program plunges " + fixed_decimals(-dz_mm, 2) + " mm in one " + fixed_decimals(xy_mm, 2) + " mm step at line " +
                    std::to_string(line) + " and climbs back at once under " + g.f.tool + " (a ball end of radius " +
-                   num(g.f.limit, 2) + " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
+                   fixed_decimals(g.f.limit, 2) + " mm, which fits no hole that deep and narrow): a gouge in the CAM program?");
 }
 
 void earlier_finding(Plausibility& out, const AirRuns& e, const Settings& s) {
@@ -487,9 +481,9 @@ void earlier_finding(Plausibility& out, const AirRuns& e, const Settings& s) {
   f.lines = e.lines;
   f.line_count = e.line_count;
   const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
-  f.message = num(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
+  f.message = fixed_decimals(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
               std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
-              num(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
+              fixed_decimals(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
               "neither compensated nor in the predicted error; " + lines_text(f);
   out.findings.push_back(f);
 }

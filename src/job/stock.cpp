@@ -5,6 +5,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "deflex/diag/plural.hpp"
 #include "deflex/interp/travel.hpp"
 #include "deflex/job/earlier.hpp"
 #include "deflex/job/run.hpp"
@@ -13,12 +14,6 @@
 
 namespace deflex::job {
 namespace {
-
-std::string fmt(double v, int decimals) {
-  char b[48];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
 
 // The generated program read back as any program is (a self-check: it must
 // interpret without a diagnostic and stay in the machine's travel).
@@ -56,12 +51,12 @@ std::vector<std::string> header(const RoughSettings& s, const stiffness::Tool& r
   const char* shape = rt.type == stock::EndShape::ball ? "BALL" : rt.type == stock::EndShape::bull ? "BULL NOSE" : "FLAT";
   const std::string& f = s.finish_program;
   return {"DEFLEX ROUGH - THE STOCK BEFORE " + f,
-          s.rough_tool + " " + shape + " D" + fmt(rt.diameter_mm, 3) + " - ALLOWANCE " + fmt(o.allowance_mm, 3) +
+          s.rough_tool + " " + shape + " D" + fixed_decimals(rt.diameter_mm, 3) + " - ALLOWANCE " + fixed_decimals(o.allowance_mm, 3) +
               " MM OVER THE SURFACE OF " + f + (s.finish_tool.empty() ? "" : " CUT WITH " + s.finish_tool),
-          "STOCK " + spec + " - CELL " + fmt(s.cell_mm, 3) + " MM",
+          "STOCK " + spec + " - CELL " + fixed_decimals(s.cell_mm, 3) + " MM",
           "Z-LEVEL RASTER ALONG X, " +
-              (o.stepdown_mm > 0 ? "STEPDOWN AT MOST " + fmt(o.stepdown_mm, 3) : std::string("ONE LEVEL")) + ", LINES " +
-              fmt(spacing_mm, 3) + " MM APART - THE STEPOVER " + fmt(o.stepover_mm, 3) +
+              (o.stepdown_mm > 0 ? "STEPDOWN AT MOST " + fixed_decimals(o.stepdown_mm, 3) : std::string("ONE LEVEL")) + ", LINES " +
+              fixed_decimals(spacing_mm, 3) + " MM APART - THE STEPOVER " + fixed_decimals(o.stepover_mm, 3) +
               " SPREAD EVENLY OVER THE STOCK - FEEDS AND SPEEDS NOT CHECKED: FOR SIMULATION"};
 }
 

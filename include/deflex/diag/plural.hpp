@@ -1,6 +1,8 @@
-// A count with its noun for messages and summaries: "1 point", "2 points".
+// Numbers in words for messages and summaries: a count with its noun ("1
+// point", "2 points"), a value with a fixed number of decimals.
 #pragma once
 #include <cstdint>
+#include <cstdio>
 #include <string>
 
 namespace deflex {
@@ -8,6 +10,13 @@ namespace deflex {
 // `n` and `one` (the singular) for n == 1, else `many` (default: one + "s").
 inline std::string plural(std::uint64_t n, const std::string& one, const std::string& many = "") {
   return std::to_string(n) + " " + (n == 1 ? one : many.empty() ? one + "s" : many);
+}
+
+// `v` with `decimals` decimals ("2.500"), as a message or a program comment shows it.
+inline std::string fixed_decimals(double v, int decimals) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
+  return b;
 }
 
 }  // namespace deflex
