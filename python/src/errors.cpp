@@ -1,7 +1,8 @@
 // Library failures as Python exceptions: deflex::Error by its kind
-// (diag/diagnostics.hpp) as the classes of deflex/errors.py, which parse the
-// file:line:col; job::Cancelled as KeyboardInterrupt (only Ctrl-C cancels a run
-// from Python: a progress callback that raises keeps its own exception, job.cpp).
+// (diag/diagnostics.hpp) as the classes of deflex/errors.py, with the errors
+// it carries (their file:line:col) and the settings it names; job::Cancelled
+// as KeyboardInterrupt (only Ctrl-C cancels a run from Python: a progress
+// callback that raises keeps its own exception, job.cpp).
 #include <Python.h>
 
 #include "bindings.hpp"
@@ -32,7 +33,14 @@ const char* class_of(ErrorKind kind) {
 void set_python_error(const Error& e, const std::string& messages) {
   // Imported when first needed: deflex/__init__.py imports this module first.
   const py::object cls = py::module_::import("deflex.errors").attr(class_of(e.kind()));
-  const py::object inst = cls(py::str(e.what()), py::str(messages));
+  py::list errors;  // the program's errors behind the failure, where they are
+  for (const Diagnostic& d : e.diagnostics())
+    errors.append(py::make_tuple(d.file, d.line ? py::object(py::int_(d.line)) : py::object(py::none()),
+                                 d.col ? py::object(py::int_(d.col)) : py::object(py::none()), format(d)));
+  py::list settings;
+  for (const std::string& k : e.settings()) settings.append(py::str(k));
+  const py::object inst = cls(py::str(e.what()), py::str(messages), py::arg("errors") = errors,
+                              py::arg("settings") = settings);
   PyErr_SetObject(cls.ptr(), inst.ptr());
 }
 

@@ -23,6 +23,9 @@ def test_a_bad_program_raises_the_input_error_at_its_line(tmp_path):
     assert e.value.exit_code == 1
     assert str(e.value).startswith(f"{bad}:8:")
     assert "error" in e.value.messages
+    # The location comes with the failure, not from the printed text.
+    assert e.value.errors and all(err[:2] == (str(bad), 8) for err in e.value.errors)
+    assert "G1 X30 Y" in e.value.errors[0][3]  # the source line under the message
 
 
 def test_a_bad_setting_raises_the_usage_error_before_anything_runs(tmp_path):
@@ -30,7 +33,8 @@ def test_a_bad_setting_raises_the_usage_error_before_anything_runs(tmp_path):
     with pytest.raises(deflex.UsageError) as e:
         # The program does not exist: the setting is refused before it is read.
         deflex.Job(program=str(tmp_path / "missing.nc"), stock=STOCK, tolerance_mm=-1).compensate(out)
-    assert "tolerance_mm" in str(e.value) and isinstance(e.value, ValueError)
+    assert str(e.value) == "tolerance_mm must be > 0 mm" and isinstance(e.value, ValueError)
+    assert e.value.settings == ["tolerance_mm"] and "--" not in str(e.value)
     assert not out.exists()
 
 
@@ -48,6 +52,15 @@ def test_a_bad_machine_raises_the_config_error(tmp_path):
     with pytest.raises(deflex.ConfigError) as e:
         deflex.Job(program=str(prog), stock=STOCK, machine=str(machine)).simulate()
     assert e.value.file == str(machine)
+
+
+def test_usage_errors_name_settings_as_job_keywords(tmp_path):
+    with pytest.raises(deflex.UsageError) as e:
+        prog = tmp_path / "p.nc"
+        prog.write_text(GOOD)
+        deflex.Job(program=str(prog), stock=STOCK, kt_N_per_mm2=800.0).simulate()
+    assert e.value.settings == ["kt_N_per_mm2", "kr_N_per_mm2", "ka_N_per_mm2"]
+    assert set(e.value.settings) <= set(deflex.Job.settings_names())
 
 
 def test_keywords_are_checked_by_type():

@@ -112,6 +112,7 @@ std::string data_line() {
 }  // namespace
 
 int run(const std::vector<std::string>& argv, Io& io) {
+  io.names = flag_of;  // the library's messages name settings by their flags
   try {
     if (argv.empty() || argv[0] == "--help" || argv[0] == "-h" || argv[0] == "help") {
       top_help(argv.empty() ? io.err : io.out);
@@ -132,7 +133,7 @@ int run(const std::vector<std::string>& argv, Io& io) {
     io.err << "deflex: error: unknown command '" << argv[0] << "' (see deflex --help)\n";
     return static_cast<int>(Exit::usage);
   } catch (const Error& e) {
-    std::string w = e.what();
+    std::string w = e.message(io.names);
     // Messages that already carry a location keep it; others get the program name.
     if (w.find(": error: ") == std::string::npos) w = "deflex: error: " + w;
     io.err << w << (w.ends_with("\n") ? "" : "\n");

@@ -71,7 +71,7 @@ class Run {
   // `own` (may be null): the map to cut, else a copy of the physics' stock.
   Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}, std::unique_ptr<stock::ZMap> own = nullptr)
       : ph_(ph), s_(s), sink_(std::move(sink)), z_(std::move(own)) {
-    if (!ph.stock) throw Error(ErrorKind::settings, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
+    if (!ph.stock) throw Error(ErrorKind::settings, "no stock: give {stock} box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
     if (!z_) z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
     so_.path.cl_spacing_mm = s.cl_spacing_mm;
     so_.threads = s.threads;
@@ -84,7 +84,7 @@ class Run {
     if (m.kind != interp::MotionKind::rapid && id != id_) {
       if (sim_) sim_->finish();
       if (m.tool == 0 && s_.tool_override.empty())
-        throw Error(ErrorKind::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give --tool");
+        throw Error(ErrorKind::input, "line " + std::to_string(m.line) + ": cutting with no tool (T.. M6) selected; give {tool}");
       tm_ = &model_for(models_, id, ph_, s_);
       engage::Process proc;
       proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;

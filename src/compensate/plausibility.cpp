@@ -482,7 +482,7 @@ void earlier_finding(Plausibility& out, const AirRuns& e, const Settings& s) {
   f.line_count = e.line_count;
   const double share = 100.0 * static_cast<double>(e.points) / static_cast<double>(e.cutting);
   f.message = fixed_decimals(share, 0) + "% of the cutting points (" + std::to_string(e.points) + " of " +
-              std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs (--stock-from) left up to " +
+              std::to_string(e.cutting) + ") run in air from here, the stock the earlier programs ({stock_from}) left up to " +
               fixed_decimals(e.gap_mm, 3) + " mm below the tool: they cut below this program's surface there, and those points are "
               "neither compensated nor in the predicted error; " + lines_text(f);
   out.findings.push_back(f);
@@ -496,7 +496,7 @@ void no_material_finding(Plausibility& out, std::size_t air_points, std::uint32_
   f.tool = tool;
   f.message = "none of the " + std::to_string(f.count) +
               " cutting points is in the stock: each cuts air or plunges, so nothing is compensated and the "
-              "error figures say nothing; check --stock (and --stock-from)";
+              "error figures say nothing; check {stock} (and {stock_from})";
   out.findings.push_back(f);
 }
 

@@ -93,8 +93,24 @@ std::string format(const Diagnostic& d) {
 void Diagnostics::emit(Diagnostic d) {
   if (d.severity == Severity::error) ++errors_;
   if (d.severity == Severity::warning) ++warnings_;
+  d.message = name_settings(d.message, names_);
   if (out_) *out_ << format(d);
-  if (keep_) all_.push_back(std::move(d));
+  // Errors are few (a run stops after max_errors): kept even when the rest
+  // is not, for the Error that ends the run (with_errors_of).
+  if (keep_ || d.severity == Severity::error) all_.push_back(std::move(d));
+}
+
+Error::Error(ErrorKind kind, const std::string& text)
+    : std::runtime_error(name_settings(text, {})), kind_(kind), text_(text) {}
+
+std::vector<std::string> Error::settings() const { return settings_named(text_); }
+
+std::string Error::message(const SettingNames& names) const { return name_settings(text_, names); }
+
+Error& Error::with_errors_of(const Diagnostics& d) {
+  for (const Diagnostic& x : d.all())
+    if (x.severity == Severity::error) diagnostics_.push_back(x);
+  return *this;
 }
 
 void Diagnostics::report(Severity s, const SourceText& src, std::uint32_t line, std::uint32_t col,

@@ -24,7 +24,7 @@ bool Run::do_cycle() {
   // A tiny Q would make pecks without end (depth - Q == depth in doubles).
   if ((cycle_ == 730 || cycle_ == 830) && (cyc_r_ - cyc_z_) / cyc_q_ > static_cast<double>(opt_.max_blocks))
     return refuse(blk_.find('Q'), "peck depth Q gives more than " + std::to_string(opt_.max_blocks) +
-                                      " pecks; --max-blocks raises the limit");
+                                      " pecks; {max_blocks} raises the limit");
   for (int k = 0; k < repeats && !stop_; ++k) {
     if (!absolute_) { hole[0] = pos_[0] + xy_step[0]; hole[1] = pos_[1] + xy_step[1]; }
     move_to_hole(hole);

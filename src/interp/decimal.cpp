@@ -28,7 +28,7 @@ void report_mixed(const SourceText& src, const profile::Dialect& d, Diagnostics&
   std::snprintf(buf, sizeof buf,
                 "%c%g has no decimal point while %s %s one: dialect %s reads it as %g "
                 "(least input increments of %g), a control that reads numbers as written (LinuxCNC) as %g; "
-                "%s on %s. Check the dialect (--dialect linuxcnc) or write the points",
+                "%s on %s. Check the dialect ({dialect} linuxcnc) or write the points",
                 letter, value, plural(f.with_point, "other axis word").c_str(), f.with_point == 1 ? "has" : "have",
                 d.name.c_str(), value * lii_mm, lii_mm, value, plural(f.without_point, "such word").c_str(),
                 plural(f.lines, "line").c_str());
@@ -99,7 +99,7 @@ DecimalFinding DecimalCheck::finish(Diagnostics& diags, bool strict) {
                   "no axis word has a decimal point and the largest, %c%g, reads as %g mm under dialect %s "
                   "(least input increments of %g mm): the whole program moves within %g mm, hops of "
                   "micrometres. A control that reads numbers as written (LinuxCNC) reads it as %g. Check the "
-                  "dialect (--dialect linuxcnc) or write the points",
+                  "dialect ({dialect} linuxcnc) or write the points",
                   largest.letter, largest.value, largest.value * largest.lii_mm, d.name.c_str(), largest.lii_mm,
                   std::abs(largest.value * largest.lii_mm), largest.value);
     diags.report(sev, largest.source(name_), largest.line, largest.col, buf);

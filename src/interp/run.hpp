@@ -176,7 +176,7 @@ class Run {
     if (n < opt_.max_blocks) return false;
     if (!stop_)
       refuse(nullptr, "more than " + std::to_string(opt_.max_blocks) + " " + what +
-                          " (subprogram and canned-cycle repeats); --max-blocks raises the limit");
+                          " (subprogram and canned-cycle repeats); {max_blocks} raises the limit");
     return true;
   }
 

@@ -87,7 +87,7 @@ void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
 
 double part_gap_mm(const PartSettings& p, const profile::Config& cfg) {
   const double gap = p.gap_mm ? *p.gap_mm : config_number(cfg, "part_gap_mm", 0.02);
-  if (!(gap > 0)) throw Error(ErrorKind::settings, "--part-gap must be > 0 mm");
+  if (!(gap > 0)) throw Error(ErrorKind::settings, "{part_gap_mm} must be > 0 mm");
   return gap;
 }
 
@@ -98,7 +98,7 @@ CheckResult check(const CheckSettings& cs, Io& io) {
   // The gouge check keeps the motions and names lines of the whole file: it reads it whole.
   gcode::ProgramPasses prog(cs.program, &io.in, part_file.empty() ? piece_lines() : 0);
   find_repeated_lines(prog, s);
-  Diagnostics diags(&io.err, s.max_errors);
+  Diagnostics diags = io.diagnostics(s.max_errors);
   diags.set_keep(cs.keep_diagnostics);
   profile::Travel none;
   TravelCheck tc(s.machine ? s.machine->travel : none, prog.name(), diags);

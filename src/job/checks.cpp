@@ -33,16 +33,16 @@ compensate::Settings settings_of(const Settings& a, const profile::Config& cfg, 
   st.tool_override = !a.tool.empty() ? a.tool : config_string(cfg, "tool");
   st.feed_limit_N = a.feed_limit_N;
   st.flank_profiles = !a.report_dir.empty();  // flank_profile.csv of the program as written
-  if (a.feed_limit_N < 0) throw Error(ErrorKind::settings, "--feed-limit must be > 0 N");
-  if (!(st.tolerance_mm > 0)) throw Error(ErrorKind::settings, "--tolerance must be > 0 mm");
-  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(ErrorKind::settings, "--gain must be between 0 and 2");
-  if (!(a.cl_spacing_mm > 0)) throw Error(ErrorKind::settings, "--cl-spacing must be > 0 mm");
-  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(ErrorKind::settings, "--max-iterations must be 1..50");
-  if (a.threads < 0 || a.threads > 1024) throw Error(ErrorKind::settings, "--threads must be 0 (all cores) .. 1024");
-  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
-  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(ErrorKind::settings, "--spindle must be > 0 rpm");
+  if (a.feed_limit_N < 0) throw Error(ErrorKind::settings, "{feed_limit_N} must be > 0 N");
+  if (!(st.tolerance_mm > 0)) throw Error(ErrorKind::settings, "{tolerance_mm} must be > 0 mm");
+  if (!(st.gain >= 0 && st.gain <= 2)) throw Error(ErrorKind::settings, "{gain} must be between 0 and 2");
+  if (!(a.cl_spacing_mm > 0)) throw Error(ErrorKind::settings, "{cl_spacing_mm} must be > 0 mm");
+  if (a.max_iterations < 1 || a.max_iterations > 50) throw Error(ErrorKind::settings, "{max_iterations} must be 1..50");
+  if (a.threads < 0 || a.threads > 1024) throw Error(ErrorKind::settings, "{threads} must be 0 (all cores) .. 1024");
+  if (!(a.cell_mm >= 0.005 && a.cell_mm <= 5)) throw Error(ErrorKind::settings, "{cell_mm} must be between 0.005 and 5");
+  if (a.spindle_rpm && !(*a.spindle_rpm > 0 && *a.spindle_rpm <= 1e6)) throw Error(ErrorKind::settings, "{spindle_rpm} must be > 0 rpm");
   if (a.feed_mm_per_min && !(*a.feed_mm_per_min > 0 && *a.feed_mm_per_min <= 1e6))
-    throw Error(ErrorKind::settings, "--feed must be > 0 mm/min");
+    throw Error(ErrorKind::settings, "{feed_mm_per_min} must be > 0 mm/min");
   return st;
 }
 
@@ -68,23 +68,23 @@ class CuttingCheck {
     if (fatal_) return;
     // A T word of the program the library lacks is the library's (exit 3).
     if (m.tool == 0 && st_.tool_override.empty()) {
-      error(src, m.line, "cutting with no tool selected (T.. M6): give --tool");
+      error(src, m.line, "cutting with no tool selected (T.. M6): give {tool}");
       fatal_ = Error(ErrorKind::settings, src.name() + ": error: no tool; nothing done");
       return;
     }
     const std::string id = compensate::tool_id(m, st_);
     if (!lib_.tools.count(id)) {
-      error(src, m.line, "tool " + id + " is not in the tool library " + lib_.file + " (give --tool-file, or --tool)");
+      error(src, m.line, "tool " + id + " is not in the tool library " + lib_.file + " (give {tool_file}, or {tool})");
       fatal_ = Error(ErrorKind::config, src.name() + ": error: a tool of the program is missing from the library; nothing done");
       return;
     }
     if (!no_s_ && m.spindle_rpm <= 0) {
       no_s_ = true;
-      error(src, m.line, "cutting with no spindle speed (S0 or no S word): give --spindle RPM");
+      error(src, m.line, "cutting with no spindle speed (S0 or no S word): give {spindle_rpm} RPM");
     }
     if (!no_f_ && m.feed_mm_per_min <= 0) {
       no_f_ = true;
-      error(src, m.line, "cutting with no feed (F0 or no F word): give --feed MM_PER_MIN");
+      error(src, m.line, "cutting with no feed (F0 or no F word): give {feed_mm_per_min} MM_PER_MIN");
     }
     extent_.add(m, 0.5 * lib_.tools.at(id).diameter_mm);
   }
@@ -120,18 +120,18 @@ std::string auto_stock(const std::string& spec, const Run& j, Io& io) {
     char* end = nullptr;
     margin_mm = std::strtod(m.c_str(), &end);
     if (m.empty() || *end || !(margin_mm >= 0 && margin_mm <= 1000))
-      throw Error(ErrorKind::settings, "--stock " + spec + ": give auto or auto:MARGIN, MARGIN in mm (0 to 1000)");
+      throw Error(ErrorKind::settings, "{stock} " + spec + ": give auto or auto:MARGIN, MARGIN in mm (0 to 1000)");
   }
   const Run::CutExtent& e = j.cut_extent;
-  if (!e.any) throw Error(ErrorKind::settings, "--stock auto: the program has no cutting move to put a stock round");
+  if (!e.any) throw Error(ErrorKind::settings, "{stock} auto: the program has no cutting move to put a stock round");
   const double side = e.radius_mm + margin_mm;
   char box[200];
   std::snprintf(box, sizeof box, "box:%.3f,%.3f,%.3f,%.3f,%.3f,%.3f", e.lo_mm.x() - side, e.lo_mm.y() - side,
                 e.lo_mm.z() - margin_mm, e.hi_mm.x() + side, e.hi_mm.y() + side, e.hi_mm.z());
-  io.info() << j.prog.source().name() << ": note: --stock " << spec << " is the blank " << box
+  io.info() << j.prog.source().name() << io.named(": note: {stock} ") << spec << " is the blank " << box
             << " (round the cutting moves and the tool, " << margin_mm
-            << " mm beyond them, its top at the highest cutting point): the stock a finishing program starts from "
-               "is usually less (--stock-from the earlier programs, or deflex rough)\n";
+            << io.named(" mm beyond them, its top at the highest cutting point): the stock a finishing program starts "
+                        "from is usually less ({stock_from} the earlier programs, or deflex rough)\n");
   return box;
 }
 
@@ -142,7 +142,7 @@ void warn_meaningless(const compensate::Settings& st, bool strict, Io& io) {
   char buf[400];
   if (st.tolerance_mm >= st.max_offset_mm) {
     std::snprintf(buf, sizeof buf,
-                  "the tolerance %g mm (--tolerance, or tolerance_mm in the config) is not below the offset cap max_offset_mm = %g mm: only points whose predicted "
+                  "the tolerance %g mm ({tolerance_mm}, or tolerance_mm in the config) is not below the offset cap max_offset_mm = %g mm: only points whose predicted "
                   "error exceeds %g mm are moved, and by %g mm at most; finishing tolerances are a few um (0.01 mm)",
                   st.tolerance_mm, st.max_offset_mm, st.tolerance_mm, st.max_offset_mm);
     why.push_back(buf);
@@ -151,14 +151,14 @@ void warn_meaningless(const compensate::Settings& st, bool strict, Io& io) {
     // Smaoui 2011 §4: at the mirror's fixed point the tool lands (1 - gain) e
     // off the surface; gain 1 lands it on the surface.
     std::snprintf(buf, sizeof buf,
-                  "--gain %g over-corrects: at the mirror's fixed point the surface error becomes %g times the "
+                  "{gain} %g over-corrects: at the mirror's fixed point the surface error becomes %g times the "
                   "deflection along the normal (gain 2 mirrors it to the other side of the surface); 1 lands the "
                   "tool on the surface",
                   st.gain, 1 - st.gain);
     why.push_back(buf);
   }
-  for (const std::string& w : why) io.err << "deflex: " << (strict ? "error: " : "warning: ") << w << "\n";
-  if (strict && !why.empty()) throw Error(ErrorKind::settings, "deflex: error: settings that make the run meaningless (--strict)");
+  for (const std::string& w : why) io.err << "deflex: " << (strict ? "error: " : "warning: ") << io.named(w) << "\n";
+  if (strict && !why.empty()) throw Error(ErrorKind::settings, "deflex: error: settings that make the run meaningless ({strict})");
 }
 
 // A stock no cutting move reaches (a box typed in inch for a metric
@@ -178,13 +178,13 @@ void check_stock_reached(const Run& j, Diagnostics& diags) {
   std::snprintf(buf, sizeof buf,
                 "no cutting move reaches the stock: the cutting moves' tips span X %.3f..%.3f Y %.3f..%.3f "
                 "Z %.3f..%.3f mm (tools up to R %.3f mm), the stock X %.3f..%.3f Y %.3f..%.3f mm with its top %s; "
-                "check --stock%s (in mm, in the program's work frame)",
+                "check {stock}%s (in mm, in the program's work frame)",
                 e.lo_mm.x(), e.hi_mm.x(), e.lo_mm.y(), e.hi_mm.y(), e.lo_mm.z(), e.hi_mm.z(), r, g.x0_mm,
                 g.x0_mm + g.nx * g.cell_mm, g.y0_mm, g.y0_mm + g.ny * g.cell_mm, top_text,
-                a.stock_from.empty() ? "" : " and --stock-from");
+                a.stock_from.empty() ? "" : " and {stock_from}");
   diags.report(j.setup.strict ? Severity::error : Severity::warning, j.prog.source().name(), buf);
   if (j.setup.strict)
-    throw Error(ErrorKind::input, j.prog.source().name() + ": error: the stock is out of reach (--strict); nothing done");
+    throw Error(ErrorKind::input, j.prog.source().name() + ": error: the stock is out of reach ({strict}); nothing done");
 }
 
 // The checks of prepare() on a program read in pieces, pass by pass so their
@@ -271,10 +271,11 @@ void add_gouge_lines(Run& j, const compensate::PartGaps& g) {
 void subprograms(Run& j, Io& io) {
   const Settings& a = j.given;
   if (a.expand_subprograms) {
-    Diagnostics diags(&io.err, j.setup.max_errors);
+    Diagnostics diags = io.diagnostics(j.setup.max_errors);
     std::string text = writer::expand_subprograms(j.prog, j.setup.interp(), diags);
     if (diags.errors())
-      throw Error(ErrorKind::input, j.prog.source().name() + ": error: not written: the subprograms cannot be written inline");
+      throw Error(ErrorKind::input, j.prog.source().name() + ": error: not written: the subprograms cannot be written inline")
+          .with_errors_of(diags);
     if (text != j.prog.bytes())
       j.prog = gcode::Program(SourceText(j.prog.source().name() + " (subprograms expanded)", std::move(text)));
   }

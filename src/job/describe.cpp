@@ -93,7 +93,7 @@ std::vector<std::pair<std::string, std::string>> provenance(const Run& j, const 
 namespace detail {
 
 void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io) {
-  Diagnostics diags(&io.err, 0);
+  Diagnostics diags = io.diagnostics(0);
   std::vector<std::uint32_t> lines;
   for (const compensate::Finding& f : pl.findings) lines.push_back(f.line);
   const auto text = lines_of_file(j, lines);
@@ -106,7 +106,8 @@ report::Json warnings_json(const compensate::Plausibility& pl) {
   for (const compensate::Finding& f : pl.findings)
     a.push_back({{"kind", f.kind}, {"count", f.count}, {"worst", report::fixed(f.worst, 4)},
                  {"limit", report::fixed(f.limit, 4)}, {"tool", f.tool}, {"line", f.line},
-                 {"line_count", f.line_count}, {"lines", f.lines}, {"message", f.message}});
+                 {"line_count", f.line_count}, {"lines", f.lines},
+                 {"message", name_settings(f.message, {})}});  // settings by keyword, as the job names them
   return a;
 }
 

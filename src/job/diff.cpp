@@ -102,12 +102,12 @@ DiffResult compare(const Side& a, const Side& b, const compensate::LinePairing& 
 }  // namespace
 
 DiffResult diff(const DiffSettings& s, Io& io) {
-  if (!(s.pair_mm > 0)) throw Error(ErrorKind::settings, "--pair-mm must be > 0");
+  if (!(s.pair_mm > 0)) throw Error(ErrorKind::settings, "{pair_mm} must be > 0");
   const Setup setup = resolve(s.read);
-  Diagnostics diags(&io.err, setup.max_errors);
+  Diagnostics diags = io.diagnostics(setup.max_errors);
   const Side a = read_side(s.a, setup, diags, io);
   const Side b = read_side(s.b, setup, diags, io);
-  if (diags.errors()) throw Error(ErrorKind::input, "the programs have errors; no comparison made");
+  if (diags.errors()) throw Error(ErrorKind::input, "the programs have errors; no comparison made").with_errors_of(diags);
   const compensate::LinePairing pairing = compensate::pair_lines(a.lines, b.lines, {s.pair_mm});
   return compare(a, b, pairing, {s.a, s.b});
 }

@@ -40,9 +40,9 @@ std::string earlier_text(const EarlierOp& op) {
 
 std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& setup, const stiffness::ToolLibrary& lib,
                                          Io& io, const std::string& tool_override) {
-  if (file == "-") throw Error(ErrorKind::settings, "--stock-from takes files (standard input is the program's)");
+  if (file == "-") throw Error(ErrorKind::settings, "{stock_from} takes files (standard input is the program's)");
   const gcode::Program prog(gcode::read_source(file, &io.in));
-  Diagnostics diags(&io.err, setup.max_errors);
+  Diagnostics diags = io.diagnostics(setup.max_errors);
   std::vector<interp::Motion> motions;
   interp::MotionList c(motions);
   interp::interpret(prog, setup.interp(), diags, c);
@@ -61,7 +61,8 @@ std::vector<interp::Motion> read_earlier(const std::string& file, const Setup& s
     }
   }
   if (diags.errors())
-    throw Error(ErrorKind::input, prog.source().name() + ": error: the earlier operation has errors; nothing done");
+    throw Error(ErrorKind::input, prog.source().name() + ": error: the earlier operation has errors; nothing done")
+        .with_errors_of(diags);
   return motions;
 }
 

@@ -10,4 +10,10 @@ std::ostream& Io::info() {
   return quiet ? none : err;
 }
 
+Diagnostics Io::diagnostics(int max_errors) const {
+  Diagnostics d(&err, max_errors);
+  d.set_names(names);
+  return d;
+}
+
 }  // namespace deflex::job

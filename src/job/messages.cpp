@@ -21,14 +21,14 @@ std::string moves_of(interp::Fixed why) {
     case interp::Fixed::machine_frame: return "moves in machine coordinates (G53/G28/G30)";
     case interp::Fixed::block_delete: return "block-delete '/' moves (run or not at the operator's switch)";
     case interp::Fixed::no_normal:
-      return "points whose surface normal the program does not determine (a ball end without --part: the first "
+      return "points whose surface normal the program does not determine (a ball end without {part}: the first "
              "or last pass without two passes beside it within 8 mm, a single pass, points off a smooth surface; "
-             "give the part model with --part)";
+             "give the part model with {part})";
     case interp::Fixed::held:
       return "moves ending where a block deflex cannot re-target starts (a canned cycle, G28/G30/G53, a subprogram "
              "that runs more than once, a change of work offset, an arc that stays)";
     case interp::Fixed::gouge:
-      return "moves the gouge check finds cutting into the part (--part): the program gouges there, and compensating "
+      return "moves the gouge check finds cutting into the part ({part}): the program gouges there, and compensating "
              "would move the gouge";
     default: return std::string("moves: ") + interp::to_string(why);
   }
@@ -49,7 +49,7 @@ std::string subprogram_calls(const Run& j, const report::RunFigures::LeftAlone& 
   return (o_line ? " (the first here, in " + c.name_of(o_line, j.prog) + ", called at line" +
                        (it != c.calls.end() && it->second.size() > 1 ? "s " : " ") + calls + ")"
                  : std::string(" (the first here)")) +
-         buf + "; --expand-subprograms writes each call inline and compensates each pass";
+         buf + "; {expand_subprograms} writes each call inline and compensates each pass";
 }
 
 }  // namespace
@@ -57,12 +57,12 @@ std::string subprogram_calls(const Run& j, const report::RunFigures::LeftAlone& 
 void print_left_alone(const Run& j, const report::RunFigures& f, Io& io) {
   for (const auto& [why, l] : j.left_moves)
     io.info() << j.prog.source().name() << ": note: " << l.blocks << (l.blocks == 1 ? " executed block stays" : " executed blocks stay")
-              << " as written: " << moves_of(why) << "; the first at line " << l.first_line << "\n";
+              << " as written: " << io.named(moves_of(why)) << "; the first at line " << l.first_line << "\n";
   if (f.left_alone.empty()) return;
   std::vector<std::uint32_t> lines;
   for (const auto& [why, l] : f.left_alone) lines.push_back(l.first_line);
   const auto text = lines_of_file(j, lines);
-  Diagnostics diags(&io.err, 0);
+  Diagnostics diags = io.diagnostics(0);
   for (const auto& [why, l] : f.left_alone) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%s outside +-%.4f mm %s left as programmed on ", plural(l.points, "point").c_str(),
@@ -84,7 +84,6 @@ report::Json left_alone_json(const report::RunFigures& f) {
 // The warnings and notes of the mirror pass: lowered feeds, plausibility,
 // capped offsets, linearised and non-uniform arcs, convergence.
 void print_compensation(const Run& j, const compensate::Result& r, const compensate::Plausibility& pl, Io& io) {
-  const double tol = j.settings.tolerance_mm;
   if (!r.feed_lowered_lines.empty()) {
     std::string lines;
     for (std::size_t i = 0; i < r.feed_lowered_lines.size() && i < 12; ++i)

@@ -160,12 +160,13 @@ Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared) {
   if (!j.pieces) detail::subprograms(j, io);
   j.stock_spec = stock_spec(s.stock, j.setup.config);
   resolve_physics(j);
-  Diagnostics diags(&io.err, j.setup.max_errors);
+  Diagnostics diags = io.diagnostics(j.setup.max_errors);
   if (j.pieces) detail::check_in_pieces(j, diags);
   else detail::check_whole(j, diags);
   if (diags.errors())
     throw Error(ErrorKind::input, j.prog.source().name() + ": error: the program has errors; " +
-                                 (purpose == Purpose::compensate ? "nothing compensated, nothing written" : "not simulated"));
+                                 (purpose == Purpose::compensate ? "nothing compensated, nothing written" : "not simulated"))
+        .with_errors_of(diags);
   // The earlier operations read and checked before any stock is built.
   std::vector<EarlierRun> earlier;
   if (!shared) earlier = read_earlier_all(s.stock_from, j.setup, j.physics.tools, io);

@@ -35,9 +35,9 @@ Setup resolve(const ReadSettings& r) {
   s.strict = r.strict;
   s.max_errors = r.max_errors >= 0 ? r.max_errors : s.config.max_errors;
   if (r.block_delete != "on" && r.block_delete != "off")
-    throw Error(ErrorKind::settings, "--block-delete takes on or off");
+    throw Error(ErrorKind::settings, "{block_delete} takes on or off");
   s.block_delete_switch = r.block_delete == "on";
-  if (r.max_blocks == 0) throw Error(ErrorKind::settings, "--max-blocks must be at least 1");
+  if (r.max_blocks == 0) throw Error(ErrorKind::settings, "{max_blocks} must be at least 1");
   s.max_blocks = r.max_blocks;
   return s;
 }
@@ -160,9 +160,9 @@ force::Coefficients coefficients_of(const MaterialSettings& a, const std::string
   const bool by_k = a.kt || a.kr || a.ka;
   const bool edge = a.kte || a.kre || a.kae;
   if (!a.material.empty() && (by_k || edge))
-    throw Error(ErrorKind::settings, "give either --material or --kt/--kr/--ka, not both");
+    throw Error(ErrorKind::settings, "give either {material} or {kt_N_per_mm2}/{kr_N_per_mm2}/{ka_N_per_mm2}, not both");
   const std::string material = !a.material.empty() ? a.material : by_k ? std::string() : fallback_material;
-  if (material.empty() && !by_k) throw Error(ErrorKind::settings, "give --material M or the coefficients --kt --kr --ka");
+  if (material.empty() && !by_k) throw Error(ErrorKind::settings, "give {material} M or the coefficients {kt_N_per_mm2} {kr_N_per_mm2} {ka_N_per_mm2}");
   if (!material.empty()) {
     const std::string file = a.material_file.empty() ? default_library("samples/materials.yaml") : a.material_file;
     const force::MaterialLibrary lib = force::load_material_library(file);
@@ -170,8 +170,8 @@ force::Coefficients coefficients_of(const MaterialSettings& a, const std::string
     if (described) *described = m.name + " (" + file + (m.source.empty() ? "" : "; source: " + m.source) + ")";
     return m.k;
   }
-  if (!a.material_file.empty()) throw Error(ErrorKind::settings, "--material-file needs --material");
-  if (!a.kt || !a.kr || !a.ka) throw Error(ErrorKind::settings, "--kt, --kr and --ka go together");
+  if (!a.material_file.empty()) throw Error(ErrorKind::settings, "{material_file} needs {material}");
+  if (!a.kt || !a.kr || !a.ka) throw Error(ErrorKind::settings, "{kt_N_per_mm2}, {kr_N_per_mm2} and {ka_N_per_mm2} go together");
   force::Coefficients k;
   k.Ktc_N_per_mm2 = *a.kt;
   k.Krc_N_per_mm2 = *a.kr;
@@ -201,13 +201,13 @@ std::uint32_t piece_lines() {
 
 Setup resolve_with_machine(const ReadSettings& r) {
   Setup s = resolve(r);
-  if (!s.machine) throw Error(ErrorKind::settings, "a machine profile is needed (--machine, or machine: in config.yaml)");
+  if (!s.machine) throw Error(ErrorKind::settings, "a machine profile is needed ({machine}, or machine: in config.yaml)");
   return s;
 }
 
 std::string stock_spec(const std::string& given, const profile::Config& cfg) {
   const std::string s = !given.empty() ? given : config_path(cfg, "stock");
-  if (s.empty()) throw Error(ErrorKind::settings, "no stock: give --stock box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
+  if (s.empty()) throw Error(ErrorKind::settings, "no stock: give {stock} box:X0,Y0,Z0,X1,Y1,Z1 or a solid file (or stock: in config.yaml)");
   return s;
 }
 

@@ -15,13 +15,13 @@ using compensate::V3;
 std::vector<V3> intent_offsets(const Run& j, Io& io) {
   const std::string& file = j.given.reference;
   gcode::Program ref(gcode::read_source(file, &io.in));
-  Diagnostics diags(&io.err, j.setup.max_errors);
+  Diagnostics diags = io.diagnostics(j.setup.max_errors);
   std::vector<interp::Motion> rm;
   interp::MotionList c(rm);
   interp::Options ro = j.setup.interp();
   ro.repeated_lines = nullptr;  // another program's lines
   interp::interpret(ref, ro, diags, c);
-  if (diags.errors()) throw Error(ErrorKind::input, file + ": error: the reference program has errors");
+  if (diags.errors()) throw Error(ErrorKind::input, file + ": error: the reference program has errors").with_errors_of(diags);
   // Paired by the program structure (compensate/pairing.hpp): a motion the
   // compensation left alone has an intent offset of exactly zero; a block
   // deflex inserted is meant to lie on the move or arc it splits. F words

@@ -35,7 +35,7 @@ plan::RoughingOptions roughing_options(const RoughSettings& s, const stiffness::
   if (s.finish_program == "-") throw Error(ErrorKind::settings, "rough: the finishing program must be a file, not standard input");
   const std::string& t = s.rough_tool;
   if (t.size() < 2 || t.size() > 6 || t[0] != 'T' || t.find_first_not_of("0123456789", 1) != std::string::npos)
-    throw Error(ErrorKind::settings, "--rough-tool must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
+    throw Error(ErrorKind::settings, "{rough_tool} must be a tool number T<n> (n up to 99999): the program calls it with T and H words");
   plan::RoughingOptions o = s.plan;
   o.tool = profile_of(rt);
   o.tool_number = std::stoi(t.substr(1));
@@ -63,7 +63,7 @@ std::vector<std::string> header(const RoughSettings& s, const stiffness::Tool& r
 }  // namespace
 
 stock::ZMap rest_stock(const StockSettings& s, Io& io, std::string* spec_out) {
-  if (!(s.cell_mm >= 0.005 && s.cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
+  if (!(s.cell_mm >= 0.005 && s.cell_mm <= 5)) throw Error(ErrorKind::settings, "{cell_mm} must be between 0.005 and 5");
   const Setup setup = resolve_with_machine(s.read);
   const std::string spec = stock_spec(s.stock, setup.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(s.tool_file, setup.config));
@@ -78,7 +78,7 @@ stock::ZMap rest_stock(const StockSettings& s, Io& io, std::string* spec_out) {
 
 RoughResult rough(const RoughSettings& s, std::ostream& out, Io& io) {
   if (!s.output.empty() && s.output != "-") writer::check_output_path(s.output, s.finish_program);
-  if (!(s.cell_mm >= 0.005 && s.cell_mm <= 5)) throw Error(ErrorKind::settings, "--cell-mm must be between 0.005 and 5");
+  if (!(s.cell_mm >= 0.005 && s.cell_mm <= 5)) throw Error(ErrorKind::settings, "{cell_mm} must be between 0.005 and 5");
   const Setup setup = resolve_with_machine(s.read);
   const std::string spec = stock_spec(s.stock, setup.config);
   const stiffness::ToolLibrary lib = stiffness::load_tool_library(tool_library_path(s.tool_file, setup.config));

@@ -3,6 +3,7 @@
 // the job API (deflex/job/).
 #pragma once
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "deflex/job/io.hpp"
@@ -17,6 +18,10 @@ struct Io : job::Io {
   bool err_is_terminal = false;  // --progress=auto: a progress line only on a terminal
   ProgressWhen progress = ProgressWhen::automatic;
 };
+
+// The option that gives a setting the library names by `keyword`
+// (diag/settings.hpp): the command line's name for it in messages.
+std::string flag_of(std::string_view keyword);
 
 // A subcommand: args are the words after the subcommand name. Returns the exit
 // code (cli/exit.hpp); failures may also be thrown as deflex::Error.

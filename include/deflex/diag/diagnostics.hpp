@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "deflex/diag/settings.hpp"
+
 namespace deflex {
 
 // What kind of failure an Error is. The library says what went wrong; the
@@ -17,16 +19,6 @@ enum class ErrorKind {
   config,    // config.yaml, machine profile, dialect or library error
   io,        // a file could not be read or written
   internal   // a bug in deflex
-};
-
-// A failure that ends the run, of one kind.
-class Error : public std::runtime_error {
- public:
-  Error(ErrorKind kind, const std::string& what) : std::runtime_error(what), kind_(kind) {}
-  ErrorKind kind() const { return kind_; }
-
- private:
-  ErrorKind kind_;
 };
 
 enum class Severity { note, warning, error };
@@ -84,8 +76,11 @@ class Diagnostics {
   int errors() const { return errors_; }
   int warnings() const { return warnings_; }
   bool too_many() const { return max_errors_ > 0 && errors_ >= max_errors_; }
+  // Everything reported, unless set_keep(false); errors are always kept.
   const std::vector<Diagnostic>& all() const { return all_; }
   void set_keep(bool keep) { keep_ = keep; }
+  // How the messages name settings (diag/settings.hpp); default: by keyword.
+  void set_names(SettingNames names) { names_ = std::move(names); }
 
  private:
   void emit(Diagnostic d);
@@ -94,7 +89,31 @@ class Diagnostics {
   int errors_ = 0;
   int warnings_ = 0;
   bool keep_ = true;
+  SettingNames names_;
   std::vector<Diagnostic> all_;
+};
+
+// A failure that ends the run, of one kind. Its text may name settings as
+// {keyword} (diag/settings.hpp): what() names them by their keywords, message()
+// as a front end calls them. An error that ends a run because the program has
+// errors carries those errors (diagnostics()), so a caller has their
+// locations without reading the text.
+class Error : public std::runtime_error {
+ public:
+  Error(ErrorKind kind, const std::string& text);
+  ErrorKind kind() const { return kind_; }
+  // The settings the message is about, by keyword (empty: none).
+  std::vector<std::string> settings() const;
+  // The message with each setting named by `names`.
+  std::string message(const SettingNames& names) const;
+  const std::vector<Diagnostic>& diagnostics() const { return diagnostics_; }
+  // This error with the errors `d` reported (warnings and notes left out).
+  Error& with_errors_of(const Diagnostics& d);
+
+ private:
+  ErrorKind kind_;
+  std::string text_;
+  std::vector<Diagnostic> diagnostics_;
 };
 
 std::string format(const Diagnostic& d);

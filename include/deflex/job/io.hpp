@@ -4,6 +4,10 @@
 // Python bindings string streams.
 #pragma once
 #include <iosfwd>
+#include <string>
+#include <string_view>
+
+#include "deflex/diag/diagnostics.hpp"
 
 namespace deflex::job {
 
@@ -16,6 +20,13 @@ struct Io {
   // Where notes go: err, or nowhere when quiet (warnings and errors always go
   // to err: what a machinist must know is never silenced).
   std::ostream& info();
+  // How messages name settings (diag/settings.hpp): the command line by its
+  // flags; empty, by the job's keywords.
+  SettingNames names;
+  // `text` with its {keyword}s named so, for what the job writes to err itself.
+  std::string named(std::string_view text) const { return name_settings(text, names); }
+  // Diagnostics printed to err, naming settings so.
+  Diagnostics diagnostics(int max_errors) const;
 };
 
 }  // namespace deflex::job
