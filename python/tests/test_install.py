@@ -19,7 +19,7 @@ def test_the_installed_package_imports_and_finds_its_data(tmp_path):
     env["PYTHONPATH"] = str(site)
     code = ("import deflex, os\n"
             "print(deflex.__file__)\n"
-            "print(os.environ['DEFLEX_DATA_DIR'])\n"
+            "print(deflex.data_dir())\n"
             "print(deflex.compliance('T5', machine='mill3', heights_mm=[0]).matrix_mm_per_N[0, 0, 0])\n")
     # From an empty folder: no ./config.yaml, no samples/ beside it.
     work = tmp_path / "work"

@@ -1,6 +1,8 @@
 // Where deflex finds its files (include/deflex/profile/search.hpp).
 #include "deflex/profile/search.hpp"
 
+#include <dlfcn.h>
+
 #include <cstdlib>
 #include <filesystem>
 
@@ -36,10 +38,19 @@ std::vector<std::string> data_dir_candidates() {
   if (!e.empty()) return {e};
   std::vector<std::string> c;
   // Installed under any prefix (a .deb's /usr, cmake --install's /usr/local or
-  // a user's ~/.local): the data beside the binary, ../share/deflex.
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) c.push_back((exe.parent_path().parent_path() / "share" / "deflex").string());
+  // a user's ~/.local): the data in the prefix of the file this code was
+  // loaded from, <prefix>/share/deflex. That file is the deflex binary
+  // (<prefix>/bin), a program linking the library, or Python's extension
+  // module (<prefix>/lib/python3/dist-packages/deflex): up to four folders up.
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&data_dir_candidates), &info) && info.dli_fname) {
+    std::error_code ec;
+    fs::path up = fs::weakly_canonical(info.dli_fname, ec).parent_path();
+    for (int i = 0; i < 4 && up.has_parent_path() && up != up.root_path(); ++i) {
+      up = up.parent_path();
+      c.push_back((up / "share" / "deflex").string());
+    }
+  }
   c.push_back(DEFLEX_DATA_DIR);
   return c;
 }

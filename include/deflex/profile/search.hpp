@@ -22,8 +22,10 @@ namespace deflex::profile {
 
 std::string data_dir();
 // The folders data_dir() looks at, in order: $DEFLEX_DATA_DIR alone where it is
-// set, else ../share/deflex beside the binary and the configured folder. None
-// of them need exist (a binary copied out of its build tree has none).
+// set, else share/deflex one to four folders above the file holding this
+// code (the binary, a program linked with the library, Python's extension
+// module), then the configured folder. None of them need exist (a binary
+// copied out of its build tree has none).
 std::vector<std::string> data_dir_candidates();
 // The folders searched, in order, for a file `rel` of a user's configuration
 // (".../deflex/" + rel beyond the current folder).
