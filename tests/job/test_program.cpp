@@ -1,6 +1,7 @@
-// The calls behind path and rewrite (include/deflex/job/program.hpp) against
-// the commands that print them: the same motions and bytes; a program with an
-// error hands over nothing and writes nothing; an output that is the input is
+// The calls behind path, rewrite, tools import and list
+// (include/deflex/job/program.hpp, libraries.hpp) against the commands that
+// print them: the same motions, bytes and names; a program with an error
+// hands over nothing and writes nothing; an output that is the input is
 // refused before it is read.
 #include <doctest/doctest.h>
 
@@ -9,7 +10,10 @@
 #include <sstream>
 
 #include "../support.hpp"
+#include "deflex/job/libraries.hpp"
 #include "deflex/job/program.hpp"
+#include "deflex/profile/profile.hpp"
+#include "deflex/stiffness/tool.hpp"
 
 namespace fs = std::filesystem;
 using namespace deflex;
@@ -167,4 +171,57 @@ TEST_SUITE("job") {
     CHECK(test::read_file(file) == kFailsAtLine5);
   }
 
+  TEST_CASE("job::import_tools converts what `deflex tools import` prints, and writes it when asked") {
+    test::TempDir t;
+    for (const std::string lib : {"samples/tool-libraries/fusion_library.json", "samples/tool-libraries/linuxcnc.tbl"}) {
+      CAPTURE(lib);
+      const auto cli = test::run_cli({"tools", "import", lib});
+      REQUIRE(cli.rc == 0);
+      Streams s;
+      const job::ToolImportResult r = job::import_tools({lib, ""}, s.io);
+      CHECK(r.yaml == cli.out);
+      CHECK(r.tools == static_cast<int>(stiffness::parse_tool_library(r.yaml, lib).tools.size()));
+      CHECK(cli.err.find(r.format) != std::string::npos);
+      CHECK(s.out.str().empty());
+      const std::string out = t / "tools.yaml";
+      job::import_tools({lib, out}, s.io);
+      CHECK(test::read_file(out) == r.yaml);
+    }
+  }
+
+  TEST_CASE("job::import_tools refuses a file of neither format and an output that is the input") {
+    test::TempDir t;
+    Streams s;
+    const std::string yaml = t / "tools.yaml";
+    test::write_file(yaml, test::read_file("samples/tools.yaml"));
+    try {
+      job::import_tools({yaml, ""}, s.io);
+      FAIL("no error");
+    } catch (const Error& e) {
+      CHECK(e.kind() == ErrorKind::settings);
+    }
+    const std::string tbl = t / "lathe.tbl";
+    test::write_file(tbl, test::read_file("samples/tool-libraries/linuxcnc.tbl"));
+    CHECK_THROWS_AS(job::import_tools({tbl, tbl}, s.io), Error);
+    CHECK(test::read_file(tbl) == test::read_file("samples/tool-libraries/linuxcnc.tbl"));
+  }
+
+  TEST_CASE("job::names are the names `deflex list` prints") {
+    for (const auto& [word, kind] : {std::pair{"dialects", job::NameKind::dialects},
+                                     std::pair{"tools", job::NameKind::tools},
+                                     std::pair{"materials", job::NameKind::materials},
+                                     std::pair{"machines", job::NameKind::machines}}) {
+      CAPTURE(word);
+      const auto cli = test::run_cli({"list", word});
+      REQUIRE(cli.rc == 0);
+      job::NamesSettings ns;
+      ns.what = kind;
+      const job::Names n = job::names(ns);
+      CHECK_FALSE(n.names.empty());
+      CHECK(n.names == lines_of(cli.out));
+    }
+    job::NamesSettings dialects;
+    dialects.what = job::NameKind::dialects;
+    CHECK(job::names(dialects).names == profile::dialect_names());
+  }
 }
