@@ -1,8 +1,8 @@
-// The calls behind path, rewrite, tools import and list
-// (include/deflex/job/program.hpp, libraries.hpp) against the commands that
-// print them: the same motions, bytes and names; a program with an error
-// hands over nothing and writes nothing; an output that is the input is
-// refused before it is read.
+// The calls behind path, rewrite, tools import, list and calibrate
+// (include/deflex/job/program.hpp, libraries.hpp, physics.hpp) against the
+// commands that print them: the same motions, bytes, names and material
+// entry; a program with an error hands over nothing and writes nothing; an
+// output that is the input is refused before it is read.
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -11,6 +11,7 @@
 
 #include "../support.hpp"
 #include "deflex/job/libraries.hpp"
+#include "deflex/job/physics.hpp"
 #include "deflex/job/program.hpp"
 #include "deflex/profile/profile.hpp"
 #include "deflex/stiffness/tool.hpp"
@@ -223,5 +224,24 @@ TEST_SUITE("job") {
     job::NamesSettings dialects;
     dialects.what = job::NameKind::dialects;
     CHECK(job::names(dialects).names == profile::dialect_names());
+  }
+
+  TEST_CASE("job::calibrate: the entry `deflex calibrate` prints, written to a file when asked") {
+    test::TempDir t;
+    const std::string csv = "samples/calibration/slot_tests_al7075.csv";
+    const auto cli = test::run_cli({"calibrate", csv});
+    REQUIRE(cli.rc == 0);
+    const job::CalibrationResult r = job::calibrate({csv, "", ""});
+    CHECK(cli.out.ends_with("\nmaterial entry:\n" + r.yaml));
+    CHECK(r.entry.name == r.tests.material);  // the CSV's '# material:'
+    CHECK(r.fit.residual_N.size() == r.tests.tests.size());
+    const job::CalibrationResult named = job::calibrate({csv, "mine", t / "m.yaml"});
+    CHECK(named.entry.name == "mine");
+    CHECK(test::read_file(t / "m.yaml") == named.yaml);
+    CHECK(named.yaml.find("mine") != std::string::npos);
+    const std::string copy = t / "tests.csv";  // refused, it stays as it is
+    test::write_file(copy, test::read_file(csv));
+    CHECK_THROWS_AS(job::calibrate({copy, "", copy}), Error);
+    CHECK(test::read_file(copy) == test::read_file(csv));
   }
 }
