@@ -1,24 +1,16 @@
 // deflex forces: cutting forces over one spindle revolution for one engagement
-// condition; deflex calibrate: cutting/edge coefficients from slot tests.
+// condition; deflex calibrate: cutting/edge coefficients from slot tests
+// (job::forces, job::calibrate); here the options and the printing.
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <numbers>
-#include <optional>
 #include <ostream>
 #include <set>
 #include <sstream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/job/physics.hpp"
-#include "deflex/writer/writer.hpp"
 #include "deflex/report/json.hpp"
-#include "deflex/force/calibration.hpp"
-#include "deflex/force/material.hpp"
-#include "deflex/force/mechanistic.hpp"
-#include "deflex/force/morelli.hpp"
-#include "deflex/force/tool.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -80,12 +72,6 @@ std::string fixed(double v, int decimals) {
   return b;
 }
 
-std::string shortest(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
-
 
 struct ForcesArgs {
   std::string tool_file, tool, format = "csv";
@@ -144,7 +130,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   if (a.format == "csv") {
     io.out << "angle_deg,Fx_N,Fy_N,Fz_N\n";
     for (int j = 0; j < a.steps; ++j)
-      io.out << shortest(360.0 * j / a.steps) << "," << fixed(F[j].x(), 3) << "," << fixed(F[j].y(), 3)
+      io.out << significant_digits(360.0 * j / a.steps) << "," << fixed(F[j].x(), 3) << "," << fixed(F[j].y(), 3)
              << "," << fixed(F[j].z(), 3) << "\n";
     return 0;
   }
@@ -208,29 +194,11 @@ int cmd_calibrate(const std::vector<std::string>& args, Io& io) {
     return 0;
   }
   if (file.empty()) throw Error(ErrorKind::settings, "calibrate: missing FILE.csv (see --help)");
-  if (!output.empty()) writer::check_output_path(output, file);
 
-  const fo::SlotTestData d = fo::load_slot_tests(file);
-  const fo::SlotCalibration c = fo::calibrate_slot_tests(d);
-  io.out << calibration_report(d, c);
-
-  fo::MaterialEntry m;
-  m.name = !name.empty() ? name : !d.material.empty() ? d.material : std::filesystem::path(file).stem().string();
-  m.form = fo::ModelForm::mechanistic;
-  m.k = c.k;
-  m.source = "deflex calibrate " + std::filesystem::path(file).filename().string() + ": " +
-             std::to_string(d.tests.size()) + " slot tests, linear regression (Altintas 2012 ch. 2)";
-  double fmin = d.tests.front().fz_mm, fmax = fmin;
-  for (const auto& t : d.tests) fmin = std::min(fmin, t.fz_mm), fmax = std::max(fmax, t.fz_mm);
-  m.conditions = (d.tool.empty() ? std::string("flat end mill") : d.tool) + "; full slots, f_z " +
-                 shortest(fmin) + " to " + shortest(fmax) + " mm";
-  const std::string yaml = fo::to_yaml(m);
-  if (output.empty()) {
-    io.out << "\nmaterial entry:\n" << yaml;
-  } else {
-    writer::write_file_atomically(output, file, [&](std::ostream& o) { o << yaml; });
-    io.out << "\nmaterial entry '" << m.name << "' written to " << output << "\n";
-  }
+  const job::CalibrationResult c = job::calibrate({file, name, output});
+  io.out << calibration_report(c.tests, c.fit);
+  if (output.empty()) io.out << "\nmaterial entry:\n" << c.yaml;
+  else io.out << "\nmaterial entry '" << c.entry.name << "' written to " << output << "\n";
   return 0;
 }
 

@@ -1,20 +1,12 @@
-// deflex path | check | rewrite: read a program, interpret it, report.
-#include <charconv>
-#include <cmath>
-#include <iostream>
-
+// deflex path | check | rewrite: read a program, interpret it, report
+// (job::path, job::check, job::rewrite); here the options and the printing.
 #include "common.hpp"
-#include "deflex/job/check.hpp"
 #include "deflex/diag/plural.hpp"
-#include "deflex/report/text_out.hpp"
-#include "deflex/compensate/compensate.hpp"
-#include "deflex/gcode/reader.hpp"
-#include "deflex/interp/decimal.hpp"
-#include "deflex/interp/shape.hpp"
-#include "deflex/interp/travel.hpp"
+#include "deflex/job/check.hpp"
+#include "deflex/job/program.hpp"
 #include "deflex/report/json.hpp"
+#include "deflex/report/text_out.hpp"
 #include "deflex/writer/temp_files.hpp"
-#include "deflex/writer/writer.hpp"
 
 namespace deflex::cli {
 namespace {
@@ -23,6 +15,12 @@ class PathPrinter : public interp::MotionSink {
  public:
   PathPrinter(std::ostream& o, bool lines, bool centre) : out_(o), lines_(lines), centre_(centre) {}
   void motion(const interp::Motion& m) override {
+    // Standard output is written from the first motion on: a signal from then
+    // cuts it short (the handler says so), before it leaves nothing.
+    if (!streaming_) {
+      writer::temp_files::streaming_stdout();
+      streaming_ = true;
+    }
     // Under G41/G42 the motion is the tool centre's; the program's own point
     // is its contour end, and a corner piece has none.
     if (!centre_ && m.corner) return;
@@ -34,6 +32,7 @@ class PathPrinter : public interp::MotionSink {
  private:
   report::TextOut out_;
   bool lines_, centre_;
+  bool streaming_ = false;
 };
 
 const char* kCheckHelp =
@@ -62,71 +61,25 @@ const char* kPathHelp =
     "an error (or more executed blocks than --max-blocks) prints no path, only the\n"
     "diagnostics on stderr, and exits 1.\n";
 
-// Takes the motions and drops them: a pass for the diagnostics alone.
-class NullSink : public interp::MotionSink {
- public:
-  void motion(const interp::Motion&) override {}
-};
-
-int finish(const Diagnostics& diags) { return diags.errors() ? static_cast<int>(Exit::input) : 0; }
-
-// The file read in pieces (memory does not grow with its length) unless it
-// is one piece anyway, may call subprograms or comes from standard input.
-gcode::ProgramPasses load(const std::string& file, Io& io) { return gcode::ProgramPasses(file, &io.in, piece_lines()); }
-
-// One pass of the interpreter over the pieces; `sink` may follow the piece
-// being read (set_source).
-template <class Sink>
-interp::Stats interpret_all(gcode::ProgramPasses& src, const interp::Options& opt, Diagnostics& diags, Sink& sink) {
-  interp::Interpreter it(opt, diags, sink);
-  src.each([&](const gcode::Program& p, bool last) {
-    if constexpr (requires { sink.set_source(p.source()); }) sink.set_source(p.source());
-    it.feed(p, last);
-  });
-  return it.finish();
-}
-
 }  // namespace
 
 int cmd_path(const std::vector<std::string>& args, Io& io) {
-  ReadOptions r;
-  std::string file;
-  std::string tool_file;
+  job::PathSettings ps;
   bool lines = false, centre = false, help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("lines", po::bool_switch(&lines), "put the source line number first")
                     ("centre", po::bool_switch(&centre), "under G41/G42, the tool centre's path (default: the programmed contour)")
-                    ("tool-file", po::value(&tool_file), "tool library for G41/G42 radii (default: config tool_file, else the installed samples/tools.yaml)");
-  add_read_options(desc, r);
+                    ("tool-file", po::value(&ps.tool_file), "tool library for G41/G42 radii (default: config tool_file, else the installed samples/tools.yaml)");
+  add_read_options(desc, ps.read);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
-  if (!files.empty()) file = files[0];
+  if (!files.empty()) ps.program = files[0];
   if (help) { print_help(io.out, "deflex path FILE [--dialect D] [--lines] [--centre]", kPathHelp, desc); return 0; }
-  if (file.empty()) throw Error(ErrorKind::settings, "path: a program FILE (or - for stdin) is required");
-  Setup s = resolve(r);
-  s.tool_file = tool_file;
-  gcode::ProgramPasses prog = load(file, io);
-  Diagnostics diags(&io.err, s.max_errors);
-  job::check_text(prog, s, diags);
-  if (diags.errors()) return finish(diags);  // --strict: nothing printed
-  // Two passes: the first reports every diagnostic and prints nothing, so a
-  // program with an error (past --max-blocks included) prints no path at all
-  // rather than megabytes of it cut off at the error; the second, quiet, prints.
-  // Interpretation is cheap next to printing, so the path costs well under 2x.
-  NullSink none;
-  const interp::Options opt = s.interp();
-  if (interpret_all(prog, opt, diags, none).stopped || diags.errors()) return finish(diags);
-  Diagnostics quiet(nullptr, 0);
-  PathPrinter p(io.out, lines, centre);
-  writer::temp_files::streaming_stdout();
-  interpret_all(prog, opt, quiet, p);
-  return finish(diags);
+  if (ps.program.empty()) throw Error(ErrorKind::settings, "path: a program FILE (or - for stdin) is required");
+  PathPrinter printer(io.out, lines, centre);
+  return job::path(ps, printer, io).errors ? static_cast<int>(Exit::input) : 0;
 }
-
-namespace {
-
-}  // namespace
 
 int cmd_check(const std::vector<std::string>& args, Io& io) {
   job::CheckSettings cs;
@@ -168,16 +121,15 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
 }
 
 int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
-  ReadOptions r;
-  std::string file, output;
+  job::RewriteSettings rs;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
-                    ("output,o", po::value(&output), "write here (atomically) instead of stdout");
-  add_read_options(desc, r);
+                    ("output,o", po::value(&rs.output), "write here (atomically) instead of stdout");
+  add_read_options(desc, rs.read);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
-  if (!files.empty()) file = files[0];
+  if (!files.empty()) rs.program = files[0];
   if (help) {
     print_help(io.out, "deflex rewrite FILE [-o OUT] [--dialect D]",
                "Reads and interprets the program, then writes it back through deflex's writer\n"
@@ -186,27 +138,8 @@ int cmd_rewrite(const std::vector<std::string>& args, Io& io) {
                "use it to check that deflex reads a program. A program with errors is not written.\n", desc);
     return 0;
   }
-  if (file.empty()) throw Error(ErrorKind::settings, "rewrite: a program FILE (or - for stdin) is required");
-  Setup s = resolve(r);
-  if (!output.empty() && output != "-") writer::check_output_path(output, file);
-  gcode::ProgramPasses prog = load(file, io);
-  Diagnostics diags(&io.err, s.max_errors);
-  NullSink null;
-  const interp::Options opt = s.interp();
-  interpret_all(prog, opt, diags, null);
-  if (diags.errors()) {
-    io.err << prog.name() << ": error: not written: the program has errors\n";
-    return static_cast<int>(Exit::input);
-  }
-  auto write = [&](std::ostream& o) {
-    prog.each([&](const gcode::Program& p, bool) { writer::Rewriter(p, s.dialect).write(o); });
-  };
-  if (output.empty() || output == "-") {
-    writer::temp_files::streaming_stdout();
-    write(io.out);
-  } else {
-    writer::write_file_atomically(output, file, write);
-  }
+  if (rs.program.empty()) throw Error(ErrorKind::settings, "rewrite: a program FILE (or - for stdin) is required");
+  job::rewrite(rs, io, [] { writer::temp_files::streaming_stdout(); });
   return 0;
 }
 

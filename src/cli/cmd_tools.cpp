@@ -1,10 +1,8 @@
 // deflex tools import FILE [-o OUT]: a Fusion 360 JSON or LinuxCNC .tbl tool
-// library as deflex YAML (stiffness/tool_import.hpp).
+// library as deflex YAML (job::import_tools); here the options and the printing.
 #include "common.hpp"
 #include "deflex/diag/plural.hpp"
-#include "deflex/stiffness/tool.hpp"
-#include "deflex/stiffness/tool_import.hpp"
-#include "deflex/writer/writer.hpp"
+#include "deflex/job/libraries.hpp"
 
 namespace deflex::cli {
 
@@ -28,17 +26,10 @@ int cmd_tools(const std::vector<std::string>& args, Io& io) {
     return help ? 0 : static_cast<int>(Exit::usage);
   }
   if (words[0] != "import" || words.size() != 2) throw Error(ErrorKind::settings, "tools: usage: deflex tools import FILE [-o OUT]");
-  if (!stiffness::is_foreign_tool_library(words[1]))
-    throw Error(ErrorKind::settings, "tools import: " + words[1] + " is neither .json (Fusion 360) nor .tbl (LinuxCNC)");
-  if (!output.empty() && output != "-") writer::check_output_path(output, words[1]);
-  const stiffness::ImportedLibrary imp = stiffness::import_tool_library(words[1]);
-  // What was written must load as a library: the same check --tool-file makes.
-  (void)stiffness::parse_tool_library(imp.yaml, output.empty() ? words[1] : output);
-  for (const std::string& s : imp.skipped) io.info() << words[1] << ": note: skipped " << s << "\n";
+  const job::ToolImportResult imp = job::import_tools({words[1], output}, io);
   io.err << words[1] << ": " << imp.format << ": " << plural(imp.tools, "tool") << " converted, " << imp.skipped.size()
          << " skipped\n";
   if (output.empty() || output == "-") io.out << imp.yaml;
-  else writer::write_file_atomically(output, words[1], [&](std::ostream& o) { o << imp.yaml; });
   return 0;
 }
 

@@ -1,4 +1,4 @@
-// job::compliance() and job::forces() (physics.hpp).
+// job::compliance(), job::forces() and job::calibrate() (physics.hpp).
 #include "deflex/job/physics.hpp"
 
 #include <cmath>
@@ -6,12 +6,14 @@
 #include <filesystem>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/force/morelli.hpp"
 #include "deflex/force/tool.hpp"
 #include "deflex/job/setup.hpp"
 #include "deflex/profile/search.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/machine.hpp"
+#include "deflex/writer/writer.hpp"
 
 namespace deflex::job {
 namespace {
@@ -123,6 +125,27 @@ ForceResult forces(const ForceSettings& s) {
   r.force_N = force::revolution_forces(slices, k, s.fz_mm, eng, s.steps);
   r.summary = force::summarize(r.force_N);
   r.shape_code = shape_code(cutter, k, s.ae_mm, s.ap_mm, !s.up_milling);
+  return r;
+}
+
+CalibrationResult calibrate(const CalibrationSettings& s) {
+  if (!s.output.empty()) writer::check_output_path(s.output, s.file);
+  CalibrationResult r;
+  r.tests = force::load_slot_tests(s.file);
+  r.fit = force::calibrate_slot_tests(r.tests);
+  force::MaterialEntry& m = r.entry;
+  const std::filesystem::path file(s.file);
+  m.name = !s.name.empty() ? s.name : !r.tests.material.empty() ? r.tests.material : file.stem().string();
+  m.form = force::ModelForm::mechanistic;
+  m.k = r.fit.k;
+  m.source = "deflex calibrate " + file.filename().string() + ": " + std::to_string(r.tests.tests.size()) +
+             " slot tests, linear regression (Altintas 2012 ch. 2)";
+  double fmin_mm = r.tests.tests.front().fz_mm, fmax_mm = fmin_mm;
+  for (const auto& t : r.tests.tests) fmin_mm = std::min(fmin_mm, t.fz_mm), fmax_mm = std::max(fmax_mm, t.fz_mm);
+  m.conditions = (r.tests.tool.empty() ? std::string("flat end mill") : r.tests.tool) + "; full slots, f_z " +
+                 significant_digits(fmin_mm) + " to " + significant_digits(fmax_mm) + " mm";
+  r.yaml = force::to_yaml(m);
+  if (!s.output.empty()) writer::write_file_atomically(s.output, s.file, [&](std::ostream& o) { o << r.yaml; });
   return r;
 }
 

@@ -1,11 +1,14 @@
-// `deflex stiffness` and `deflex forces` as calls: the compliance C(h) of a
-// library tool, alone or in its holder on a machine, at load heights along its
-// flutes; the cutting forces over a revolution for one engagement.
+// `deflex stiffness`, `deflex forces` and `deflex calibrate` as calls: the
+// compliance C(h) of a library tool, alone or in its holder on a machine, at
+// load heights along its flutes; the cutting forces over a revolution for one
+// engagement; the coefficients of a material fitted to slot tests.
 #pragma once
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "deflex/force/calibration.hpp"
+#include "deflex/force/material.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/job/settings.hpp"
 #include "deflex/stiffness/compliance.hpp"
@@ -59,5 +62,21 @@ struct ForceResult {
 
 // Each setting checked (a settings Error) before anything is computed.
 ForceResult forces(const ForceSettings& s);
+
+struct CalibrationSettings {
+  std::string file;    // the slot tests, CSV (force/calibration.hpp)
+  std::string name;    // the material's name ("": the CSV's '# material:', else the file's stem)
+  std::string output;  // the material entry (YAML) written here atomically ("": not written)
+};
+
+struct CalibrationResult {
+  force::SlotTestData tests;
+  force::SlotCalibration fit;  // the coefficients, the line fits, each test's residual
+  force::MaterialEntry entry;  // for a material library: the coefficients with their source and conditions
+  std::string yaml;            // the entry as a material library's YAML
+};
+
+// An output that is the input is refused before the tests are read.
+CalibrationResult calibrate(const CalibrationSettings& s);
 
 }  // namespace deflex::job
