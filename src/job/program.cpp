@@ -35,7 +35,7 @@ PathResult path(const PathSettings& ps, interp::MotionSink& sink, Io& io) {
   Setup s = resolve(ps.read);
   s.tool_file = ps.tool_file;
   gcode::ProgramPasses prog = load(ps.program, io);
-  Diagnostics diags(&io.err, s.max_errors);
+  Diagnostics diags = io.diagnostics(s.max_errors);
   PathResult r;
   r.name = prog.name();
   auto counted = [&]() -> PathResult& {
@@ -67,7 +67,7 @@ void rewrite(const RewriteSettings& rs, Io& io, const std::function<void()>& wri
   const bool to_out = rs.output.empty() || rs.output == "-";
   if (!to_out) writer::check_output_path(rs.output, rs.program);
   gcode::ProgramPasses prog = load(rs.program, io);
-  Diagnostics diags(&io.err, s.max_errors);
+  Diagnostics diags = io.diagnostics(s.max_errors);
   NullSink none;
   const interp::Options opt = s.interp();
   interpret_all(prog, opt, diags, none);
