@@ -104,9 +104,9 @@ TEST_SUITE("cli") {
     // Loaded and measured at the middle of the cut band (a_p 10 mm: 5 mm above
     // the tip, a = 35 mm from the holder face), a cantilever of I = pi d^4 / 64
     // bends by F / E * int_0^a (a - s)^2 / I(s) ds (Euler-Bernoulli: for one
-    // section 64 F a^3 / (3 pi E d^4), Bagci & Yuncuoglu 2017 Eq. 4,
-    // seeds/000_69ec3f0a4c4743a0.txt; shank and flutes as two sections, Smaoui
-    // 2011 Eq. 9-17, seeds/001_8bcda7abf9a204ff.txt), plus the shear term
+    // section 64 F a^3 / (3 pi E d^4), Bagci & Yuncuoglu 2017 Eq. 4;
+    // shank and flutes as two sections, Smaoui
+    // 2011 Eq. 9-17; docs/physics.md), plus the shear term
     // F * int_0^a ds / (k G A(s)), k = 6 (1 + nu) / (7 + 6 nu) for a circle
     // (Cowper 1966, "The shear coefficient in Timoshenko's beam theory").
     const double pi = std::numbers::pi;

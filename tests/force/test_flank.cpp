@@ -1,5 +1,5 @@
 // The flank surface error profile (force/flank.hpp) against Morelli et al. 2021
-// (seeds/003_…) Table 2, and its invariants.
+// (docs/physics.md) Table 2, and its invariants.
 #include <doctest/doctest.h>
 
 #include <algorithm>

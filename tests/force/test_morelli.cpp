@@ -1,5 +1,5 @@
 // Morelli et al. 2021, "Surface error shape identification for 3-axis milling
-// operations", Procedia CIRP 101 (seeds/003_9dafcae66a71b6c7.txt): force-shape codes of Table 3, key points of
+// operations", Procedia CIRP 101 (docs/physics.md): force-shape codes of Table 3, key points of
 // Table 2 for its three tests, and the peak angle of Eq. 6 against the
 // simulated force.
 #include <doctest/doctest.h>

@@ -1,5 +1,5 @@
 // The surface error profile of a flat or bull-nose end mill cutting with its
-// flank, along the axial depth (Morelli et al. 2021, seeds/003_…, §2.3-2.4).
+// flank, along the axial depth (Morelli et al. 2021, §2.3-2.4; docs/physics.md).
 //
 // The wall at height z is generated when the edge at z passes the generating
 // immersion angle phi_n (the exit, pi, in down-milling; the entry, 0, in

@@ -1,5 +1,5 @@
 // Force-shape classification of flat end mills in down-milling (Morelli et al.
-// 2021, seeds/003_…): single-flute F_y shape Type I/II/III and the overlap degree
+// 2021; docs/physics.md): single-flute F_y shape Type I/II/III and the overlap degree
 // of each following flute (L, M, H, m, h), e.g. "IIML"; and the key axial
 // positions of the surface-generating force (Table 2).
 #pragma once

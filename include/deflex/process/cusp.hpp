@@ -1,6 +1,6 @@
 // Cusp height of ball-end finishing: Mikó, Beňo, Maňková,
 // "Experimental verification of cusp heights when 3D milling rounded surfaces"
-// (seeds/002_..., Eq. 1-7).
+// (Mikó et al., Eq. 1-7; docs/physics.md).
 //
 // The cusp left between two neighbouring passes of a ball end of effective
 // diameter D_e with a horizontal step-over a_e on a surface inclined by alpha_1:

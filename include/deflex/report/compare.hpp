@@ -1,6 +1,6 @@
 // deflex compare: several programs for the same part (strategies) simulated on
 // the same stock, one row each (Bagci & Yüncüoğlu 2017,
-// seeds/000_..., Fig. 15 and Table 4 compare strategies by these figures).
+// docs/physics.md; Fig. 15 and Table 4 compare strategies by these figures).
 #pragma once
 #include <string>
 #include <vector>
