@@ -33,7 +33,7 @@ double run_released(const job::Settings& s, job::Purpose purpose, PyObserver& ob
   {
     py::gil_scoped_release nogil;
     try {
-      job::Run run = job::open(s, purpose, c.io);
+      job::Run run = job::open(s, purpose, c.io, &obs);
       body(run);
       tolerance_mm = run.settings.tolerance_mm;
     } catch (...) {

@@ -112,7 +112,7 @@ int cmd_compensate(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(ErrorKind::settings, "compensate: a program IN (or - for stdin) is required");
   s.program = files[0];
   ProgressLine progress(io);
-  job::Run run = job::open(s, job::Purpose::compensate, io);
+  job::Run run = job::open(s, job::Purpose::compensate, io, &progress);
   const job::CompensateResult c = job::compensate(run, io.out, io, &progress, command_of("compensate", args));
   print_compensated(run, c, io);
   return 0;
@@ -141,7 +141,7 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(ErrorKind::settings, "simulate: a program IN (or - for stdin) is required");
   s.program = files[0];
   ProgressLine progress(io);
-  job::Run run = job::open(s, job::Purpose::simulate, io);
+  job::Run run = job::open(s, job::Purpose::simulate, io, &progress);
   const job::SimulateResult r = job::simulate(run, io, &progress, command_of("simulate", args));
   print_simulated(run, r, io);
   return 0;

@@ -6,6 +6,7 @@
 
 #include "deflex/cli/command.hpp"
 #include "signals.hpp"
+#include "terminal_line.hpp"
 
 int main(int argc, char** argv) {
   std::ios::sync_with_stdio(false);
@@ -13,7 +14,13 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   deflex::cli::Io io{{std::cin, std::cout, std::cerr}};
   io.err_is_terminal = ::isatty(2);
+  deflex::cli::TerminalLine line(std::cerr.rdbuf());
+  if (io.err_is_terminal) {
+    std::cerr.rdbuf(&line);
+    io.line = &line;
+  }
   int rc = deflex::cli::run(args, io);
+  if (io.line) line.show("");
   // A failed write to standard output (a full disk, a closed descriptor) is
   // lost data: an I/O error, never exit 0.
   std::cout.flush();

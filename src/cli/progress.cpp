@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "common.hpp"
+#include "terminal_line.hpp"
 #include "deflex/report/summary.hpp"
 
 namespace deflex::cli {
@@ -22,11 +23,11 @@ compensate::Progress progress_for(Io& io) {
   };
   auto st = std::make_shared<State>();
   // On a terminal one line redrawn in place; elsewhere (a log) a line per 10%.
-  const bool redraw = io.err_is_terminal;
+  const bool redraw = io.line != nullptr;
   return [&io, st, shown, redraw](const std::string& stage, double f) {
     const Clock::time_point now = Clock::now();
     if (stage != st->stage) {
-      if (shown && redraw) io.err << "\r\033[K";
+      if (shown && redraw) io.line->show("");
       if (io.verbose && !st->stage.empty()) {
         char done[32];
         std::snprintf(done, sizeof done, "%.1f s", std::chrono::duration<double>(now - st->start).count());
@@ -45,7 +46,7 @@ compensate::Progress progress_for(Io& io) {
     // The rest at the rate so far, once there is a rate to go by.
     if (f > 0.01 && f < 1 && s > 1) text += ", about " + report::clock(s * (1 - f) / f) + " left";
     if (redraw) {
-      io.err << "\r\033[K" << text << std::flush;
+      io.line->show(text);
     } else if (const int d = static_cast<int>(10 * f); d != st->decile) {
       st->decile = d;
       io.err << text << "\n";

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include <cstdio>
+#include <filesystem>
 #include <optional>
 #include <tuple>
 
@@ -192,11 +193,22 @@ void check_stock_reached(const Run& j, Diagnostics& diags) {
 // (shape, decimal points), the interpretation, then per motion the travel and
 // what cutting needs. The last passes also find what the compensation needs
 // of the whole program: the count of motions and the time as written.
-void check_in_pieces(Run& j, Diagnostics& diags) {
+void check_in_pieces(Run& j, Diagnostics& diags, const compensate::Progress& progress) {
   const Settings& a = j.given;
   gcode::ProgramPasses& src = *j.pieces;
+  // Three passes over the file: the fraction by the bytes they have read.
+  std::error_code ec;
+  const double pass_bytes = std::max<double>(1, static_cast<double>(std::filesystem::file_size(src.path(), ec)));
+  double read_bytes = 0;
+  auto read = [&](const gcode::Program& p) {
+    read_bytes += static_cast<double>(p.source().bytes().size());
+    if (progress) progress("checking", std::min(1.0, read_bytes / (3 * pass_bytes)));
+  };
   report::Sha256 sha;
-  check_text(src, j.setup, diags, [&sha](const gcode::Program& p) { sha.add(p.source().bytes()); });
+  check_text(src, j.setup, diags, [&](const gcode::Program& p) {
+    sha.add(p.source().bytes());
+    read(p);
+  });
   j.sha256 = sha.hex();
   const interp::Options opt = j.setup.interp();
   struct Count : interp::MotionSink {
@@ -205,7 +217,10 @@ void check_in_pieces(Run& j, Diagnostics& diags) {
   } count;
   {
     interp::Interpreter it(opt, diags, count);
-    src.each([&](const gcode::Program& p, bool last) { it.feed(p, last); });
+    src.each([&](const gcode::Program& p, bool last) {
+      it.feed(p, last);
+      read(p);
+    });
     it.finish();
   }
   j.motion_count = count.n;
@@ -226,6 +241,7 @@ void check_in_pieces(Run& j, Diagnostics& diags) {
       j.count_left(m);
     }
     piece.clear();
+    read(p);
   });
   it.finish();
   if (!diags.errors()) cut.report(diags);

@@ -21,8 +21,9 @@ void subprograms(Run& j, Io& io);
 // The checks of a whole program: shape, decimal points, the interpretation,
 // the travel and what each cutting motion needs; its motions into j.motions.
 void check_whole(Run& j, Diagnostics& diags);
-// The same on a program read in pieces, pass by pass, in the same order.
-void check_in_pieces(Run& j, Diagnostics& diags);
+// The same on a program read in pieces, pass by pass, in the same order;
+// `progress` (may be empty) gets the stage "checking" after each piece.
+void check_in_pieces(Run& j, Diagnostics& diags, const compensate::Progress& progress);
 // Settings::stock "auto[:MARGIN]": the blank box round the cutting moves (a note says so).
 std::string auto_stock(const std::string& spec, const Run& j, Io& io);
 // A warning (an error when strict) where no cutting move reaches the stock.

@@ -97,7 +97,7 @@ CompareResult compare(const Settings& s, const std::vector<std::string>& program
   for (const std::string& f : programs) {
     Settings one = s;
     one.program = f;
-    runs.push_back(open(one, Purpose::compare, io, runs.empty() ? nullptr : &runs.front()));
+    runs.push_back(open(one, Purpose::compare, io, nullptr, runs.empty() ? nullptr : &runs.front()));
   }
   CompareResult c;
   c.rows = run_all(runs, s.threads);

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "checks.hpp"
+#include "internal.hpp"
 #include "deflex/engage/engagement.hpp"
 #include "deflex/engage/sweep_program.hpp"
 #include "deflex/force/tool.hpp"
@@ -143,7 +144,11 @@ void build_stock_and_part(Run& j, Io& io, const Run* shared, const std::vector<E
 
 }  // namespace
 
-Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared) {
+Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const Run* shared) {
+  const compensate::Progress progress = detail::progress_of(observer);
+  auto stage = [&progress](const char* name, double fraction) {
+    if (progress) progress(name, fraction);
+  };
   // The output's checks before anything is read: a run never ends writing nothing after an hour.
   if (purpose == Purpose::compensate && !s.output.empty() && s.output != "-") writer::check_output_path(s.output, s.program);
   if (purpose != Purpose::compare && !s.report_dir.empty()) writer::check_output_folder(s.report_dir);
@@ -161,8 +166,10 @@ Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared) {
   j.stock_spec = stock_spec(s.stock, j.setup.config);
   resolve_physics(j);
   Diagnostics diags = io.diagnostics(j.setup.max_errors);
-  if (j.pieces) detail::check_in_pieces(j, diags);
+  stage("checking", 0);
+  if (j.pieces) detail::check_in_pieces(j, diags, progress);
   else detail::check_whole(j, diags);
+  stage("checking", 1);
   if (diags.errors())
     throw Error(ErrorKind::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (purpose == Purpose::compensate ? "nothing compensated, nothing written" : "not simulated"))
@@ -170,8 +177,11 @@ Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared) {
   // The earlier operations read and checked before any stock is built.
   std::vector<EarlierRun> earlier;
   if (!shared) earlier = read_earlier_all(s.stock_from, j.setup, j.physics.tools, io);
+  stage("stock", 0);
   build_stock_and_part(j, io, shared, earlier);
+  stage("stock", 1);
   detail::check_stock_reached(j, diags);
+  if (j.physics.part) stage("gouge check", 0);
   detail::check_gouges(j, diags);
   for (const interp::Motion& m : j.motions) j.count_left(m);  // in pieces: the check pass counted them
   if (io.verbose) detail::print_setup(j, io);

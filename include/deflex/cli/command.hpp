@@ -14,9 +14,12 @@ namespace deflex::cli {
 enum class ProgressWhen { automatic, always, never };
 
 // Streams a command writes to (tests pass string streams), and how.
+class TerminalLine;  // src/cli/terminal_line.hpp
+
 struct Io : job::Io {
   bool err_is_terminal = false;  // --progress=auto: a progress line only on a terminal
   ProgressWhen progress = ProgressWhen::automatic;
+  TerminalLine* line = nullptr;  // err's buffer on a terminal: the progress line drawn there
 };
 
 // The option that gives a setting the library names by `keyword`

@@ -73,13 +73,17 @@ struct Run {
   } cut_extent;
 };
 
+class Observer;  // job.hpp
+
 // Reads the program and everything the physics needs; throws on any error.
 // Every check that can fail runs before the stock and part are built.
+// `observer` (may be null) sees the stages ("checking", "stock", "gouge
+// check") with their fractions and may cancel at each step (Cancelled).
 // `shared` (may be null): a run whose stock and part model this one uses
 // instead of building its own (compare: every program on the same stock).
 // Chooses itself whether the program is read whole or in pieces: in pieces
 // where it is long, comes from a file and calls no subprogram.
-Run open(const Settings& s, Purpose purpose, Io& io, const Run* shared = nullptr);
+Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer = nullptr, const Run* shared = nullptr);
 
 // What --spindle and --feed (Settings::spindle_rpm, feed_mm_per_min) give a
 // cutting motion whose program lacks them.
