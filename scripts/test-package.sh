@@ -22,7 +22,7 @@ deflex compensate /usr/share/deflex/samples/programs/six_surfaces.nc \
   --stock /usr/share/deflex/samples/stock/six_surfaces_stock.stl -o /tmp/six_surfaces_comp.nc
 test -s /tmp/six_surfaces_comp.nc
 echo "== import deflex (Debian's python3 finds /usr/lib/python3/dist-packages)"
-/usr/bin/python3 -c "import deflex; print(deflex.compliance('T5', machine='mill3', heights_mm=[0]).matrix_mm_per_N[0, 0, 0], 'mm/N')"
+/usr/bin/python3 -c "import deflex; print(deflex.data_dir()); print(deflex.compliance('T5', machine='mill3', heights_mm=[0]).matrix_mm_per_N[0, 0, 0], 'mm/N')"
 echo "== man deflex-compensate"
 man -w deflex-compensate
 man deflex-compensate | head -n 6
