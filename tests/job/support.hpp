@@ -1,0 +1,111 @@
+// Helpers of the job API's tests: string streams for a job::Io, a run
+// opened and compensated or simulated in one call, the piece size of a
+// scope, and a program's motions as `deflex path` prints them.
+#pragma once
+#include <stdlib.h>
+
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "../support.hpp"
+#include "deflex/job/job.hpp"
+#include "deflex/job/setup.hpp"
+#include "deflex/report/text_out.hpp"
+
+namespace deflex::test {
+
+// A job::Io on string streams; `stdin_text` is the program of "-".
+struct Streams {
+  std::istringstream in;
+  std::ostringstream out, err;
+  job::Io io{in, out, err};
+  explicit Streams(const std::string& stdin_text = "") : in(stdin_text) {}
+};
+
+// DEFLEX_CHUNK_LINES for the scope of one run ("0": read whole).
+struct PieceLines {
+  explicit PieceLines(const std::string& n) { ::setenv("DEFLEX_CHUNK_LINES", n.c_str(), 1); }
+  ~PieceLines() { ::unsetenv("DEFLEX_CHUNK_LINES"); }
+  PieceLines(const PieceLines&) = delete;
+  PieceLines& operator=(const PieceLines&) = delete;
+};
+
+// What a run gave: its messages, the program it wrote (to the output stream),
+// its result, or the Error that stopped it (kind and message).
+template <class Result>
+struct Outcome {
+  std::string out, err;
+  std::optional<Result> result;
+  std::optional<ErrorKind> error;
+  std::string what;
+  bool ok() const { return result.has_value(); }
+};
+
+// Opens `s` for `purpose` and runs `go(run, streams)`, catching a deflex::Error.
+template <class Go>
+auto run_job(const job::Settings& s, job::Purpose purpose, Go go, const std::string& stdin_text = "") {
+  Streams st(stdin_text);
+  Outcome<decltype(go(std::declval<job::Run&>(), st))> o;
+  try {
+    job::Run run = job::open(s, purpose, st.io);
+    o.result = go(run, st);
+  } catch (const Error& e) {
+    o.error = e.kind();
+    o.what = e.what();
+  }
+  o.out = st.out.str();
+  o.err = st.err.str();
+  return o;
+}
+
+// job::compensate of `s`, its program to the output stream (or to Settings::output).
+inline Outcome<job::CompensateResult> compensate_job(const job::Settings& s, const std::string& stdin_text = "") {
+  return run_job(
+      s, job::Purpose::compensate, [](job::Run& r, Streams& st) { return job::compensate(r, st.out, st.io); },
+      stdin_text);
+}
+
+// job::simulate of `s`.
+inline Outcome<job::SimulateResult> simulate_job(const job::Settings& s, const std::string& stdin_text = "") {
+  return run_job(
+      s, job::Purpose::simulate, [](job::Run& r, Streams& st) { return job::simulate(r, st.io); }, stdin_text);
+}
+
+// `deflex path [--centre]` of a program file: one line per motion, KIND X Y Z
+// (6 decimals), read with the config's machine and dialect (or `dialect`).
+// The programmed contour's points under G41/G42 unless `centre`.
+// Interpreted whole through the library (job::resolve, Setup::interp); a
+// diagnostic fails the test.
+inline std::string path_text(const std::string& file, bool centre = false, const std::string& dialect = "") {
+  job::ReadSettings r;
+  r.dialect = dialect;
+  const job::Setup s = job::resolve(r);
+  const gcode::Program prog(gcode::read_source(file));
+  std::ostringstream text, err;
+  Diagnostics diags(&err, 0);
+  struct Print : interp::MotionSink {
+    report::TextOut* out;
+    bool centre;
+    void motion(const interp::Motion& m) override {
+      if (!centre && m.corner) return;  // a corner piece has no programmed point
+      *out << interp::to_string(m.kind);
+      for (double v : centre || !m.comp ? m.end_mm : m.contour_end_mm) {
+        *out << ' ';
+        out->fixed(v, 6);
+      }
+      *out << '\n';
+    }
+  } print;
+  {
+    report::TextOut out(text);
+    print.out = &out;
+    print.centre = centre;
+    interp::interpret(prog, s.interp(), diags, print);
+  }
+  INFO(file << ": " << err.str());
+  CHECK(diags.errors() == 0);
+  return text.str();
+}
+
+}  // namespace deflex::test
