@@ -42,6 +42,14 @@ struct TempDir {
   std::string operator/(const std::string& name) const { return (p / name).string(); }
 };
 
+// DEFLEX_CHUNK_LINES for the scope of one run ("0": read whole).
+struct PieceLines {
+  explicit PieceLines(const std::string& n) { ::setenv("DEFLEX_CHUNK_LINES", n.c_str(), 1); }
+  ~PieceLines() { ::unsetenv("DEFLEX_CHUNK_LINES"); }
+  PieceLines(const PieceLines&) = delete;
+  PieceLines& operator=(const PieceLines&) = delete;
+};
+
 struct Interpreted {
   std::vector<interp::Motion> motions;
   interp::Stats stats;

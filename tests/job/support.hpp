@@ -1,9 +1,7 @@
 // Helpers of the job API's tests: string streams for a job::Io, a run
-// opened and compensated or simulated in one call, the piece size of a
-// scope, and a program's motions as `deflex path` prints them.
+// opened and compensated or simulated in one call, and a program's motions
+// as `deflex path` prints them.
 #pragma once
-#include <stdlib.h>
-
 #include <optional>
 #include <sstream>
 #include <string>
@@ -21,14 +19,6 @@ struct Streams {
   std::ostringstream out, err;
   job::Io io{in, out, err};
   explicit Streams(const std::string& stdin_text = "") : in(stdin_text) {}
-};
-
-// DEFLEX_CHUNK_LINES for the scope of one run ("0": read whole).
-struct PieceLines {
-  explicit PieceLines(const std::string& n) { ::setenv("DEFLEX_CHUNK_LINES", n.c_str(), 1); }
-  ~PieceLines() { ::unsetenv("DEFLEX_CHUNK_LINES"); }
-  PieceLines(const PieceLines&) = delete;
-  PieceLines& operator=(const PieceLines&) = delete;
 };
 
 // What a run gave: its messages, the program it wrote (to the output stream),
