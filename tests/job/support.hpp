@@ -62,6 +62,37 @@ inline Outcome<job::SimulateResult> simulate_job(const job::Settings& s, const s
       s, job::Purpose::simulate, [](job::Run& r, Streams& st) { return job::simulate(r, st.io); }, stdin_text);
 }
 
+// The sample side wall with its first pass (line 16) replaced by `pass`.
+inline std::string side_wall_with(const TempDir& dir, const std::string& name, const std::string& pass) {
+  std::string text = read_file("samples/programs/side_wall.nc");
+  const std::string first = "N22 X110. F2546.4\n";
+  REQUIRE(text.find(first) != std::string::npos);
+  text.replace(text.find(first), first.size(), pass);
+  write_file(dir / name, text);
+  return dir / name;
+}
+
+// Compensates `in` on the side wall's stock into the file `out`.
+inline Outcome<job::CompensateResult> compensate_side_wall(const std::string& in, const std::string& out,
+                                                      const std::string& report_dir = "") {
+  job::Settings s;
+  s.program = in;
+  s.stock = "box:0,-40,-30,100,0,0";
+  s.output = out;
+  s.report_dir = report_dir;
+  return compensate_job(s);
+}
+
+// A compensation's summary but for what names the program or its lines
+// (the name and the warnings at their lines): two programs that compensate
+// alike, one edited from the other, have the same.
+inline std::string summary_but_lines(const job::CompensateResult& r) {
+  report::Json js = r.summary;
+  js.erase("file");
+  js.erase("warnings");
+  return report::document(js);
+}
+
 // `deflex path [--centre]` of a program file: one line per motion, KIND X Y Z
 // (6 decimals), read with the config's machine and dialect (or `dialect`).
 // The programmed contour's points under G41/G42 unless `centre`.

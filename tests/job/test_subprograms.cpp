@@ -35,15 +35,6 @@ std::string replaced(std::string text, const std::vector<std::pair<std::string, 
   return text;
 }
 
-// The summary but for what names the program's lines (the two programs'
-// lines differ): its name and the warnings at their lines.
-std::string summary(const job::CompensateResult& r) {
-  report::Json js = r.summary;
-  js.erase("file");
-  js.erase("warnings");
-  return report::document(js);
-}
-
 // job::check's count of a program's motions: all, and those deflex may move.
 std::pair<std::uint64_t, std::uint64_t> motions(const std::string& program) {
   job::CheckSettings cs;
@@ -103,7 +94,7 @@ TEST_SUITE("job") {
     REQUIRE(h.ok());
     CHECK(e.err.find("[left_alone]") == std::string::npos);
     CHECK(e.err.find("side_wall_sub.nc (subprograms expanded):") != std::string::npos);
-    CHECK(summary(*e.result) == summary(*h.result));
+    CHECK(test::summary_but_lines(*e.result) == test::summary_but_lines(*h.result));
     // Byte for byte the compensation of the program written out by hand.
     CHECK(e.out == h.out);
     // Both passes moved into the wall (each its own blocks), the
@@ -131,7 +122,7 @@ TEST_SUITE("job") {
     REQUIRE(a.ok());
     REQUIRE(b.ok());
     CHECK(a.err.find("[left_alone]") == std::string::npos);
-    CHECK(summary(*a.result) == summary(*b.result));
+    CHECK(test::summary_but_lines(*a.result) == test::summary_but_lines(*b.result));
     // The subprogram's own block took the compensation (blocks inserted before it).
     CHECK(test::read_file(a_in.output)
               .find("G91 G1 X0.476 Y0.006 Z0. F2546.4\nN100 G91 G01 X110. Y0.02 F2546.4\nN110 G90\nN120 M99\n") !=
