@@ -146,6 +146,17 @@ inline void write_file(const std::string& path, const std::string& text) {
   f << text;
 }
 
+// A copy of the file `source` as `name` in `dir` with the first `from`
+// replaced by `to` (which must be there); its path.
+inline std::string edited_copy(const TempDir& dir, const std::string& source, const std::string& name,
+                               const std::string& from, const std::string& to) {
+  std::string text = read_file(source);
+  REQUIRE_MESSAGE(text.find(from) != std::string::npos, from);
+  text.replace(text.find(from), from.size(), to);
+  write_file(dir / name, text);
+  return dir / name;
+}
+
 // A CSV file with a header row (points.csv of --report): cells by column name.
 struct Csv {
   std::vector<std::string> header;

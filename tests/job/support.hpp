@@ -64,12 +64,7 @@ inline Outcome<job::SimulateResult> simulate_job(const job::Settings& s, const s
 
 // The sample side wall with its first pass (line 16) replaced by `pass`.
 inline std::string side_wall_with(const TempDir& dir, const std::string& name, const std::string& pass) {
-  std::string text = read_file("samples/programs/side_wall.nc");
-  const std::string first = "N22 X110. F2546.4\n";
-  REQUIRE(text.find(first) != std::string::npos);
-  text.replace(text.find(first), first.size(), pass);
-  write_file(dir / name, text);
-  return dir / name;
+  return edited_copy(dir, "samples/programs/side_wall.nc", name, "N22 X110. F2546.4\n", pass);
 }
 
 // Compensates `in` on the side wall's stock into the file `out`.
