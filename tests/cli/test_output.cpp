@@ -1,5 +1,6 @@
 // Losing nothing: what -o may write onto, that it is checked before any work,
-// and that a failed write to standard output is an error.
+// and that a failed write to standard output is an error; the exit codes.
+// What a run checks and warns is in tests/job/test_checks.cpp.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -77,40 +78,6 @@ TEST_CASE("-o through a symlink replaces its target and keeps the link; an exist
   CHECK(test::run_cli({"rewrite", kWall, "-o", (d.p / "dangling.nc").string()}).rc == 2);
 }
 
-TEST_CASE("fail fast, say where: what the simulation needs is checked first, at the line, with the exit code of the README") {
-  TempDir d;
-  const std::string out = (d.p / "out.nc").string();
-  const std::vector<std::string> wall = {"--material", "Al6082-T4", "--stock", "box:0,-40,-30,100,0,0"};
-  auto run = [&](const std::string& text, std::vector<std::string> extra) {
-    const std::string in = (d.p / "in.nc").string();
-    test::write_file(in, text);
-    std::vector<std::string> args = {"compensate", in, "-o", out};
-    args.insert(args.end(), wall.begin(), wall.end());
-    args.insert(args.end(), extra.begin(), extra.end());
-    return test::run_cli(args);
-  };
-  const std::string no_s = "G21 G90 G54\nT6 M6\nM3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX110.\nM30\n";
-  auto r = run(no_s, {});
-  CHECK(r.rc == 1);
-  CHECK(r.err.find("in.nc:5:1: error: cutting with no spindle speed") != std::string::npos);
-  CHECK_FALSE(fs::exists(out));
-  CHECK(run(no_s, {"--spindle", "6366"}).rc == 0);  // --spindle supplies it
-  CHECK(fs::exists(out));
-  fs::remove(out);
-  // A move far outside the machine's travel: refused before any simulation.
-  auto far = run("G21 G90 G54\nT6 M6\nS6000 M3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX100000.\nM30\n", {});
-  CHECK(far.rc == 1);
-  CHECK(far.err.find("in.nc:6:1: error: X travels to") != std::string::npos);
-  CHECK_FALSE(fs::exists(out));
-  // A T word the library lacks: the library's error (3); a --tool it lacks: usage (2).
-  auto t9 = run("G21 G90 G54\nT9 M6\nS6000 M3\nG0 X-10. Y3.5 Z5.\nG1 Z-12. F1000.\nX110.\nM30\n", {});
-  CHECK(t9.rc == 3);
-  CHECK(t9.err.find("in.nc:5:1: error: tool T9 is not in the tool library") != std::string::npos);
-  CHECK(run(no_s, {"--spindle", "6366", "--tool", "T99"}).rc == 2);
-  CHECK(run(no_s, {"--spindle", "6366", "--threads", "-1"}).rc == 2);
-  CHECK_FALSE(fs::exists(out));
-}
-
 TEST_CASE("exit codes: one case per row of the README's table") {
   TempDir d;
   const std::string bad_prog = (d.p / "bad.nc").string(), bad_yaml = (d.p / "m.yaml").string();
@@ -155,28 +122,6 @@ TEST_CASE("a failed write to standard output, or a closed standard input, is an 
 }  // TEST_SUITE
 
 TEST_SUITE("cli") {
-
-TEST_CASE("plausibility warnings: compiler style on stderr at the worst line, and in summary.json") {
-  TempDir d;
-  // The side wall as designed: no warning; summary.json has an empty array.
-  auto ok = test::run_cli({"simulate", kWall, "--material", "Al6082-T4", "--stock", "box:0,-40,-30,100,0,0",
-                           "--report", (d.p / "ok").string()});
-  REQUIRE(ok.rc == 0);
-  CHECK(ok.err.find("warning:") == std::string::npos);
-  CHECK(test::read_file((d.p / "ok" / "summary.json").string()).find("\"warnings\": []") != std::string::npos);
-  // The same path with the D6 ball T3 (flutes 9 mm) 12 mm into the wall's raw box.
-  auto r = test::run_cli({"simulate", kWall, "--tool", "T3", "--material", "Al6082-T4", "--stock",
-                          "box:0,-40,-30,100,10,0", "--report", (d.p / "bad").string()});
-  INFO(r.err);
-  REQUIRE(r.rc == 0);
-  CHECK(r.err.find("side_wall.nc:16:1: warning: the cut reaches") != std::string::npos);
-  CHECK(r.err.find("[flute_length]") != std::string::npos);
-  CHECK(r.err.find("[roughing]") != std::string::npos);
-  CHECK(r.err.find("N22 X110.") != std::string::npos);  // the source line under it
-  const std::string js = test::read_file((d.p / "bad" / "summary.json").string());
-  CHECK(js.find("\"kind\": \"flute_length\"") != std::string::npos);
-  CHECK(js.find("\"kind\": \"roughing\"") != std::string::npos);
-}
 
 TEST_CASE("standard output onto an input file: refused before any work, saying the shell emptied it") {
   TempDir d;
