@@ -1,5 +1,7 @@
-// The job file: the same run as the command line, byte for byte; the command
-// line overrides it; its errors at line:col.
+// The job file on the command line: --job reads it, an option given beside
+// it wins, and its errors are configuration errors (exit 3) at line:col. The
+// job file as settings (the same run as the command line's) is
+// tests/job/test_job_file.cpp.
 #include <doctest/doctest.h>
 
 #include "../support.hpp"
@@ -7,22 +9,15 @@
 using namespace deflex;
 
 TEST_SUITE("cli") {
-  TEST_CASE("compensate --job: the job and the equivalent command line write the same program") {
-    const auto cmd = test::run_cli({"compensate", "tests/golden/wall.nc", "--stock", "box:0,0,-20,100,20,0",
-                                    "--tool-file", "samples/tools.yaml", "--tolerance", "0.002", "--threads", "1"});
-    const auto job = test::run_cli({"compensate", "--job", "tests/cli/data/wall_job.yaml", "--threads", "1"});
-    REQUIRE(cmd.rc == 0);
-    REQUIRE(job.rc == 0);
-    CHECK(job.out == cmd.out);
-    CHECK(job.out != test::read_file("tests/golden/wall.nc"));  // something was compensated
-    // The command line wins: --gain 0 writes the input unchanged.
+  TEST_CASE("compensate --job: the command line wins over the job; a bad key is exit 3 at its position") {
+    // --gain 0 writes the input unchanged.
     const auto over = test::run_cli({"compensate", "--job", "tests/cli/data/wall_job.yaml", "--gain", "0"});
     REQUIRE(over.rc == 0);
     CHECK(over.out == test::read_file("tests/golden/wall.nc"));
-    // A key the job format lacks is named with its position.
-    test::write_file("/tmp/deflex-badjob.yaml", "program: x.nc\nstokc: box:0,0,0,1,1,1\n");
-    const auto bad = test::run_cli({"compensate", "--job", "/tmp/deflex-badjob.yaml"});
+    test::TempDir d("job");
+    test::write_file(d / "bad.yaml", "program: x.nc\nstokc: box:0,0,0,1,1,1\n");
+    const auto bad = test::run_cli({"compensate", "--job", d / "bad.yaml"});
     CHECK(bad.rc == 3);
-    CHECK(bad.err.find("/tmp/deflex-badjob.yaml:2:1: error: unknown key 'stokc' in job") != std::string::npos);
+    CHECK(bad.err.find(d / "bad.yaml" + ":2:1: error: unknown key 'stokc' in job") != std::string::npos);
   }
 }
