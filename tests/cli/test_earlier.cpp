@@ -1,6 +1,6 @@
-// Earlier operations with tool libraries of their own: `--stock-from P
-// --stock-from-tools LIB` on the command line, `{program: P, tool_file: LIB}`
-// in a job's stock_from. A roughing whose T21 (a flat D20) is only in its own
+// Earlier operations with tool libraries of their own on the command line:
+// `--stock-from P --stock-from-tools LIB` (a job's stock_from entries and
+// the call itself: tests/job/test_earlier.cpp). A roughing whose T21 (a flat D20) is only in its own
 // library faces the box at Z-2 before the ball finish at Z-3 (a_p 1 mm, not
 // 3: tests/engage/test_stock_from.cpp); a tool that library lacks is an error
 // at the roughing's line naming that library.
@@ -76,12 +76,8 @@ TEST_SUITE("cli") {
     REQUIRE(own.rc == 0);
     CHECK(depths(d / "own/points.csv") == std::set<std::string>{"1.0000"});
     CHECK(test::read_file(d / "own/report.html").find("rough21.nc (tools: " + d / "rough_tools.yaml" + ")") != std::string::npos);
-    // Without it T21 is looked up in the run's library, which lacks it.
-    const auto run_lib = simulate(d, with({"--stock-from", d / "rough21.nc"}), "run");
-    CHECK(run_lib.rc == 3);
-    CHECK(run_lib.err.find(d / "rough21.nc" + ":7:1: error: tool T21 is not in the tool library samples/tools.yaml") !=
-          std::string::npos);
-    // A tool its own library lacks: the error names that library and the line.
+    // A tool its own library lacks: exit 3, the error naming that library
+    // (without --stock-from-tools, the run's: tests/job/test_earlier.cpp).
     const auto missing = simulate(d, with({"--stock-from", d / "rough22.nc", "--stock-from-tools", d / "rough_tools.yaml"}), "m");
     CHECK(missing.rc == 3);
     CHECK(missing.err.find(d / "rough22.nc" + ":7:1: error: tool T22 is not in the tool library " + d / "rough_tools.yaml") !=
@@ -97,30 +93,5 @@ TEST_SUITE("cli") {
     // deflex stock takes it too.
     CHECK(test::run_cli({"stock", "--stock", "box:0,0,-10,40,30,0", "--stock-from", d / "rough21.nc",
                          "--stock-from-tools", d / "rough_tools.yaml", "-o", d / "rest.zmap"}).rc == 0);
-  }
-
-  TEST_CASE("job stock_from: {program, tool_file} entries beside plain paths") {
-    const Dir d;
-    test::write_file(d / "job.yaml",
-                     "program: " + fs::absolute("tests/engage/data/ball_finish.nc").string() +
-                         "\nstock: box:0,0,-10,40,30,0\nmaterial: Al7075-T6\n"
-                         "stock_from:\n  - {program: rough21.nc, tool_file: rough_tools.yaml}\n  - " +
-                         fs::absolute("tests/engage/data/face_rough.nc").string() + "\n");
-    const auto ok = test::run_cli({"simulate", "--job", d / "job.yaml", "--report", d / "job"});
-    REQUIRE(ok.rc == 0);
-    CHECK(depths(d / "job/points.csv") == std::set<std::string>{"1.0000"});
-    test::write_file(d / "missing.yaml",
-                     "program: " + fs::absolute("tests/engage/data/ball_finish.nc").string() +
-                         "\nstock: box:0,0,-10,40,30,0\nmaterial: Al7075-T6\n"
-                         "stock_from:\n  - program: rough22.nc\n    tool_file: rough_tools.yaml\n");
-    const auto missing = test::run_cli({"simulate", "--job", d / "missing.yaml"});
-    CHECK(missing.rc == 3);
-    CHECK(missing.err.find(d / "rough22.nc" + ":7:1: error: tool T22 is not in the tool library " + d / "rough_tools.yaml") !=
-          std::string::npos);
-    // An entry's keys are checked like every key of the job.
-    test::write_file(d / "typo.yaml", "stock_from:\n  - {program: rough21.nc, tools: rough_tools.yaml}\n");
-    const auto typo = test::run_cli({"simulate", "--job", d / "typo.yaml"});
-    CHECK(typo.rc == 3);
-    CHECK(typo.err.find(d / "typo.yaml" + ":2:27: error: unknown key 'tools' in stock_from entry") != std::string::npos);
   }
 }
