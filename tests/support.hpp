@@ -146,6 +146,13 @@ inline void write_file(const std::string& path, const std::string& text) {
   f << text;
 }
 
+// Two programs for diff whose every line is `G1X..Y..`: all skeletons are
+// equal, so only positions can place the inserted block. B moves line 4 by
+// 0.01 mm and inserts a split of the move to line 4 (a point on it) before it.
+inline const char* const kDiffSplitA = "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1X3.\nG1X3.1\nG1X3.2\nG1X3.3\nG1X3.4\n";
+inline const char* const kDiffSplitB =
+    "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1 X2.5 Y0 Z0\nG1X3.Y0.01\nG1X3.1Y0\nG1X3.2\nG1X3.3\nG1X3.4\n";
+
 // A copy of the file `source` as `name` in `dir` with the first `from`
 // replaced by `to` (which must be there); its path.
 inline std::string edited_copy(const TempDir& dir, const std::string& source, const std::string& name,

@@ -1,6 +1,8 @@
-// File-driven tests: the bad-input corpus, golden CLI runs, the byte-identical
-// round trip of every program we have, and LinuxCNC's rs274 as an independent
-// interpreter.
+// File-driven tests: the bad-input corpus (its expectations are what `check`
+// prints, settings named by their flags), golden CLI runs, what diff prints,
+// the byte-identical round trip of every program we have, and LinuxCNC's
+// rs274 as an independent interpreter. Diff's pairing goes through the job
+// API (tests/job/test_diff.cpp).
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -88,22 +90,15 @@ TEST_CASE("golden CLI runs: stdout, stderr and exit code") {
   }
 }
 
-TEST_CASE("diff: an inserted split block in a program of skeleton-equal lines is placed where it belongs") {
-  // Every line is `G1X..Y..`: all skeletons are equal, so only positions can
-  // place the inserted block. B moves line 4 by 0.01 mm and inserts a split of
-  // the move to line 4 (a point on it) before it.
-  fs::path dir = fs::temp_directory_path() / ("deflex-diff-" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  const std::string a = "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1X3.\nG1X3.1\nG1X3.2\nG1X3.3\nG1X3.4\n";
-  const std::string b = "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1 X2.5 Y0 Z0\nG1X3.Y0.01\nG1X3.1Y0\nG1X3.2\nG1X3.3\nG1X3.4\n";
-  test::write_file((dir / "a.nc").string(), a);
-  test::write_file((dir / "b.nc").string(), b);
-  auto r = test::run_cli({"diff", (dir / "a.nc").string(), (dir / "b.nc").string(), "--dialect", "fanuc"});
+TEST_CASE("diff prints an inserted split block and a moved line (job::diff's pairing: tests/job/test_diff.cpp)") {
+  test::TempDir dir("diff");
+  test::write_file(dir / "a.nc", test::kDiffSplitA);
+  test::write_file(dir / "b.nc", test::kDiffSplitB);
+  auto r = test::run_cli({"diff", dir / "a.nc", dir / "b.nc", "--dialect", "fanuc"});
   CHECK(r.rc == 0);
   CHECK(r.out.find("+4: inserted, splits the move of line 4; 0.000000 mm off it") != std::string::npos);
   CHECK(r.out.find("4 -> 5: dX +0.000000 dY +0.010000 dZ +0.000000 |d| 0.010000 mm") != std::string::npos);
   CHECK(r.out.find("max 0.010000 mm") != std::string::npos);
-  fs::remove_all(dir);
 }
 
 TEST_CASE("round trip: every program read and written back is byte-identical") {
