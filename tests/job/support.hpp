@@ -8,7 +8,7 @@
 
 #include "../support.hpp"
 #include "deflex/job/job.hpp"
-#include "deflex/job/setup.hpp"
+#include "deflex/job/program.hpp"
 #include "deflex/report/text_out.hpp"
 
 namespace deflex::test {
@@ -88,18 +88,15 @@ inline std::string summary_but_lines(const job::CompensateResult& r) {
   return report::document(js);
 }
 
-// `deflex path [--centre]` of a program file: one line per motion, KIND X Y Z
-// (6 decimals), read with the config's machine and dialect (or `dialect`).
-// The programmed contour's points under G41/G42 unless `centre`.
-// Interpreted whole through the library (job::resolve, Setup::interp); a
-// diagnostic fails the test.
+// `deflex path [--centre]` of a program file through job::path: one line per
+// motion, KIND X Y Z (6 decimals), read with the config's machine and
+// dialect (or `dialect`); the programmed contour's points under G41/G42
+// unless `centre`. A program with an error fails the test.
 inline std::string path_text(const std::string& file, bool centre = false, const std::string& dialect = "") {
-  job::ReadSettings r;
-  r.dialect = dialect;
-  const job::Setup s = job::resolve(r);
-  const gcode::Program prog(gcode::read_source(file));
-  std::ostringstream text, err;
-  Diagnostics diags(&err, 0);
+  job::PathSettings ps;
+  ps.program = file;
+  ps.read.dialect = dialect;
+  std::ostringstream text;
   struct Print : interp::MotionSink {
     report::TextOut* out;
     bool centre;
@@ -113,14 +110,17 @@ inline std::string path_text(const std::string& file, bool centre = false, const
       *out << '\n';
     }
   } print;
+  Streams st;
+  job::PathResult r;
   {
     report::TextOut out(text);
     print.out = &out;
     print.centre = centre;
-    interp::interpret(prog, s.interp(), diags, print);
+    r = job::path(ps, print, st.io);
   }
-  INFO(file << ": " << err.str());
-  CHECK(diags.errors() == 0);
+  INFO(file << ": " << st.err.str());
+  CHECK(r.errors == 0);
+  CHECK(r.handed);
   return text.str();
 }
 
