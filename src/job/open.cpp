@@ -145,6 +145,9 @@ void build_stock_and_part(Run& j, Io& io, const Run* shared, const std::vector<E
 }  // namespace
 
 Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const Run* shared) {
+  // A job file names its program beside the settings (apply_job_file): one
+  // left there would otherwise read as a file of no name.
+  if (s.program.empty()) throw Error(ErrorKind::settings, "no program given: {program} is a file, or - for the input stream");
   const compensate::Progress progress = detail::progress_of(observer);
   auto stage = [&progress](const char* name, double fraction) {
     if (progress) progress(name, fraction);

@@ -1,5 +1,6 @@
 // job::open() under an observer: the stages it goes through with their
-// fractions, and a cancellation while the program is being checked.
+// fractions, and a cancellation while the program is being checked; a job
+// with no program.
 #include <doctest/doctest.h>
 
 #include <cstdlib>
@@ -75,5 +76,20 @@ TEST_SUITE("job") {
     o.cancel_in = "checking";
     CHECK_THROWS_AS((void)job::open(wall(), job::Purpose::compensate, io, &o), job::Cancelled);
     for (const auto& [stage, f] : o.seen) CHECK(stage == "checking");  // the stock never built
+  }
+
+  TEST_CASE("a job with no program is a settings error that names the setting") {
+    std::istringstream in;
+    std::ostringstream out, err;
+    job::Io io{in, out, err};
+    job::Settings s = wall();
+    s.program.clear();
+    try {
+      (void)job::open(s, job::Purpose::simulate, io);
+      FAIL("open() took a job without a program");
+    } catch (const Error& e) {
+      CHECK(e.kind() == ErrorKind::settings);
+      CHECK(e.settings() == std::vector<std::string>{"program"});
+    }
   }
 }
