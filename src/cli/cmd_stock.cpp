@@ -1,12 +1,7 @@
-// deflex stock: the stock after earlier operations (job::rest_stock), as a .zmap (every cell's
+// deflex stock: the stock after earlier operations (job::write_rest_stock), as a .zmap (every cell's
 // height, compact: stock/zmap_file.hpp) for the next operation, or as a closed
 // binary STL (stock/mesh_out.hpp) for a CAM system or a viewer.
-#include <sstream>
-
 #include "common.hpp"
-#include "deflex/stock/mesh_out.hpp"
-#include "deflex/stock/zmap_file.hpp"
-#include "deflex/writer/writer.hpp"
 #include "deflex/job/stock.hpp"
 
 namespace deflex::cli {
@@ -43,21 +38,13 @@ int cmd_stock(const std::vector<std::string>& args, Io& io) {
   }
   if (output.empty() || output == "-")
     throw Error(ErrorKind::settings, "stock: -o FILE.zmap or -o FILE.stl is required (both are binary)");
-  writer::check_output_path(output, "");
-  if (!(tol_mm >= 0 && tol_mm <= 10)) throw Error(ErrorKind::settings, "--mesh-tolerance must be in [0, 10] mm");
-  std::string spec;
-  const stock::ZMap z = job::rest_stock(s, io, &spec);
-  const stock::GridSpec& g = z.grid();
-  if (stock::is_zmap_path(output)) {
-    writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });
+  const job::StockFile f = job::write_rest_stock(s, output, tol_mm, io);
+  const stock::GridSpec& g = f.grid;
+  if (f.zmap) {
     io.err << output << ": " << g.nx << " x " << g.ny << " cells of " << g.cell_mm << " mm, every height as computed\n";
     return 0;
   }
-  const std::vector<stock::Triangle> tris = stock::zmap_mesh(z, tol_mm);
-  writer::write_file_atomically(output, "", [&](std::ostream& o) {
-    stock::write_binary_stl(o, tris, "deflex stock: " + spec);
-  });
-  io.err << output << ": " << tris.size() << " triangles (" << 2.0 * (g.nx + 1.0) * (g.ny + 1.0)
+  io.err << output << ": " << f.triangles << " triangles (" << 2.0 * (g.nx + 1.0) * (g.ny + 1.0)
          << " for the full grid of " << g.nx << " x " << g.ny << " cells of " << g.cell_mm << " mm), within "
          << tol_mm << " mm of every cell\n";
   return 0;

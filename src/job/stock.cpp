@@ -10,6 +10,8 @@
 #include "deflex/job/earlier.hpp"
 #include "deflex/job/run.hpp"
 #include "deflex/stock/build.hpp"
+#include "deflex/stock/mesh_out.hpp"
+#include "deflex/stock/zmap_file.hpp"
 #include "deflex/writer/writer.hpp"
 
 namespace deflex::job {
@@ -74,6 +76,28 @@ stock::ZMap rest_stock(const StockSettings& s, Io& io, std::string* spec_out) {
   sweep_earlier_all(earlier, z, lib, s.cl_spacing_mm);
   if (spec_out) *spec_out = spec;
   return z;
+}
+
+StockFile write_rest_stock(const StockSettings& s, const std::string& output, double mesh_tolerance_mm, Io& io) {
+  if (output.empty() || output == "-")
+    throw Error(ErrorKind::settings, "the stock goes to a file ({output} FILE.zmap or FILE.stl: both are binary)");
+  writer::check_output_path(output, "");
+  if (!(mesh_tolerance_mm >= 0 && mesh_tolerance_mm <= 10))
+    throw Error(ErrorKind::settings, "{mesh_tolerance_mm} must be in [0, 10] mm");
+  StockFile f;
+  const stock::ZMap z = rest_stock(s, io, &f.spec);
+  f.grid = z.grid();
+  f.zmap = stock::is_zmap_path(output);
+  if (f.zmap) {
+    writer::write_file_atomically(output, "", [&](std::ostream& o) { stock::write_zmap(o, z); });
+    return f;
+  }
+  const std::vector<stock::Triangle> tris = stock::zmap_mesh(z, mesh_tolerance_mm);
+  writer::write_file_atomically(output, "", [&](std::ostream& o) {
+    stock::write_binary_stl(o, tris, "deflex stock: " + f.spec);
+  });
+  f.triangles = tris.size();
+  return f;
 }
 
 RoughResult rough(const RoughSettings& s, std::ostream& out, Io& io) {

@@ -29,6 +29,19 @@ struct StockSettings {
 // swept). `spec` (may be null) gets the start's spec as resolved.
 stock::ZMap rest_stock(const StockSettings& s, Io& io, std::string* spec = nullptr);
 
+struct StockFile {
+  std::string spec;          // the start, as resolved
+  stock::GridSpec grid;      // the Z-map's cells
+  bool zmap = false;         // a .zmap (every height as computed), else a binary STL
+  std::size_t triangles = 0;  // the STL's
+};
+
+// rest_stock() written atomically to `output`: FILE.zmap, the Z-map itself
+// (stock/zmap_file.hpp), any other name a closed binary STL whose surface is
+// within `mesh_tolerance_mm` of every cell's height (stock/mesh_out.hpp). The
+// output and the tolerance are checked before anything is read.
+StockFile write_rest_stock(const StockSettings& s, const std::string& output, double mesh_tolerance_mm, Io& io);
+
 struct RoughSettings {
   std::string finish_program;  // a file (it is read twice)
   std::string output;          // "" or "-": the output stream
