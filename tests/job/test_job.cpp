@@ -11,8 +11,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "../support.hpp"
-#include "deflex/job/job.hpp"
+#include "support.hpp"
 
 namespace fs = std::filesystem;
 using namespace deflex;
@@ -31,11 +30,7 @@ job::Settings wall_settings() {
   return s;
 }
 
-struct Streams {
-  std::istringstream in;
-  std::ostringstream out, err;
-  job::Io io{in, out, err};
-};
+using test::Streams;
 
 // Keeps every row and counts the progress calls; cancels at the first one when asked.
 struct Watch : job::Observer {

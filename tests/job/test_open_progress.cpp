@@ -5,11 +5,10 @@
 
 #include <cstdlib>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "deflex/job/job.hpp"
+#include "support.hpp"
 
 using namespace deflex;
 
@@ -46,9 +45,8 @@ TEST_SUITE("job") {
     for (const char* piece_lines : {"0", "4"}) {  // whole, then pieces of 4 lines
       CAPTURE(piece_lines);
       ::setenv("DEFLEX_CHUNK_LINES", piece_lines, 1);
-      std::istringstream in;
-      std::ostringstream out, err;
-      job::Io io{in, out, err};
+      test::Streams streams;
+      job::Io& io = streams.io;
       Stages o;
       const job::Run run = job::open(wall(), job::Purpose::compensate, io, &o);
       ::unsetenv("DEFLEX_CHUNK_LINES");
@@ -69,9 +67,8 @@ TEST_SUITE("job") {
   }
 
   TEST_CASE("an observer that cancels while the program is checked stops open() there") {
-    std::istringstream in;
-    std::ostringstream out, err;
-    job::Io io{in, out, err};
+    test::Streams streams;
+    job::Io& io = streams.io;
     Stages o;
     o.cancel_in = "checking";
     CHECK_THROWS_AS((void)job::open(wall(), job::Purpose::compensate, io, &o), job::Cancelled);
@@ -79,9 +76,8 @@ TEST_SUITE("job") {
   }
 
   TEST_CASE("a job with no program is a settings error that names the setting") {
-    std::istringstream in;
-    std::ostringstream out, err;
-    job::Io io{in, out, err};
+    test::Streams streams;
+    job::Io& io = streams.io;
     job::Settings s = wall();
     s.program.clear();
     try {

@@ -4,9 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
-#include <sstream>
 
-#include "../support.hpp"
+#include "support.hpp"
 #include "deflex/job/stock.hpp"
 #include "deflex/stock/zmap_file.hpp"
 
@@ -22,18 +21,12 @@ job::StockSettings pocket_on_box() {
   return s;
 }
 
-struct Streams {
-  std::istringstream in;
-  std::ostringstream out, err;
-  job::Io io{in, out, err};
-};
-
 }  // namespace
 
 TEST_SUITE("job") {
   TEST_CASE("write_rest_stock: the .zmap holds rest_stock's heights exactly; an STL of the same stock") {
     test::TempDir t;
-    Streams s;
+    test::Streams s;
     const stock::ZMap z = job::rest_stock(pocket_on_box(), s.io);
     const job::StockFile f = job::write_rest_stock(pocket_on_box(), t / "rest.zmap", 0.001, s.io);
     CHECK(f.zmap);
@@ -61,7 +54,7 @@ TEST_SUITE("job") {
 
   TEST_CASE("write_rest_stock refuses the output stream, an output onto nothing and a bad tolerance before reading") {
     test::TempDir t;
-    Streams s;
+    test::Streams s;
     job::StockSettings missing = pocket_on_box();
     missing.stock_from = {{t / "no_such.nc", ""}};  // would be an I/O error if it were read
     for (const char* out : {"", "-"}) {
