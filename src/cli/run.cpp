@@ -29,7 +29,7 @@ const Command kCommands[] = {
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
   {"rewrite", cmd_rewrite, "read, interpret and write a program back (byte-identical; atomic -o)"},
   {"rough", cmd_rough, "a roughing program that leaves an allowance over what a finishing program cuts"},
-  {"stock", cmd_stock, "the stock after earlier programs as a closed STL (for the next operation or CAM)"},
+  {"stock", cmd_stock, "the stock after earlier programs: a .zmap for the next run, or a closed STL for CAM"},
   {"list", cmd_list, "the names of machines, dialects, tools and materials a command line can give"},
   {"tools", cmd_tools, "import a Fusion 360 (JSON) or LinuxCNC (.tbl) tool library as deflex YAML"},
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},

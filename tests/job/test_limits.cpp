@@ -6,7 +6,6 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <sstream>
 #include <string>
 
@@ -45,9 +44,8 @@ TEST_SUITE("job") {
 
 TEST_CASE("limits: nested subprogram repeats stop at the block budget") {
   std::uint64_t motions = 0;
-  const auto t0 = std::chrono::steady_clock::now();
+  // 9999^3 repeats: the budget, not the time it would take, ends it.
   const std::string err = run_budget(kExplosion, 1000, &motions);
-  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
   // (The setting is named by the front end: the command line's in tests/cli/test_limits.cpp.)
   CHECK(has(err, "error: more than 1000 blocks executed (subprogram and canned-cycle repeats); "));
   CHECK(has(err, " raises the limit"));
