@@ -1,5 +1,8 @@
 // The compiled half of `import deflex`: deflex/__init__.py imports it as
 // deflex._deflex and wraps its results (python/deflex/).
+#include <filesystem>
+#include <string>
+
 #include "bindings.hpp"
 #include "deflex/profile/search.hpp"
 
@@ -8,7 +11,16 @@ PYBIND11_MODULE(_deflex, m) {
   deflex::python::bind_errors(m);
   deflex::python::bind_job(m);
   deflex::python::bind_physics(m);
-  m.def("data_dir", &deflex::profile::data_dir,
-        "The folder of deflex's own files (config.yaml, samples/): $DEFLEX_DATA_DIR, else the installed prefix's "
-        "share/deflex");
+  // None where there is none (a build used from its tree): never a folder
+  // that does not exist, as `deflex --version` says "none found".
+  m.def(
+      "data_dir",
+      []() -> pybind11::object {
+        const std::string d = deflex::profile::data_dir();
+        std::error_code ec;
+        if (!std::filesystem::is_directory(d, ec)) return pybind11::none();
+        return pybind11::str(d);
+      },
+      "The folder of deflex's own files (config.yaml, samples/): $DEFLEX_DATA_DIR, else the installed prefix's "
+      "share/deflex; None where there is none");
 }

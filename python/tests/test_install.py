@@ -30,3 +30,20 @@ def test_the_installed_package_imports_and_finds_its_data(tmp_path):
     assert pathlib.Path(module).parent == site / "deflex"
     assert pathlib.Path(data) == prefix / "share" / "deflex"
     assert float(c_xx) > 0
+
+
+
+def test_the_data_folder_is_one_that_exists_or_none(tmp_path):
+    # A folder that does not exist is no data folder (as `deflex --version`
+    # says "none found"); one that does is named as it is.
+    assert data_dir_with(tmp_path / "missing") is None
+    assert data_dir_with(tmp_path) == str(tmp_path)
+
+
+def data_dir_with(folder):
+    """deflex.data_dir() in a fresh interpreter with DEFLEX_DATA_DIR=folder."""
+    env = dict(os.environ, DEFLEX_DATA_DIR=str(folder))
+    done = subprocess.run([sys.executable, "-c", "import deflex; print(deflex.data_dir())"], env=env,
+                          capture_output=True, text=True, check=True)
+    out = done.stdout.strip()
+    return None if out == "None" else out
