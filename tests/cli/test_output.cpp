@@ -129,7 +129,7 @@ TEST_CASE("standard output onto an input file: refused before any work, saying t
   auto fresh = [&] { fs::copy_file(kWall, x, fs::copy_options::overwrite_existing); };
   // Every command that reads a file and writes standard output; the refusal
   // comes before the config or the machine is looked at.
-  for (const std::string& cmd :
+  for (const char* cmd :
        {"compensate x.nc --stock box:0,0,-20,100,20,0", "simulate x.nc --stock box:0,0,-20,100,20,0", "rewrite x.nc",
         "path x.nc", "check x.nc", "diff x.nc x.nc", "compare x.nc --stock box:0,0,-20,100,20,0",
         "rough x.nc --stock box:0,0,-20,100,20,0 --rough-tool T1", "stock --stock-from x.nc -o s.stl",

@@ -95,10 +95,11 @@ TEST_SUITE("job") {
          {std::tuple{d / "rough21.nc", std::string(), std::string("samples/tools.yaml")},
           std::tuple{d / "rough22.nc", d / "rough_tools.yaml", d / "rough_tools.yaml"}}) {
       s.stock_from = {{program, library}};
-      CAPTURE(program);
+      const std::string prog = program;  // CAPTURE takes it by reference in a lambda: no structured binding (clang 14)
+      CAPTURE(prog);
       const std::string e = config_error(s);
-      const std::string tool = program.ends_with("21.nc") ? "T21" : "T22";
-      CHECK(e.find(program + ":7:1: error: tool " + tool + " is not in the tool library " + named_lib) !=
+      const std::string tool = prog.ends_with("21.nc") ? "T21" : "T22";
+      CHECK(e.find(prog + ":7:1: error: tool " + tool + " is not in the tool library " + named_lib) !=
             std::string::npos);
     }
   }

@@ -55,8 +55,9 @@ TEST_SUITE("job") {
       REQUIRE(stages.size() == 2);
       CHECK(stages[0].first == "checking");
       CHECK(stages[1].first == "stock");
-      for (const auto& [stage, f] : stages) {
-        CAPTURE(stage);
+      for (const auto& one : stages) {
+        CAPTURE(one.first);  // not a structured binding: CAPTURE's lambda takes it (clang 14)
+        const std::vector<double>& f = one.second;
         CHECK(f.front() == 0.0);
         CHECK(f.back() == 1.0);
         for (std::size_t i = 1; i < f.size(); ++i) CHECK(f[i] >= f[i - 1]);

@@ -212,7 +212,8 @@ TEST_SUITE("job") {
                                      std::pair{"tools", job::NameKind::tools},
                                      std::pair{"materials", job::NameKind::materials},
                                      std::pair{"machines", job::NameKind::machines}}) {
-      CAPTURE(word);
+      const std::string what = word;  // CAPTURE's lambda cannot take a structured binding (clang 14)
+      CAPTURE(what);
       const auto cli = test::run_cli({"list", word});
       REQUIRE(cli.rc == 0);
       job::NamesSettings ns;

@@ -161,7 +161,8 @@ TEST_SUITE("job") {
     for (const auto& [name, call, message] :
          {std::tuple{"bad.nc", "G1 X1. M98 P2 L2\n", "bad.nc:7:1: error: M98 block with other words: it cannot be written inline"},
           std::tuple{"bd.nc", "/M98 P2 L2\n", "bd.nc:7:1: error: M98 in a block-delete '/' block cannot be written inline"}}) {
-      CAPTURE(name);
+      const std::string file = name;  // CAPTURE's lambda cannot take a structured binding (clang 14)
+      CAPTURE(file);
       test::write_file(dir / name, replaced(nested, {{"M98 P2 L2\n", call}}));
       job::Settings bad = wall(dir / name);
       bad.expand_subprograms = true;

@@ -22,7 +22,7 @@ struct Io {
   std::ostream& info();
   // How messages name settings (diag/settings.hpp): the command line by its
   // flags; empty, by the job's keywords.
-  SettingNames names;
+  SettingNames names = {};
   // `text` with its {keyword}s named so, for what the job writes to err itself.
   std::string named(std::string_view text) const { return name_settings(text, names); }
   // Diagnostics printed to err, naming settings so.
