@@ -9,8 +9,7 @@
 #include <regex>
 #include <sstream>
 
-#include "../support.hpp"
-#include "deflex/job/job.hpp"
+#include "support.hpp"
 
 using namespace deflex;
 
@@ -24,17 +23,16 @@ TEST_SUITE("job") {
       s.material.material = "Al6082-T4";
       s.feed_limit_N = 300;
       s.gain = gain;
-      std::istringstream in;
-      std::ostringstream out, err;
-      job::Io io{in, out, err};
+      test::Streams streams;
+      job::Io& io = streams.io;
       job::Run run = job::open(s, job::Purpose::compensate, io);
-      const job::CompensateResult r = job::compensate(run, out, io);
-      CAPTURE(err.str());
+      const job::CompensateResult r = job::compensate(run, streams.out, io);
+      CAPTURE(streams.err.str());
       CHECK(r.result.feed_lowered_lines == std::vector<std::uint32_t>{16, 20});
-      CHECK(err.str().find("feed lowered on 2 blocks to keep the peak force under 300 N (lines 16, 20)") !=
+      CHECK(streams.err.str().find("feed lowered on 2 blocks to keep the peak force under 300 N (lines 16, 20)") !=
             std::string::npos);
       // The two wall passes: programmed F2546.4, written lower (0.1 mm/min steps, down).
-      const std::string text = out.str();
+      const std::string text = streams.out.str();
       std::smatch m;
       REQUIRE(std::regex_search(text, m, std::regex("N22 X[^\\n]* F([0-9.]+)")));
       const double f = std::atof(m[1].str().c_str());

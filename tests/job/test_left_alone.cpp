@@ -17,9 +17,8 @@ TEST_SUITE("job") {
     job::Settings s;
     s.program = "samples/programs/pocket_finish.nc";
     s.stock = "box:-5,-5,-20,105,85,0";
-    std::istringstream in;
-    std::ostringstream out, err;
-    job::Io io{in, out, err};
+    test::Streams streams;
+    job::Io& io = streams.io;
     for (const char* lines : {"0", "5"}) {
       CAPTURE(lines);
       ::setenv("DEFLEX_CHUNK_LINES", lines, 1);
@@ -38,12 +37,11 @@ TEST_SUITE("job") {
     job::Settings s;
     s.program = "samples/programs/side_wall.nc";
     s.stock = "box:0,-40,-30,100,0,0";
-    std::istringstream in;
-    std::ostringstream out, err;
-    job::Io io{in, out, err};
+    test::Streams streams;
+    job::Io& io = streams.io;
     job::Run run = job::open(s, job::Purpose::compensate, io);
     CHECK(run.left_moves.empty());
-    const job::CompensateResult r = job::compensate(run, out, io);
+    const job::CompensateResult r = job::compensate(run, streams.out, io);
     CHECK(r.figures.left_alone.empty());
     CHECK(r.summary["left_alone"].empty());
     CHECK(r.result.compensated_points > 0);

@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "../support.hpp"
+#include "support.hpp"
 #include "deflex/job/libraries.hpp"
 #include "deflex/job/physics.hpp"
 #include "deflex/job/program.hpp"
@@ -21,11 +21,7 @@ using namespace deflex;
 
 namespace {
 
-struct Streams {
-  std::istringstream in;
-  std::ostringstream out, err;
-  job::Io io{in, out, err};
-};
+using test::Streams;
 
 struct Keep : interp::MotionSink {
   std::vector<interp::Motion> motions;
