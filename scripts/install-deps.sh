@@ -14,7 +14,7 @@ set -eu
 pkgs="build-essential cmake ninja-build pkg-config git ca-certificates
 libeigen3-dev libboost-program-options-dev libyaml-cpp-dev nlohmann-json3-dev doctest-dev libtbb-dev
 libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev
-libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-three libjs-dygraphs help2man
+libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-three libjs-dygraphs help2man libceres-dev
 pybind11-dev python3-dev python3-numpy"
 for a in "$@"; do
   case "$a" in

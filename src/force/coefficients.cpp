@@ -18,4 +18,9 @@ Coefficients from_smaoui(double KT_N_per_mm2, double KR_N_per_mm2, double KA_N_p
   return k;
 }
 
+Coefficients scaled(const Coefficients& k, double f) {
+  return {k.Ktc_N_per_mm2 * f, k.Krc_N_per_mm2 * f, k.Kac_N_per_mm2 * f,
+          k.Kte_N_per_mm * f,  k.Kre_N_per_mm * f,  k.Kae_N_per_mm * f};
+}
+
 }  // namespace deflex::force

@@ -1,4 +1,5 @@
 // job::open() (run.hpp): the program read and checked, the physics built.
+#include "deflex/diag/plural.hpp"
 #include "deflex/job/run.hpp"
 
 #include <algorithm>
@@ -118,6 +119,12 @@ void resolve_physics(Run& j) {
   // given alone need none (and a material file beside them is an error).
   if (!mat.material.empty() || !mat.kt) mat.material_file = material_library_path(mat.material_file, cfg);
   j.physics.k = coefficients_of(mat, config_string(cfg, "material"), &j.material);
+  // The machine's fitted force scale (profile/profile.hpp MachineProfile::force_scale).
+  const double f = j.setup.machine->force_scale;
+  if (f != 1.0) {
+    j.physics.k = force::scaled(j.physics.k, f);
+    j.material += " x " + fixed_decimals(f, 3) + " (force_scale of machine " + j.setup.machine->name + ")";
+  }
 }
 
 // The stock (shared, or built from its spec and the earlier operations) and

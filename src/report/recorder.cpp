@@ -1,6 +1,8 @@
 // The report's rows as the points stream by (include/deflex/report/recorder.hpp).
 #include "deflex/report/recorder.hpp"
 
+#include "deflex/compensate/contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -266,17 +268,10 @@ struct Recorder::Impl {
     return tool_ptr;
   }
 
-  // Where the cutter touches the design surface: the tip moved by the
-  // cutter's profile against the normal (ball: centre - R n; bull nose and
-  // flat: the corner circle's point facing n).
+  // Where the cutter touches the design surface (compensate/contact.hpp).
   V3 contact(const compensate::Point& p) {
     const stiffness::Tool* t = tool(p.tool);
-    if (!t) return p.tip_mm;
-    const double R = t->diameter_mm / 2;
-    const double r = stock::corner_radius_mm(t->type, R, t->corner_radius_mm);
-    V3 h(p.normal.x(), p.normal.y(), 0);
-    h = h.norm() > 1e-9 ? V3(h.normalized()) : V3(V3::Zero());
-    return p.tip_mm + V3(0, 0, r) + (R - r) * h - r * p.normal;
+    return t ? compensate::contact_point(p, *t) : p.tip_mm;
   }
 
   RunFigures figures() {

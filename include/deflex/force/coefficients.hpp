@@ -25,6 +25,9 @@ enum class ModelForm {
 
 const char* to_string(ModelForm f);
 
+// Every coefficient times `factor` (the forces scale with them).
+Coefficients scaled(const Coefficients& k, double factor);
+
 // Smaoui 2011 Eq. 2 coefficients as a mechanistic set (see ModelForm::smaoui_krta).
 Coefficients from_smaoui(double KT_N_per_mm2, double KR_N_per_mm2, double KA_N_per_mm2);
 

@@ -30,6 +30,7 @@ enum class Purpose {
   compensate,  // read in pieces where it can be (memory does not grow with the program)
   simulate,    // in pieces unless judged against a reference
   compare,     // read whole, beside others on a shared stock
+  fit,         // read whole: simulated once per basis machine (fit/basis.hpp)
 };
 
 struct Run {

@@ -70,6 +70,10 @@ struct MachineProfile {
   // G28/G30 reference points in machine coordinates, mm; 1 = G28.
   std::map<int, std::array<double, 3>> reference_points_mm;
   double max_offset_mm = 0.1;  // largest compensation offset
+  // Multiplies the material's force coefficients on this machine (what a fit
+  // to a measured cut found: edge preparation, wear and the machine's own
+  // dynamics make a shop's forces differ from the table's; `deflex fit`).
+  double force_scale = 1.0;
   // G41/G42 radius registers (tool_offsets: in the profile), by D number:
   // the radius (geometry) and its wear, mm; the control offsets by their sum.
   struct ToolOffset { double radius_mm = 0, wear_mm = 0; };

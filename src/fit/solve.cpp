@@ -1,0 +1,259 @@
+// fit::solve() (solve.hpp).
+#include "deflex/fit/solve.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <ceres/ceres.h>
+
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::fit {
+
+namespace {
+
+constexpr double kZ95 = 1.959963984540054;
+
+// One matched point: the basis errors of its sample and its measured error.
+struct PointResidual {
+  std::array<double, kStiffnessParams + 1> b;
+  double measured_mm;
+  template <class T>
+  bool operator()(const T* const c, const T* const s, const T* const x, const T* const y, const T* const z,
+                  const T* const k, T* r) const {
+    const T* logs[kStiffnessParams] = {c, s, x, y, z};
+    T e = T(b[0]);
+    for (int i = 0; i < kStiffnessParams; ++i) e += b[1 + i] * ceres::exp(-logs[i][0]);
+    r[0] = ceres::exp(k[0]) * e - measured_mm;
+    return true;
+  }
+};
+
+struct Data {
+  Eigen::MatrixXd rows;  // matched x (kStiffnessParams + 1)
+  Eigen::VectorXd measured_mm;
+};
+
+Data data_of(const Basis& b, const Matching& m) {
+  Data d{Eigen::MatrixXd(static_cast<Eigen::Index>(m.matched.size()), kStiffnessParams + 1),
+         Eigen::VectorXd(static_cast<Eigen::Index>(m.matched.size()))};
+  for (std::size_t i = 0; i < m.matched.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(i);
+    d.rows.row(r) = b.errors_mm.row(static_cast<Eigen::Index>(m.matched[i].sample));
+    d.measured_mm(r) = m.matched[i].measured_error_mm;
+  }
+  return d;
+}
+
+Eigen::VectorXd residuals(const Data& d, const std::array<double, kParams>& x) {
+  Eigen::VectorXd r(d.rows.rows());
+  for (Eigen::Index i = 0; i < d.rows.rows(); ++i) {
+    double e = d.rows(i, 0);
+    for (int k = 0; k < kStiffnessParams; ++k) e += d.rows(i, 1 + k) * std::exp(-x[k]);
+    r(i) = std::exp(x[kParams - 1]) * e - d.measured_mm(i);
+  }
+  return r;
+}
+
+// The Jacobian's column of each parameter at the start (x = 0): how much the
+// measured points feel it.
+std::array<double, kParams> sensitivities(const Data& d) {
+  std::array<double, kParams> n{};
+  for (int k = 0; k < kStiffnessParams; ++k) n[k] = d.rows.col(1 + k).norm();
+  n[kParams - 1] = d.rows.rowwise().sum().norm();
+  return n;
+}
+
+struct Run {
+  std::array<double, kParams> x{};
+  Eigen::MatrixXd cov;  // of the log-parameters, kParams x kParams (0 where held)
+  bool covariance_ok = false;
+  int iterations = 0;
+  bool converged = false;
+  std::string message;
+};
+
+Run run_solver(const Data& d, const std::array<bool, kParams>& free, const FitOptions& o) {
+  Run run;
+  ceres::Problem problem;
+  for (Eigen::Index i = 0; i < d.rows.rows(); ++i) {
+    PointResidual f;
+    for (int k = 0; k <= kStiffnessParams; ++k) f.b[k] = d.rows(i, k);
+    f.measured_mm = d.measured_mm(i);
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointResidual, 1, 1, 1, 1, 1, 1, 1>(new PointResidual(f)),
+                             nullptr, &run.x[0], &run.x[1], &run.x[2], &run.x[3], &run.x[4], &run.x[5]);
+  }
+  for (int k = 0; k < kParams; ++k) {
+    const bool coef = k == kParams - 1;
+    problem.SetParameterLowerBound(&run.x[k], 0, std::log(coef ? o.min_coefficients : o.min_scale));
+    problem.SetParameterUpperBound(&run.x[k], 0, std::log(coef ? o.max_coefficients : o.max_scale));
+    if (!free[k]) problem.SetParameterBlockConstant(&run.x[k]);
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 200;
+  so.function_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-10;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary sum;
+  ceres::Solve(so, &problem, &sum);
+  run.iterations = static_cast<int>(sum.iterations.size());
+  run.converged = sum.termination_type == ceres::CONVERGENCE;
+  run.message = sum.message;
+
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  // No direction dropped: one the data leave nearly free must show as a huge
+  // variance (dropping it would report a tight interval); an exactly free one
+  // makes Compute() fail, and solve() then holds the least felt parameter.
+  co.null_space_rank = 0;
+  ceres::Covariance cov(co);
+  std::vector<std::pair<const double*, const double*>> blocks;
+  for (int a = 0; a < kParams; ++a)
+    for (int b = a; b < kParams; ++b)
+      if (free[a] && free[b]) blocks.emplace_back(&run.x[a], &run.x[b]);
+  run.cov = Eigen::MatrixXd::Zero(kParams, kParams);
+  if (!blocks.empty() && cov.Compute(blocks, &problem)) {
+    run.covariance_ok = true;
+    for (int a = 0; a < kParams; ++a)
+      for (int b = a; b < kParams; ++b)
+        if (free[a] && free[b]) {
+          double v = 0;
+          cov.GetCovarianceBlock(&run.x[a], &run.x[b], &v);
+          run.cov(a, b) = run.cov(b, a) = v;
+        }
+  }
+  return run;
+}
+
+// The order in which parameters join the fit (solve()): first what a cut
+// sees directly, the structure's stiffness along X and Y (a wall facing an
+// axis shows that axis' compliance times its force), then the coefficients'
+// scale (separable from the compliance only where the tool's own bending,
+// known from its model, shapes the error differently from the machine's),
+// the clamp (an isotropic spring: to a wall, mostly a share of X and Y
+// alike), Z, and the spindle last (the machine builder's figure; from walls
+// of one tool it is the clamp's twin).
+int joins_late(Param p) {
+  switch (p) {
+    case Param::structure_x:
+    case Param::structure_y: return 0;
+    case Param::coefficients: return 1;
+    case Param::clamp: return 2;
+    case Param::structure_z: return 3;
+    case Param::spindle: return 4;
+  }
+  return 5;
+}
+
+std::string factor(double f) {
+  std::ostringstream s;
+  s.precision(3);
+  s << "x" << f;
+  return s.str();
+}
+
+}  // namespace
+
+FitResult solve(const Basis& b, const Matching& m, const FitOptions& o) {
+  const Data d = data_of(b, m);
+  FitResult res;
+  const std::size_t n = m.matched.size();
+  std::array<bool, kParams> free{};
+  const std::array<double, kParams> sens = sensitivities(d);
+  const double top = *std::max_element(sens.begin(), sens.end());
+  for (int k = 0; k < kParams; ++k) {
+    ParamFit& p = res.params[k];
+    if (!b.present[k]) p.why_held = "the starting profile has it rigid: there is nothing to scale";
+    else if (o.hold[k]) p.why_held = "held at the profile's value as asked";
+    else if (!(sens[k] > 1e-3 * top)) p.why_held = "the measured points do not feel it";
+    else free[k] = true;
+  }
+  std::array<double, kParams> zero{};
+  res.residual_before_mm = residuals(d, zero);
+
+  // Forward selection: the parameters join the fit one at a time in the
+  // order of joins_late() (most felt first within a rank); one
+  // whose joining leaves any fitted interval wider than the limit is held at
+  // its start and named with what it trades off against. Never running a fit
+  // that is already degenerate keeps the intervals meaningful.
+  std::array<int, kParams> order{};
+  for (int k = 0; k < kParams; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const int ra = joins_late(Param(a)), rb = joins_late(Param(b));
+    return ra != rb ? ra < rb : sens[a] > sens[b];
+  });
+  std::array<bool, kParams> in{};
+  Run run = run_solver(d, in, o);  // nothing free: the starting profile
+  double var = residuals(d, run.x).squaredNorm() / static_cast<double>(n);
+  for (int k : order) {
+    if (!free[k]) continue;
+    std::array<bool, kParams> trial = in;
+    trial[k] = true;
+    const int ntrial = static_cast<int>(std::count(trial.begin(), trial.end(), true));
+    if (static_cast<int>(n) <= ntrial) {
+      res.params[k].why_held = "too few measured points with a prediction to fit it as well";
+      continue;
+    }
+    Run t = run_solver(d, trial, o);
+    res.iterations += t.iterations;
+    const double tvar = residuals(d, t.x).squaredNorm() / static_cast<double>(static_cast<int>(n) - ntrial);
+    int worst = -1;
+    double worst_half = 0;
+    for (int j = 0; j < kParams; ++j) {
+      if (!trial[j]) continue;
+      const double half = t.covariance_ok ? kZ95 * std::sqrt(std::max(0.0, tvar * t.cov(j, j)))
+                                          : std::numeric_limits<double>::infinity();
+      if (worst < 0 || half > worst_half) worst_half = half, worst = j;
+    }
+    if (std::exp(worst_half) <= 1 + o.determined_within) {
+      in = trial, run = t, var = tvar;
+      continue;
+    }
+    // Held: named with the fitted parameter it trades off against.
+    int partner = -1;
+    double corr = 0;
+    for (int j = 0; j < kParams; ++j) {
+      if (j == k || !trial[j] || !t.covariance_ok) continue;
+      const double c = t.cov(k, j) / std::sqrt(t.cov(k, k) * t.cov(j, j));
+      if (std::abs(c) > std::abs(corr)) corr = c, partner = j;
+    }
+    std::ostringstream why;
+    if (std::isfinite(worst_half))
+      why << "the cut cannot determine it (fitted too, " << (worst == k ? std::string("its") : "the " + std::string(name(Param(worst))) + "'s")
+          << " 95 % interval would be " << factor(std::exp(-worst_half)) << " to " << factor(std::exp(worst_half)) << ")";
+    else
+      why << "the cut cannot determine it: the measured points leave it free together with the others";
+    if (partner >= 0) {
+      why.precision(2);
+      why << "; it trades off against the " << name(Param(partner)) << " (correlation " << corr << ")";
+    }
+    res.params[k].why_held = why.str();
+  }
+  free = in;
+  res.sigma_mm = std::sqrt(var);
+  res.residual_mm = residuals(d, run.x);
+
+  res.converged = run.converged;
+  res.message = run.message;
+  res.correlation = Eigen::MatrixXd::Constant(kParams, kParams, std::numeric_limits<double>::quiet_NaN());
+  for (int k = 0; k < kParams; ++k) {
+    ParamFit& p = res.params[k];
+    res.scales[k] = std::exp(run.x[k]);
+    if (!free[k]) continue;
+    p.fitted = true;
+    p.scale = res.scales[k];
+    const double half = kZ95 * std::sqrt(std::max(0.0, var * run.cov(k, k)));
+    p.lo95 = std::exp(run.x[k] - half);
+    p.hi95 = std::exp(run.x[k] + half);
+    const bool coef = k == kParams - 1;
+    const double lo = std::log(coef ? o.min_coefficients : o.min_scale), hi = std::log(coef ? o.max_coefficients : o.max_scale);
+    p.at_bound = run.x[k] <= lo + 1e-6 || run.x[k] >= hi - 1e-6;
+    for (int j = 0; j < kParams; ++j)
+      if (free[j]) res.correlation(k, j) = run.cov(k, j) / std::sqrt(run.cov(k, k) * run.cov(j, j));
+  }
+  return res;
+}
+
+}  // namespace deflex::fit

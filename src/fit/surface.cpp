@@ -1,0 +1,102 @@
+// fit::Surface (surface.hpp).
+#include "deflex/fit/surface.hpp"
+
+#include <stdexcept>
+
+#include <CGAL/Kd_tree.h>
+#include <CGAL/Orthogonal_k_neighbor_search.h>
+#include <CGAL/Search_traits_3.h>
+#include <CGAL/Search_traits_adapter.h>
+#include <CGAL/Simple_cartesian.h>
+#include <boost/property_map/property_map.hpp>
+
+#include "deflex/compensate/contact.hpp"
+#include "deflex/stock/end_shape.hpp"
+
+namespace deflex::fit {
+
+// CGAL's kd-tree over the samples' positions (indices into the samples).
+namespace {
+using K = CGAL::Simple_cartesian<double>;
+struct PointMap {
+  const std::vector<K::Point_3>* pts = nullptr;
+  using key_type = std::size_t;
+  using value_type = K::Point_3;
+  using reference = const value_type&;
+  using category = boost::readable_property_map_tag;
+  friend reference get(const PointMap& m, std::size_t i) { return (*m.pts)[i]; }
+};
+using Traits = CGAL::Search_traits_adapter<std::size_t, PointMap, CGAL::Search_traits_3<K>>;
+using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
+using Tree = Search::Tree;
+}  // namespace
+
+struct Surface::Index {
+  std::vector<K::Point_3> pts;
+  std::unique_ptr<Tree> tree;
+};
+
+Surface::Surface(const std::vector<compensate::Point>& points,
+                 const std::function<const stiffness::Tool*(int)>& tool_of)
+    : index_(std::make_unique<Index>()) {
+  slices_of_point_.resize(points.size(), 0);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const compensate::Point& p = points[i];
+    if (p.air || p.plunge) continue;
+    const stiffness::Tool* t = tool_of(p.tool);
+    if (!t) continue;
+    const auto pi = static_cast<std::uint32_t>(i);
+    if (p.flank && !p.flank_profile.empty()) {
+      // A bull nose's corner generates no wall: its slices below the corner
+      // radius are left out.
+      const double r = stock::corner_radius_mm(t->type, t->diameter_mm / 2, t->corner_radius_mm);
+      slices_of_point_[i] = static_cast<std::uint32_t>(p.flank_profile.size());
+      for (std::size_t k = 0; k < p.flank_profile.size(); ++k)
+        if (p.flank_profile[k].z_mm >= r)
+          samples_.push_back({compensate::flank_point(p, *t, p.flank_profile[k].z_mm), p.normal, p.line, pi,
+                              static_cast<int>(k)});
+    } else {
+      samples_.push_back({compensate::contact_point(p, *t), p.normal, p.line, pi, -1});
+    }
+  }
+  index_->pts.reserve(samples_.size());
+  for (const SurfaceSample& s : samples_) index_->pts.emplace_back(s.at_mm.x(), s.at_mm.y(), s.at_mm.z());
+  std::vector<std::size_t> ids(samples_.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = i;
+  index_->tree = std::make_unique<Tree>(ids.begin(), ids.end(), Tree::Splitter(),
+                                        Traits(PointMap{&index_->pts}));
+  index_->tree->build();
+}
+
+Surface::Surface(Surface&&) noexcept = default;
+Surface& Surface::operator=(Surface&&) noexcept = default;
+Surface::~Surface() = default;
+
+std::vector<double> Surface::errors(const std::vector<compensate::Point>& points) const {
+  if (points.size() != slices_of_point_.size())
+    throw std::logic_error("fit::Surface::errors: a simulation with other points than the surface's");
+  std::vector<double> e(samples_.size());
+  for (std::size_t i = 0; i < samples_.size(); ++i) {
+    const SurfaceSample& s = samples_[i];
+    const compensate::Point& p = points[s.point];
+    if (s.slice < 0) {
+      e[i] = p.error_mm;
+      continue;
+    }
+    if (p.flank_profile.size() != slices_of_point_[s.point])
+      throw std::logic_error("fit::Surface::errors: a flank profile with other slices than the surface's");
+    e[i] = p.flank_profile[static_cast<std::size_t>(s.slice)].error_mm;
+  }
+  return e;
+}
+
+long Surface::nearest(const V3& p, double reach_mm) const {
+  if (samples_.empty()) return -1;
+  const PointMap map{&index_->pts};
+  Search search(*index_->tree, K::Point_3(p.x(), p.y(), p.z()), 1, 0, true, Search::Distance(map));
+  const auto it = search.begin();
+  if (it == search.end() || it->second > reach_mm * reach_mm) return -1;
+  return static_cast<long>(it->first);
+}
+
+}  // namespace deflex::fit

@@ -1,0 +1,184 @@
+// The machine fit (fit/, job/fit.hpp) against a hidden machine: measurements
+// simulated with a profile that differs from the starting one, plus noise.
+#include <doctest/doctest.h>
+
+#include <fstream>
+#include <random>
+
+#include "../job/support.hpp"
+#include "deflex/fit/basis.hpp"
+#include "deflex/job/fit.hpp"
+#include "deflex/profile/yaml.hpp"
+
+namespace deflex::test {
+
+namespace {
+
+const std::string kSrc = DEFLEX_SOURCE_DIR;
+
+std::string read(const std::string& path) {
+  std::ifstream f(path);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+void replace(std::string& s, const std::string& from, const std::string& to) {
+  const std::size_t at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  s.replace(at, from.size(), to);
+}
+
+// mill3 with its structure X and Y stiffer (x1.4, x1.2: 84 and 60 N/um, 40 %
+// apart), its clamp x0.6, and forces x1.2 (force_scale).
+std::string hidden_machine(const TempDir& dir, bool softer_clamp = true, bool harder_forces = true) {
+  std::string t = read(kSrc + "/samples/machines/mill3.yaml");
+  if (softer_clamp) {
+    replace(t, "radial_N_per_um: 400", "radial_N_per_um: 240");
+    replace(t, "rotational_Nm_per_rad: 6.0e5", "rotational_Nm_per_rad: 3.6e5");
+    replace(t, "axial_N_per_um: 500", "axial_N_per_um: 300");
+  }
+  replace(t, "{x: 60, y: 50, z: 150}", "{x: 84, y: 60, z: 150}");
+  if (harder_forces) t += "force_scale: 1.2\n";
+  const std::string path = dir / "hidden.yaml";
+  std::ofstream(path) << t;
+  return path;
+}
+
+job::Settings walls(const std::string& machine) {
+  job::Settings s;
+  s.program = kSrc + "/tests/data/fit/walls_xy.nc";
+  s.read.machine = machine;
+  s.tool_file = kSrc + "/samples/tools.yaml";
+  s.material.material = "Al6082-T4";
+  s.material.material_file = kSrc + "/samples/materials.yaml";
+  s.stock = "box:0,0,-20,100,100,0";
+  return s;
+}
+
+// Every sample of the program's surface simulated on `machine`, as the
+// ordinary simulation gives it (not through the fit's basis).
+struct Simulated {
+  std::vector<compensate::Point> points;
+  std::unique_ptr<fit::Surface> surface;
+  std::vector<double> errors;
+};
+Simulated simulate_on(const job::Settings& s) {
+  Streams st;
+  job::Run run = job::open(s, job::Purpose::fit, st.io);
+  compensate::Settings cs = run.settings;
+  cs.flank_profiles = true;
+  Simulated r;
+  r.points = compensate::simulate(run.motions, {}, run.physics, cs);
+  r.surface = std::make_unique<fit::Surface>(r.points, job::tool_of(run));
+  r.errors = r.surface->errors(r.points);
+  return r;
+}
+
+// Probe-like measurements of the four walls, mid-length, every 0.5 mm up the
+// wall: the machined surface point = the design point moved by the hidden
+// machine's error along the normal, plus 1 um Gaussian noise.
+std::vector<fit::Observation> measure(const Simulated& hidden, bool only_x_fed, unsigned seed = 7) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  struct Wall { fit::V3 n; double ae, ap; const char* id; };
+  const Wall w[] = {{{0, 1, 0}, 4, 12, "WX1"}, {{-1, 0, 0}, 6, 12, "WY1"}, {{0, -1, 0}, 3, 10, "WX2"}, {{1, 0, 0}, 2, 12, "WY2"}};
+  std::vector<fit::Observation> obs;
+  for (const Wall& wall : w) {
+    if (only_x_fed && wall.n.x() != 0) continue;
+    const fit::V3 c(50 + 50 * wall.n.x(), 50 + 50 * wall.n.y(), 0);
+    const fit::V3 face = c - wall.ae * wall.n;
+    const fit::V3 along(-wall.n.y(), wall.n.x(), 0);
+    for (double u : {-20.0, -10.0, 0.0, 10.0, 20.0})
+      for (double z = -wall.ap + 0.5; z < -0.2; z += 0.25) {
+        const fit::V3 design = face + u * along + fit::V3(0, 0, z);
+        const long k = hidden.surface->nearest(design, 0.5);
+        REQUIRE(k >= 0);
+        const fit::SurfaceSample& smp = hidden.surface->samples()[static_cast<std::size_t>(k)];
+        const double e = hidden.errors[static_cast<std::size_t>(k)] + noise(rng);
+        obs.push_back({smp.at_mm + e * smp.normal, std::nullopt, wall.id, ""});
+      }
+  }
+  return obs;
+}
+
+// job::fit from mill3 to the measurements of `hidden`.
+job::FitReport fit_mill3(const Simulated& hidden, bool only_x_fed, Streams& st) {
+  job::FitSettings s;
+  s.run = walls(kSrc + "/samples/machines/mill3.yaml");
+  s.measured = "synthetic";
+  return job::fit(s, measure(hidden, only_x_fed), st.out, st.io);
+}
+
+}  // namespace
+
+TEST_CASE("fit: the basis of the starting profile, scaled, is the simulation on the scaled machine") {
+  TempDir dir("fit");
+  const job::Settings start = walls(kSrc + "/samples/machines/mill3.yaml");
+  Streams st;
+  job::Run run = job::open(start, job::Purpose::fit, st.io);
+  const fit::Basis b = fit::simulate_basis(run.motions, run.physics, run.settings, job::tool_of(run));
+  const Simulated hidden = simulate_on(walls(hidden_machine(dir)));
+  REQUIRE(hidden.errors.size() == b.errors_mm.rows());
+  const fit::Scales truth = {0.6, 1.0, 1.4, 1.2, 1.0, 1.2};
+  double worst = 0, largest = 0;
+  for (std::size_t i = 0; i < hidden.errors.size(); ++i) {
+    worst = std::max(worst, std::abs(b.predict(i, truth) - hidden.errors[i]));
+    largest = std::max(largest, std::abs(hidden.errors[i]));
+  }
+  CAPTURE(worst);
+  for (int c = 0; c < b.errors_mm.cols(); ++c)
+    MESSAGE("basis " << c << " rms um " << 1000 * b.errors_mm.col(c).norm() / std::sqrt(double(b.errors_mm.rows())) << " max " << 1000 * b.errors_mm.col(c).cwiseAbs().maxCoeff());
+  CHECK(largest > 0.005);        // the walls deflect by micrometres: a real test
+  CHECK(worst < 1e-6 * 1000 * largest);  // linear in each compliance and in the force, to rounding
+}
+
+TEST_CASE("fit: a hidden machine's structure is recovered from four walls; what walls cannot tell is named") {
+  TempDir dir("fit");
+  const Simulated hidden = simulate_on(walls(hidden_machine(dir, false, false)));
+  Streams st;
+  const job::FitReport r = fit_mill3(hidden, false, st);
+  const fit::Scales truth = {1.0, 1.0, 1.4, 1.2, 1.0, 1.0};
+  for (int k = 0; k < fit::kParams; ++k) {
+    const fit::ParamFit& p = r.fit.params[k];
+    CAPTURE(fit::name(fit::Param(k)));
+    CAPTURE(p.scale);
+    CAPTURE(p.lo95);
+    CAPTURE(p.hi95);
+    CAPTURE(p.why_held);
+    if (!p.fitted) continue;
+    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
+    CHECK(p.lo95 <= truth[k]);
+    CHECK(truth[k] <= p.hi95);
+  }
+  MESSAGE(st.out.str());
+  CHECK(r.fit.params[int(fit::Param::structure_x)].fitted);
+  CHECK(r.fit.params[int(fit::Param::structure_y)].fitted);
+  // No measured surface faces Z, and this material has no axial coefficient.
+  CHECK_FALSE(r.fit.params[int(fit::Param::structure_z)].fitted);
+  CHECK(r.fit.params[int(fit::Param::structure_z)].why_held.find("do not feel it") != std::string::npos);
+  for (int k = 0; k < fit::kParams; ++k)  // what is not fitted is said, with why
+    CHECK(r.fit.params[k].fitted == r.fit.params[k].why_held.empty());
+  CHECK(r.all.rms_after_mm < 0.0015);  // the noise is 1 um
+  CHECK(r.all.rms_before_mm > 1.5 * r.all.rms_after_mm);
+  // The fitted profile reads back as a machine profile with the fitted stiffness.
+  const std::string fitted = dir / "fitted.yaml";
+  std::ofstream(fitted) << r.profile_text;
+  const stiffness::MachineStiffness m = stiffness::load_machine_stiffness(fitted);
+  CHECK(1 / m.structure_mm_per_N(0, 0) == doctest::Approx(84e3 * r.fit.params[2].scale / 1.4).epsilon(1e-4));
+  CHECK(1 / m.structure_mm_per_N(1, 1) == doctest::Approx(60e3 * r.fit.params[3].scale / 1.2).epsilon(1e-4));
+}
+
+TEST_CASE("fit: walls fed along X only cannot tell the structure's X stiffness, and the fit says so") {
+  TempDir dir("fit");
+  const Simulated hidden = simulate_on(walls(hidden_machine(dir, false, false)));
+  Streams st;
+  const job::FitReport r = fit_mill3(hidden, true, st);
+  const fit::ParamFit& x = r.fit.params[int(fit::Param::structure_x)];
+  CHECK_FALSE(x.fitted);
+  CHECK(x.why_held.find("do not feel it") != std::string::npos);
+  CHECK(st.out.str().find("# structure X: as in the starting profile; the measured points do not feel it") != std::string::npos);
+  const fit::ParamFit& y = r.fit.params[int(fit::Param::structure_y)];
+  REQUIRE(y.fitted);
+  CHECK(std::abs(y.scale / 1.2 - 1) < 0.05);
+}
+
+}  // namespace deflex::test
