@@ -182,3 +182,41 @@ TEST_CASE("fit: walls fed along X only cannot tell the structure's X stiffness, 
 }
 
 }  // namespace deflex::test
+
+namespace deflex::test {
+
+TEST_CASE("fit: held out - the fitted profile predicts another program as the hidden machine cuts it") {
+  // The hidden machine differs in every way the issue of a shop's machine
+  // would: structure X and Y, a softer clamp, harder forces. Walls of one
+  // tool cannot tell all of them apart (the fit names those), but what they
+  // determine must predict another wall of that tool.
+  TempDir dir("fit");
+  const std::string hidden_file = hidden_machine(dir, true, true);
+  Streams st;
+  const job::FitReport r = fit_mill3(simulate_on(walls(hidden_file)), false, st);
+  const std::string fitted = dir / "fitted.yaml";
+  std::ofstream(fitted) << r.profile_text;
+  auto side_wall = [&](const std::string& machine) {
+    job::Settings s = walls(machine);
+    s.program = kSrc + "/samples/programs/side_wall.nc";
+    s.stock = "box:0,-40,-30,100,0,0";
+    return simulate_on(s);
+  };
+  const Simulated truth = side_wall(hidden_file), predicted = side_wall(fitted),
+                  unfitted = side_wall(kSrc + "/samples/machines/mill3.yaml");
+  REQUIRE(truth.errors.size() == predicted.errors.size());
+  double worst = 0, worst_unfitted = 0, largest = 0;
+  for (std::size_t i = 0; i < truth.errors.size(); ++i) {
+    const double allowed = std::max(0.1 * std::abs(truth.errors[i]), 0.001);
+    worst = std::max(worst, std::abs(predicted.errors[i] - truth.errors[i]) / allowed);
+    worst_unfitted = std::max(worst_unfitted, std::abs(unfitted.errors[i] - truth.errors[i]) / allowed);
+    largest = std::max(largest, std::abs(truth.errors[i]));
+  }
+  MESSAGE("held out: worst |fitted - hidden| " << worst << " of the allowance (10 % or 1 um); unfitted "
+                                               << worst_unfitted << "; largest error " << largest * 1000 << " um");
+  CHECK(largest > 0.02);
+  CHECK(worst <= 1.0);
+  CHECK(worst_unfitted > 1.0);  // the test could fail: the starting profile does not pass it
+}
+
+}  // namespace deflex::test
