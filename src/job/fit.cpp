@@ -79,6 +79,8 @@ std::vector<std::string> provenance(const FitSettings& s, const Run& run, const 
               "|predicted - measured| rms " + fixed_decimals(r.all.rms_before_mm * 1000, 2) + " um before, " +
               fixed_decimals(r.all.rms_after_mm * 1000, 2) + " um after (max " + fixed_decimals(r.all.max_before_mm * 1000, 2) +
               " -> " + fixed_decimals(r.all.max_after_mm * 1000, 2) + " um).");
+  p.push_back("The intervals assume that what is held is right; a held value the machine does not have is absorbed "
+              "by the fitted ones, which then predict the tools of the measured cut, not others.");
   for (int k = 0; k < fit::kParams; ++k) {
     const fit::ParamFit& f = r.fit.params[k];
     const std::string n = fit::name(fit::Param(k));

@@ -125,8 +125,6 @@ TEST_CASE("fit: the basis of the starting profile, scaled, is the simulation on 
     largest = std::max(largest, std::abs(hidden.errors[i]));
   }
   CAPTURE(worst);
-  for (int c = 0; c < b.errors_mm.cols(); ++c)
-    MESSAGE("basis " << c << " rms um " << 1000 * b.errors_mm.col(c).norm() / std::sqrt(double(b.errors_mm.rows())) << " max " << 1000 * b.errors_mm.col(c).cwiseAbs().maxCoeff());
   CHECK(largest > 0.005);        // the walls deflect by micrometres: a real test
   CHECK(worst < 1e-6 * 1000 * largest);  // linear in each compliance and in the force, to rounding
 }
