@@ -24,6 +24,7 @@ class Job:
         stock_from      [path, (program, tool_file), ...] earlier programs, in order
         tolerance_mm, gain, feed_limit_N, spindle_rpm, feed_mm_per_min,
         cell_mm, cl_spacing_mm, max_iterations, threads, tool_only, expand_subprograms
+        measured, probe_program, measured_reach_mm     measurements of the cut part
 
     An unknown keyword or a value of the wrong type raises TypeError; a value
     out of range raises deflex.UsageError when the job runs, before anything

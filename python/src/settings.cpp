@@ -161,6 +161,9 @@ const std::vector<Field>& fields() {
       int_field<int>("threads", DEFLEX_REF(threads)),
       bool_field("tool_only", DEFLEX_REF(tool_only)),
       bool_field("expand_subprograms", DEFLEX_REF(expand_subprograms)),
+      path_field("measured", DEFLEX_REF(measured)),
+      path_field("probe_program", DEFLEX_REF(probe_program)),
+      number_field("measured_reach_mm", DEFLEX_REF(measured_reach_mm)),
   };
   return all;
 }

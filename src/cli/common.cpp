@@ -158,7 +158,14 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
       ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")
-      ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance");
+      ("tool-only", po::bool_switch(&a.tool_only), "leave holder, spindle and machine out of the compliance")
+      ("measured", po::value(&a.measured),
+       "measurements of the part the program cut: a CSV of surface points x_mm,y_mm,z_mm (work frame, as CMM "
+       "software exports them), a point cloud (.ply, .stl), or a probe log with --probe-program; the prediction is "
+       "held against them (measured.csv and summary.json's \"measured\" in --report)")
+      ("probe-program", po::value(&a.probe_program), "the probe program (deflex probe) whose log --measured is: it says which point each log line probed, and with which stylus")
+      ("measured-reach", po::value(&a.measured_reach_mm)->default_value(0.5, "0.5"),
+       "a measured point farther than this from the surface the program cuts has no prediction, mm");
   add_part_options(d, a.part);
   add_material_options(d, a.material);
   add_read_options(d, a.read);

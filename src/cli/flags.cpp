@@ -21,7 +21,8 @@ std::string flag_of(std::string_view keyword) {
       {"gain", "--gain"}, {"feed_limit_N", "--feed-limit"}, {"spindle_rpm", "--spindle"},
       {"feed_mm_per_min", "--feed"}, {"cell_mm", "--cell-mm"}, {"cl_spacing_mm", "--cl-spacing"},
       {"max_iterations", "--max-iterations"}, {"threads", "--threads"}, {"tool_only", "--tool-only"},
-      {"expand_subprograms", "--expand-subprograms"}, {"rough_tool", "--rough-tool"}, {"pair_mm", "--pair-mm"},
+      {"expand_subprograms", "--expand-subprograms"}, {"measured", "--measured"}, {"probe_program", "--probe-program"},
+      {"measured_reach_mm", "--measured-reach"}, {"rough_tool", "--rough-tool"}, {"pair_mm", "--pair-mm"},
       {"mesh_tolerance_mm", "--mesh-tolerance"}};
   for (const auto& [k, flag] : kFlags)
     if (k == keyword) return std::string(flag);

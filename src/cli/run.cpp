@@ -35,6 +35,7 @@ const Command kCommands[] = {
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
   {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},
   {"calibrate", cmd_calibrate, "fit cutting/edge coefficients from slot-test forces"},
+  {"fit", cmd_fit, "fit the machine profile's stiffness and force scale to a measured cut"},
 };
 
 void top_help(std::ostream& out) {

@@ -127,10 +127,14 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
   // The figures, the plausibility scan and the report take the points as the
   // simulations produce them; nothing keeps them (a million points are 270 MB).
   compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty());
+  // Measured points are held against the program as written (the cut that was measured).
+  if (!j.measured.empty()) j.settings.flank_profiles = true;
+  const std::unique_ptr<fit::Nearest> nearest = detail::nearest_of(j);
   compensate::PointSinks sinks;
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
     rec.rec->as_written(p);
+    if (nearest) nearest->add(p);
   };
   sinks.final = [&](const compensate::Point& p, const V3& off, std::size_t original) { rec.rec->point(p, off, original); };
   const compensate::Progress progress = detail::progress_of(obs);
@@ -147,6 +151,12 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
   detail::print_compensation(j, c.result, c.plausibility, io);
   c.used = used(j);
   c.summary = summary_of(j, c);
+  if (nearest) {
+    c.measured = detail::held_against(j, *nearest);
+    detail::print_measured(j, *c.measured, io);
+    c.summary["measured"] = detail::measured_json(*c.measured, j);
+    if (!rec.dir.empty()) detail::write_measured_csv(rec.dir, *c.measured);
+  }
   if (!rec.dir.empty()) rec.finish(j, c.figures, c.summary, facts_of(c), "compensate", command);
   return c;
 }

@@ -21,8 +21,8 @@ namespace {
 
 void check(const FitSettings& s) {
   if (!s.output.empty() && s.output != "-") writer::check_output_path(s.output, s.run.program);
-  if (!(s.reach_mm > 0 && s.reach_mm <= 10))
-    throw Error(ErrorKind::settings, "{reach_mm} must be above 0 and at most 10 mm (got " + fixed_decimals(s.reach_mm, 3) + ")");
+  if (!(s.run.measured_reach_mm > 0 && s.run.measured_reach_mm <= 10))
+    throw Error(ErrorKind::settings, "{measured_reach_mm} must be above 0 and at most 10 mm (got " + fixed_decimals(s.run.measured_reach_mm, 3) + ")");
   const fit::FitOptions& o = s.options;
   if (!(o.min_scale > 0 && o.min_scale < 1 && o.max_scale > 1) || !(o.min_coefficients > 0 && o.min_coefficients < 1 && o.max_coefficients > 1))
     throw Error(ErrorKind::settings, "the fit's bounds must lie below and above 1 (the starting profile)");
@@ -73,7 +73,7 @@ std::string sig(double v, int digits = 4) {
 std::vector<std::string> provenance(const FitSettings& s, const Run& run, const FitReport& r) {
   std::vector<std::string> p;
   p.push_back("Fitted by deflex " DEFLEX_VERSION " (deflex fit) from the program " + s.run.program + " and the measurements " +
-              s.measured + (s.probe_program.empty() ? "" : " (probe program " + s.probe_program + ")") + ".");
+              s.run.measured + (s.run.probe_program.empty() ? "" : " (probe program " + s.run.probe_program + ")") + ".");
   p.push_back("Starting profile: " + run.setup.machine->file + "; material " + run.material + ".");
   p.push_back(std::to_string(r.matched) + " of " + std::to_string(r.observations) + " measured points compared; " +
               "|predicted - measured| rms " + fixed_decimals(r.all.rms_before_mm * 1000, 2) + " um before, " +
@@ -95,25 +95,24 @@ std::vector<std::string> provenance(const FitSettings& s, const Run& run, const 
 
 }  // namespace
 
-FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, std::ostream& out, Io& io,
-              Observer* observer) {
-  check(s);
-  if (obs.empty()) throw Error(ErrorKind::settings, "no measured points: there is nothing to fit");
-  Run run = open(s.run, Purpose::fit, io, observer);
+namespace {
+
+FitReport fit_run(const FitSettings& s, Run& run, const std::vector<fit::Observation>& obs, std::ostream& out, Io& io,
+                  Observer* observer) {
   const compensate::Progress progress = detail::progress_of(observer);
   const fit::Basis b = fit::simulate_basis(run.motions, run.physics, run.settings, tool_of(run), progress);
   detail::end_progress(progress);
-  const fit::Matching m = fit::match(b.surface, obs, s.reach_mm, run.part.get());
+  const fit::Matching m = fit::match(b.surface, obs, s.run.measured_reach_mm, run.part.get());
 
   FitReport r;
   r.observations = obs.size();
   r.matched = m.matched.size();
   for (std::size_t i : m.unmatched) r.unmatched.push_back(obs[i].source);
   if (!m.unmatched.empty())
-    io.err << (obs[m.unmatched.front()].source.empty() ? s.measured : obs[m.unmatched.front()].source)
+    io.err << (obs[m.unmatched.front()].source.empty() ? s.run.measured : obs[m.unmatched.front()].source)
            << ": warning: " << plural(m.unmatched.size(), "measured point") << " of " << obs.size() << " lie farther than "
-           << fixed_decimals(s.reach_mm, 3) << " mm from the surface " << s.run.program
-           << " cuts: left out of the fit (is the work offset or the program the one measured?)\n";
+           << fixed_decimals(s.run.measured_reach_mm, 3) << " mm from the surface " << s.run.program
+           << " cuts: left out of the fit (is the work offset, or the program, the one measured?)\n";
   r.fit = fit::solve(b, m, s.options);
   feature_fits(r, obs, m);
   r.start = run.physics.machine;
@@ -127,6 +126,25 @@ FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, st
   else
     writer::write_file_atomically(s.output, s.run.program, [&](std::ostream& o) { o << r.profile_text; });
   return r;
+}
+
+}  // namespace
+
+FitReport fit(const FitSettings& s, std::ostream& out, Io& io, Observer* observer) {
+  check(s);
+  if (s.run.measured.empty()) throw Error(ErrorKind::settings, "fit: give the measurements ({measured})");
+  Run run = open(s.run, Purpose::fit, io, observer);
+  return fit_run(s, run, run.measured, out, io, observer);
+}
+
+FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, std::ostream& out, Io& io,
+              Observer* observer) {
+  check(s);
+  if (obs.empty()) throw Error(ErrorKind::settings, "no measured points: there is nothing to fit");
+  FitSettings given = s;
+  given.run.measured.clear();  // the observations are given: no file to read
+  Run run = open(given.run, Purpose::fit, io, observer);
+  return fit_run(s, run, obs, out, io, observer);
 }
 
 }  // namespace deflex::job

@@ -51,4 +51,18 @@ report::Json left_alone_json(const report::RunFigures& f);
 // capped offsets, linearised and non-uniform arcs, convergence.
 void print_compensation(const Run& j, const compensate::Result& r, const compensate::Plausibility& pl, Io& io);
 
+// Settings::measured read as observations (measure/measured.hpp): a CSV or a
+// point cloud as points of the machined surface, a probe log joined with its
+// probe program as errors along the intended normals. Located errors.
+std::vector<fit::Observation> read_observations(const Settings& s);
+
+// The prediction of a run held against its measured points, as the points
+// come (fit::Nearest): made when the run has measured points, null otherwise.
+std::unique_ptr<fit::Nearest> nearest_of(const Run& j);
+MeasuredComparison held_against(const Run& j, const fit::Nearest& n);
+// measured.csv into the report folder; the summary's "measured"; the message.
+void write_measured_csv(const std::string& dir, const MeasuredComparison& m);
+report::Json measured_json(const MeasuredComparison& m, const Run& j);
+void print_measured(const Run& j, const MeasuredComparison& m, Io& io);
+
 }  // namespace deflex::job::detail

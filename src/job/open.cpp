@@ -184,6 +184,7 @@ Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const R
     throw Error(ErrorKind::input, j.prog.source().name() + ": error: the program has errors; " +
                                  (purpose == Purpose::compensate ? "nothing compensated, nothing written" : "not simulated"))
         .with_errors_of(diags);
+  if (!s.measured.empty()) j.measured = detail::read_observations(s);
   // The earlier operations read and checked before any stock is built.
   std::vector<EarlierRun> earlier;
   if (!shared) earlier = read_earlier_all(s.stock_from, j.setup, j.physics.tools, io);

@@ -68,12 +68,16 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   const std::vector<interp::Motion>& design = intent.empty() ? j.motions : moved;
   // Nothing reads the initial stock after the simulation: it may cut it.
   j.physics.consumable_stock = j.stock.get();
+  // Measured points are held against each flank slice's e(z), not only the mid-range.
+  if (!j.measured.empty()) j.settings.flank_profiles = true;
+  const std::unique_ptr<fit::Nearest> nearest = detail::nearest_of(j);
   // The points go to the recorder as they are produced; nothing keeps them.
   detail::Recording rec(j, false, obs);
   compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty());
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
     rec.rec->point(p, report::offset_at(p, intent), p.motion);
+    if (nearest) nearest->add(p);
   };
   if (j.pieces) {
     compensate::PipelineInput in = detail::pipeline_input(j, progress);
@@ -91,6 +95,12 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   s.time = j.pieces ? j.time_as_written : process::machining_time(j.motions, j.setup.machine->axis_limits);
   s.used = used(j);
   s.summary = summary_of(j, s);
+  if (nearest) {
+    s.measured = detail::held_against(j, *nearest);
+    detail::print_measured(j, *s.measured, io);
+    s.summary["measured"] = detail::measured_json(*s.measured, j);
+    if (!rec.dir.empty()) detail::write_measured_csv(rec.dir, *s.measured);
+  }
   if (!rec.dir.empty()) {
     std::vector<std::vector<std::string>> facts = {
         {"CL points in material", std::to_string(s.figures.error.points), "cl_points"},

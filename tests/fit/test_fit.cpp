@@ -94,7 +94,8 @@ std::vector<fit::Observation> measure(const Simulated& hidden, bool only_x_fed, 
         REQUIRE(k >= 0);
         const fit::SurfaceSample& smp = hidden.surface->samples()[static_cast<std::size_t>(k)];
         const double e = hidden.errors[static_cast<std::size_t>(k)] + noise(rng);
-        obs.push_back({smp.at_mm + e * smp.normal, std::nullopt, wall.id, ""});
+        const fit::V3 at = smp.at_mm + e * smp.normal;
+        obs.push_back({at, at, std::nullopt, wall.id, ""});
       }
   }
   return obs;
@@ -104,7 +105,7 @@ std::vector<fit::Observation> measure(const Simulated& hidden, bool only_x_fed, 
 job::FitReport fit_mill3(const Simulated& hidden, bool only_x_fed, Streams& st) {
   job::FitSettings s;
   s.run = walls(kSrc + "/samples/machines/mill3.yaml");
-  s.measured = "synthetic";
+  s.run.measured = "synthetic";
   return job::fit(s, measure(hidden, only_x_fed), st.out, st.io);
 }
 

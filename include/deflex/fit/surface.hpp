@@ -32,6 +32,13 @@ struct SurfaceSample {
   int slice = -1;          // its flank profile entry, -1: the point's contact
 };
 
+// The samples of one CL point (none in air or on a plunge); `index` is its
+// index in the simulation's points.
+void append_samples(const compensate::Point& p, std::uint32_t index, const stiffness::Tool& t,
+                    std::vector<SurfaceSample>& out);
+// The error the point predicts at one of its samples, mm.
+double sample_error(const compensate::Point& p, const SurfaceSample& s);
+
 class Surface {
  public:
   // The samples of a simulation's points (simulate() with

@@ -4,7 +4,7 @@
 //
 //   job::FitSettings s;
 //   s.run.program = "testcut.nc"; s.run.read.machine = "mill3"; ...
-//   s.measured = "probe_results.txt"; s.probe_program = "probe.nc";
+//   s.run.measured = "probe_results.txt"; s.run.probe_program = "probe.nc";
 //   s.output = "fitted.yaml";
 //   job::FitReport r = job::fit(s, io);
 #pragma once
@@ -23,11 +23,10 @@ namespace deflex::job {
 class Observer;
 
 struct FitSettings {
-  Settings run;               // the program whose cut was measured, machine, tool, material, stock, part
-  std::string measured;       // measured points (.csv x_mm,y_mm,z_mm; .ply/.stl cloud) or a probe log
-  std::string probe_program;  // the probe program a probe log came from
+  // The program whose cut was measured, machine, tool, material, stock, part,
+  // and the measurements (Settings::measured, probe_program, measured_reach_mm).
+  Settings run;
   std::string output;         // the fitted machine profile ("" or "-": the output stream)
-  double reach_mm = 0.5;      // a measured point farther than this from the predicted surface has no prediction
   fit::FitOptions options;
 };
 

@@ -12,6 +12,7 @@
 // left, unless the run ends well.
 #pragma once
 #include <iosfwd>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -61,12 +62,28 @@ Used used(const Run& r);
 // it. `command`: how the run was asked for (a command line), "" for none.
 std::vector<std::pair<std::string, std::string>> provenance(const Run& r, const std::string& command);
 
+// The prediction held against Settings::measured (measured.csv, summary.json's "measured").
+struct MeasuredRow {
+  compensate::V3 at_mm = compensate::V3::Zero();  // the measured surface point, work frame
+  double measured_error_mm = 0;                    // e > 0: material left
+  bool predicted = false;                          // false: farther than the reach from the predicted surface
+  double predicted_error_mm = 0;
+  std::uint32_t program_line = 0;                  // the line that generated the surface there (0: none)
+  std::string feature, source;                     // the test cut's feature; "file:line" of the measurement
+};
+struct MeasuredComparison {
+  std::vector<MeasuredRow> rows;  // one per measured point, in the file's order
+  fit::Agreement agreement;       // over the rows with a prediction
+  std::size_t unmatched = 0;
+};
+
 struct SimulateResult {
   report::RunFigures figures;             // the surface error, forces, cusp over the CL points
   compensate::Plausibility plausibility;  // the warnings on physically doubtful loads
   process::MachiningTime time;            // from the machine's axis limits
   Used used;
   report::Json summary;                   // summary.json
+  std::optional<MeasuredComparison> measured;  // with Settings::measured
 };
 
 struct CompensateResult {
@@ -77,6 +94,7 @@ struct CompensateResult {
   process::MachiningTime time_as_written, time_compensated;
   Used used;
   report::Json summary;                   // summary.json
+  std::optional<MeasuredComparison> measured;  // with Settings::measured: the program as written against it
 };
 
 // Predicts the surface error of the opened program (against Settings::reference

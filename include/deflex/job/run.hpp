@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "deflex/compensate/compensate.hpp"
+#include "deflex/fit/observe.hpp"
 #include "deflex/gcode/reader.hpp"
 #include "deflex/interp/motion.hpp"
 #include "deflex/job/io.hpp"
@@ -44,6 +45,9 @@ struct Run {
   compensate::Settings settings;  // the simulation's and the mirror's, resolved and checked
   std::unique_ptr<stock::ZMap> stock;
   std::unique_ptr<part::PartModel> part;
+  // Settings::measured read (before anything is built): the points the
+  // prediction is held against.
+  std::vector<fit::Observation> measured;
   // A program read in pieces (memory does not grow with it): `prog` holds no
   // text and `motions` stay empty; the checks' pass built what needs the whole
   // program. Null: read whole.

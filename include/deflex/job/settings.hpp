@@ -44,6 +44,12 @@ struct Settings {
   std::string output;      // compensate: the compensated program's file ("" or "-": the output stream)
   std::string reference;   // simulate: judge against this program's path (the design intent)
   std::string report_dir;  // report.html, points.csv, flank_profile.csv, summary.json into this folder
+  // Measurements of the part this program cut (measure/measured.hpp): a CSV
+  // of points x_mm,y_mm,z_mm, a point cloud (.ply, .stl) or a probe log with
+  // the probe program that wrote it. simulate and compensate hold their
+  // prediction against them (measured.csv in the report); fit fits to them.
+  std::string measured, probe_program;
+  double measured_reach_mm = 0.5;  // a measured point farther than this from the predicted surface has no prediction
   ReadSettings read;
   MaterialSettings material;
   PartSettings part;
