@@ -157,7 +157,8 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
     c.summary["measured"] = detail::measured_json(*c.measured, j);
     if (!rec.dir.empty()) detail::write_measured_csv(rec.dir, *c.measured);
   }
-  if (!rec.dir.empty()) rec.finish(j, c.figures, c.summary, facts_of(c), "compensate", command);
+  if (!rec.dir.empty())
+    rec.finish(j, c.figures, c.summary, facts_of(c), "compensate", command, c.measured ? &*c.measured : nullptr);
   return c;
 }
 

@@ -23,8 +23,10 @@ compensate::PipelineInput pipeline_input(Run& j, const compensate::Progress& pro
 struct Recording {
   Recording(const Run& j, bool as_written, Observer* obs);
   // points.csv and flank_profile.csv into place; summary.json and report.html.
+  // `measured` (may be null): the measured points beside their predictions.
   void finish(const Run& j, const report::RunFigures& f, const report::Json& summary,
-              std::vector<std::vector<std::string>> facts, const char* what, const std::string& command);
+              std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
+              const MeasuredComparison* measured = nullptr);
 
   std::string dir;
   std::unique_ptr<writer::AtomicFile> points, flank;

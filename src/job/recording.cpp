@@ -35,7 +35,8 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
 }
 
 void Recording::finish(const Run& j, const report::RunFigures& f, const report::Json& summary,
-                     std::vector<std::vector<std::string>> facts, const char* what, const std::string& command) {
+                     std::vector<std::vector<std::string>> facts, const char* what, const std::string& command,
+                     const MeasuredComparison* measured) {
   points->commit();
   if (f.flank_rows) flank->commit();
   const fs::path d(dir);
@@ -52,6 +53,9 @@ void Recording::finish(const Run& j, const report::RunFigures& f, const report::
   for (const auto& [l, text] : lines_of_file(j, lines)) h.line_text[l] = std::string(text.line_text(l));
   h.tolerance_mm = j.settings.tolerance_mm;
   h.facts = std::move(facts);
+  if (measured)
+    for (const MeasuredRow& r : measured->rows)
+      h.measured.push_back({r.at_mm.x(), r.at_mm.y(), r.at_mm.z(), r.measured_error_mm, r.predicted, r.predicted_error_mm});
   writer::write_file_atomically((d / "report.html").string(), "", [&](std::ostream& o) { o << report::report_html(h); });
 }
 

@@ -105,7 +105,7 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
     std::vector<std::vector<std::string>> facts = {
         {"CL points in material", std::to_string(s.figures.error.points), "cl_points"},
         {"machining time", report::clock(s.time.program.total_s), "machining_time"}};
-    rec.finish(j, s.figures, s.summary, std::move(facts), "simulate", command);
+    rec.finish(j, s.figures, s.summary, std::move(facts), "simulate", command, s.measured ? &*s.measured : nullptr);
   }
   return s;
 }

@@ -219,3 +219,32 @@ TEST_CASE("fit: held out - the fitted profile predicts another program as the hi
 }
 
 }  // namespace deflex::test
+
+namespace deflex::test {
+
+TEST_CASE("fit: measurements read from a CSV (job::fit with Settings::measured) fit as the same points given") {
+  TempDir dir("fit");
+  const Simulated hidden = simulate_on(walls(hidden_machine(dir, false, false)));
+  const std::vector<fit::Observation> obs = measure(hidden, false);
+  const std::string csv = dir / "measured.csv";
+  {
+    std::ofstream o(csv);
+    o << "# synthetic: mill3 with the structure stiffer in X and Y\nx_mm,y_mm,z_mm\n";
+    o.precision(9);
+    for (const fit::Observation& m : obs) o << m.measured_mm.x() << "," << m.measured_mm.y() << "," << m.measured_mm.z() << "\n";
+  }
+  if (const char* keep = std::getenv("DEFLEX_TEST_KEEP_CSV")) std::filesystem::copy_file(csv, keep, std::filesystem::copy_options::overwrite_existing);
+  Streams a, b;
+  const job::FitReport given = fit_mill3(hidden, false, a);
+  job::FitSettings s;
+  s.run = walls(kSrc + "/samples/machines/mill3.yaml");
+  s.run.measured = csv;
+  const job::FitReport read = job::fit(s, b.out, b.io);
+  CHECK(read.matched == given.matched);
+  for (int k = 0; k < fit::kParams; ++k) {
+    CHECK(read.fit.params[k].fitted == given.fit.params[k].fitted);
+    CHECK(read.fit.params[k].scale == doctest::Approx(given.fit.params[k].scale).epsilon(1e-6));
+  }
+}
+
+}  // namespace deflex::test

@@ -21,6 +21,14 @@
 
 namespace deflex::report {
 
+// A measured point beside its prediction (simulate --measured), work frame, mm.
+struct MeasuredMark {
+  double x_mm = 0, y_mm = 0, z_mm = 0;
+  double measured_error_mm = 0;
+  bool predicted = false;          // false: no prediction within reach
+  double predicted_error_mm = 0;
+};
+
 struct HtmlInput {
   std::string title;
   std::vector<std::pair<std::string, std::string>> provenance;  // label, value
@@ -29,6 +37,7 @@ struct HtmlInput {
   std::map<std::uint32_t, std::string> line_text;  // the worst lines' text, by line
   double tolerance_mm = 0.01;
   std::vector<std::vector<std::string>> facts;  // {label, text, summary key}: rows under the summary
+  std::vector<MeasuredMark> measured;   // empty: the page has no measured section
 };
 
 // The page's text.
