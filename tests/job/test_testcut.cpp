@@ -163,6 +163,9 @@ TEST_SUITE("job") {
         CHECK_FALSE(std::isnan(p.flank_min_mm));
         CHECK(p.normal.x() == doctest::Approx(f.normal[0]));
         CHECK(p.normal.y() == doctest::Approx(f.normal[1]));
+        // Down-milling pushes the tool off the wall it cuts (an undercut);
+        // up-milling would pull it in (Altintas ch. 2).
+        CHECK(p.delta_mm.dot(p.normal) > 0);
       }
       CHECK(n >= 10);
     }

@@ -79,6 +79,18 @@ TEST_SUITE("plan") {
     CHECK(p.features[0].path[2][0] - 5 >= 0 + 5 + 3 - 1e-9);
   }
 
+  TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the probe points above that") {
+    plan::TestCutter t = flat10();
+    t.type = stock::EndShape::bull;
+    t.corner_radius_mm = 1;
+    const plan::TestCutPlan p = plan::plan_testcut(kBlock, t, {});
+    for (const plan::WallFeature& f : p.features) {
+      CAPTURE(f.id);
+      CHECK(f.z0_mm == doctest::Approx(-f.ap_mm + 1));
+      CHECK(f.path[1][2] == doctest::Approx(-f.ap_mm));  // the floor itself is a_p down
+    }
+  }
+
   TEST_CASE("testcut: a block too small names the smallest that fits, which fits; a ball end and bad options are refused") {
     const plan::TestCutter t = flat10();
     const plan::Vec3 need = plan::smallest_block_mm(t, {});
