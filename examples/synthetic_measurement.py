@@ -63,11 +63,13 @@ def flank_samples(report, diameter_mm):
 
 
 def nearest(samples, points, reach_mm):
-    """Index of the nearest sample of each point, -1 beyond reach."""
+    """Index of the nearest sample of each point, -1 beyond reach; of samples
+    at the same distance the later one (the pass that cut last), as deflex
+    matches them (fit::Nearest)."""
     out = np.empty(len(points), dtype=int)
     for i in range(0, len(points), 256):
         d = np.linalg.norm(points[i:i + 256, None, :] - samples[None, :, :], axis=2)
-        k = d.argmin(axis=1)
+        k = d.shape[1] - 1 - d[:, ::-1].argmin(axis=1)
         out[i:i + 256] = np.where(d[np.arange(len(k)), k] <= reach_mm, k, -1)
     return out
 

@@ -129,7 +129,7 @@ ProbeResult probe(const ProbeSettings& s, std::ostream& out, Io& io) {
   for (const auto& f : r.program.features) r.points += f.size();
   const double ball = o.ball_diameter_mm;
   const std::vector<std::string> header = {
-      "DEFLEX PROBE - THE WALLS OF " + s.plan + ": " + plural(r.points, "POINT", "POINTS"),
+      "DEFLEX PROBING - THE WALLS OF " + s.plan + ": " + plural(r.points, "POINT", "POINTS"),
       "STYLUS BALL D" + fixed_decimals(ball, 3) + " - PROBE LENGTH " +
           (o.probe_length_mm > 0 ? fixed_decimals(o.probe_length_mm, 3) + " MM" : std::string("NOT GIVEN: NOT CHECKED")) +
           (o.probe_tool > 0 ? " - PROBE T" + std::to_string(o.probe_tool) : std::string(" - THE PROBE MUST BE IN THE SPINDLE, ITS LENGTH OFFSET ACTIVE")),
