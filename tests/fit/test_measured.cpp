@@ -6,25 +6,13 @@
 #include <fstream>
 #include <random>
 
-#include "../job/support.hpp"
-#include "deflex/fit/surface.hpp"
+#include "support.hpp"
 
 namespace deflex::test {
 
 namespace {
 
-const std::string kSrc = DEFLEX_SOURCE_DIR;
-
-job::Settings walls() {
-  job::Settings s;
-  s.program = kSrc + "/tests/data/fit/walls_xy.nc";
-  s.read.machine = kSrc + "/samples/machines/mill3.yaml";
-  s.tool_file = kSrc + "/samples/tools.yaml";
-  s.material.material = "Al6082-T4";
-  s.material.material_file = kSrc + "/samples/materials.yaml";
-  s.stock = "box:0,0,-20,100,100,0";
-  return s;
-}
+job::Settings walls() { return test::walls(kSrc + "/samples/machines/mill3.yaml"); }
 
 // Surface points of the back wall (normal +Y) as mill3 predicts them, moved
 // by `shift_mm` along Y and 1 um Gaussian noise, as a CMM's CSV.
