@@ -102,3 +102,47 @@ TEST_CASE("simulate --measured: a malformed measurement stops the run before any
 }
 
 }  // namespace deflex::test
+
+namespace deflex::test {
+
+TEST_CASE("simulate --measured --reference: measured and predicted from the design surface, not the compensated path") {
+  TempDir dir("measured");
+  // The four walls compensated on mill3.
+  job::Settings c = walls();
+  c.output = dir / "comp.nc";
+  REQUIRE(compensate_job(c).ok());
+  // Points exactly on the designed back wall (y = 96): no error measured there.
+  const std::string csv = dir / "on_design.csv";
+  {
+    std::ofstream o(csv);
+    o << "x_mm,y_mm,z_mm\n";
+    for (double z = -11.5; z < -0.2; z += 0.5) o << "50," << 96.0 << "," << z << "\n";
+  }
+  job::Settings s = walls();
+  s.program = c.output;
+  s.reference = walls().program;
+  s.measured = csv;
+  const auto o = simulate_job(s);
+  REQUIRE(o.ok());
+  const job::MeasuredComparison& m = *o.result->measured;
+  REQUIRE(m.unmatched == 0);
+  double largest_prediction = 0;
+  for (const job::MeasuredRow& r : m.rows) {
+    CHECK(std::abs(r.measured_error_mm) < 1e-6);  // against the design's envelope, not the compensated one's
+    largest_prediction = std::max(largest_prediction, std::abs(r.predicted_error_mm));
+  }
+  // Compensated: the wall lands within the taper of its flank profile, far
+  // less off the design than the program as written.
+  job::Settings w = walls();
+  w.measured = csv;
+  const auto as_written = simulate_job(w);
+  REQUIRE(as_written.ok());
+  double largest_as_written = 0;
+  for (const job::MeasuredRow& r : as_written.result->measured->rows)
+    largest_as_written = std::max(largest_as_written, std::abs(r.predicted_error_mm));
+  CAPTURE(largest_prediction);
+  CAPTURE(largest_as_written);
+  CHECK(largest_prediction < 0.5 * largest_as_written);
+}
+
+}  // namespace deflex::test
