@@ -14,7 +14,7 @@ RUN = dict(program="tests/data/fit/walls_xy.nc", machine="samples/machines/mill3
 def test_fit_from_python_is_the_command_lines(tmp_path):
     # Measurements of the machine described by mill3_as_built, as a CMM would give them.
     report = tmp_path / "as_built"
-    deflex.Job(**dict(RUN, machine="samples/machines/mill3_as_built.yaml", report_dir=str(report))).simulate(rows=False)
+    deflex.Job(**dict(RUN, machine="samples/fit/mill3_as_built.yaml", report_dir=str(report))).simulate(rows=False)
     csv = tmp_path / "measured.csv"
     subprocess.run([sys.executable, "examples/synthetic_measurement.py", str(report), "--diameter", "12", "--csv", str(csv),
                     "--every", "9"], check=True)

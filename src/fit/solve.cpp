@@ -220,9 +220,12 @@ FitResult solve(const Basis& b, const Matching& m, const FitOptions& o) {
       if (std::abs(c) > std::abs(corr)) corr = c, partner = j;
     }
     std::ostringstream why;
-    if (std::isfinite(worst_half))
-      why << "the cut cannot determine it (fitted too, " << (worst == k ? std::string("its") : "the " + std::string(name(Param(worst))) + "'s")
-          << " 95 % interval would be " << factor(std::exp(-worst_half)) << " to " << factor(std::exp(worst_half)) << ")";
+    const std::string whose = worst == k ? std::string("its") : "the " + std::string(name(Param(worst))) + "'s";
+    if (std::isfinite(worst_half) && worst_half < std::log(100.0))
+      why << "the cut cannot determine it (fitted too, " << whose << " 95 % interval would be "
+          << factor(std::exp(-worst_half)) << " to " << factor(std::exp(worst_half)) << ")";
+    else if (std::isfinite(worst_half))
+      why << "the cut cannot determine it (fitted too, " << whose << " 95 % interval would be wider than x0.01 to x100)";
     else
       why << "the cut cannot determine it: the measured points leave it free together with the others";
     if (partner >= 0) {

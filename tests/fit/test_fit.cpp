@@ -10,6 +10,9 @@
 #include "deflex/job/fit.hpp"
 #include "deflex/profile/yaml.hpp"
 
+// Every case of this file in the suite "fit" (ctest runs suites: cmake/tests.cmake).
+TEST_SUITE_BEGIN("fit");
+
 namespace deflex::test {
 
 namespace {
@@ -189,3 +192,5 @@ TEST_CASE("fit: measurements read from a CSV (job::fit with Settings::measured) 
 }
 
 }  // namespace deflex::test
+
+TEST_SUITE_END();

@@ -11,6 +11,9 @@
 #include "deflex/measure/probe.hpp"
 #include "support.hpp"
 
+// Every case of this file in the suite "fit" (ctest runs suites: cmake/tests.cmake).
+TEST_SUITE_BEGIN("fit");
+
 namespace deflex::test {
 
 namespace {
@@ -107,3 +110,5 @@ TEST_CASE("fit loop: test cut, probe, log of a hidden machine, fit; the fitted p
 }
 
 }  // namespace deflex::test
+
+TEST_SUITE_END();

@@ -8,6 +8,9 @@
 
 #include "support.hpp"
 
+// Every case of this file in the suite "fit" (ctest runs suites: cmake/tests.cmake).
+TEST_SUITE_BEGIN("fit");
+
 namespace deflex::test {
 
 namespace {
@@ -146,3 +149,5 @@ TEST_CASE("simulate --measured --reference: measured and predicted from the desi
 }
 
 }  // namespace deflex::test
+
+TEST_SUITE_END();
