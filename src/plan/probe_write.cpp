@@ -2,6 +2,7 @@
 // G38.2 with its probe log, or the ISO controls' G31 skip with DPRNT.
 #include <ostream>
 
+#include "deflex/diag/diagnostics.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/plan/probe.hpp"
 #include "deflex/writer/writer.hpp"
@@ -68,6 +69,12 @@ class ProbeWriter {
 }  // namespace
 
 void write_probe(std::ostream& out, const ProbeProgram& p, const profile::Dialect& d, const std::vector<std::string>& header) {
+  // The TNC probes with its own touch probe cycles (TCH PROBE); its ISO mode
+  // has neither the skip function G31 nor macro B's DPRNT.
+  if (d.name.starts_with("heidenhain"))
+    throw Error(ErrorKind::settings, "probe: the " + d.name +
+                                         " dialect has no G31 skip and no DPRNT (the control probes with its own "
+                                         "cycles): write the probing program for linuxcnc, fanuc, haas or siemens-iso");
   ProbeWriter(out, p, d).write(header);
 }
 

@@ -208,7 +208,11 @@ void write_testcut(std::ostream& out, TestCutPlan& p, const profile::Dialect& d,
     lines.push_back("Z" + num(clear));  // up in air, fed: rapids only above the clearance
   }
   lines.insert(lines.end(), {"M5", "M30", "%"});
-  for (const std::string& l : lines) out << l << "\n";
+  // A control that needs N on every block (the Heidenhain TNC in ISO) gets
+  // them on every line, comments too, between the tape marks.
+  const bool numbered = d.n_policy == profile::NPolicy::required;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    out << (numbered && lines[i] != "%" ? "N" + std::to_string(10 * i) + " " : "") << lines[i] << "\n";
 }
 
 }  // namespace deflex::plan

@@ -72,7 +72,8 @@ ProbeProgram plan_probe(const TestCutPlan& p, const ProbeOptions& o);
 std::string probe_comment(const ProbePoint& pt, double ball_radius_mm);
 
 // The program for dialect `d`; linuxcnc: G38.2 and PROBEOPEN, any other: G31
-// and DPRNT.
+// and DPRNT, but for the Heidenhain TNC (Error(settings): it probes with its
+// own cycles).
 void write_probe(std::ostream& out, const ProbeProgram& p, const profile::Dialect& d, const std::vector<std::string>& header);
 
 }  // namespace deflex::plan
