@@ -21,25 +21,31 @@ double on_grid(double v) { return std::round(v * 1000) / 1000; }
 
 double largest(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
 
-// a_p of each entry of o.ap_pitches: at most 90 % of the flute length (the
-// shank must not rub the wall), or 1.5 D when the flute length is unknown.
+// The deepest a_p: 90 % of the flute length (the shank must not rub the
+// wall), or 1.5 D when the flute length is unknown.
+double deepest_ap_mm(const TestCutter& t) { return t.flute_length_mm > 0 ? 0.9 * t.flute_length_mm : 1.5 * t.diameter_mm; }
+
+// The a_p asked for, else o.ap_pitches of the axial pitch up to the deepest.
 std::vector<double> axial_depths(const TestCutter& t, const TestCutOptions& o) {
-  const double cap = t.flute_length_mm > 0 ? 0.9 * t.flute_length_mm : 1.5 * t.diameter_mm;
   std::vector<double> ap;
-  for (double f : o.ap_pitches) ap.push_back(on_grid(std::min(cap, f * axial_pitch_mm(t))));
+  for (double d : o.ap_mm) ap.push_back(on_grid(d));
+  if (o.ap_mm.empty())
+    for (double f : o.ap_pitches) ap.push_back(on_grid(std::min(deepest_ap_mm(t), f * axial_pitch_mm(t))));
   return ap;
 }
 
 std::vector<double> radial_depths(const TestCutter& t, const TestCutOptions& o) {
   std::vector<double> ae;
-  for (double f : o.ae_fractions) ae.push_back(on_grid(f * t.diameter_mm));
+  for (double d : o.ae_mm) ae.push_back(on_grid(d));
+  if (o.ae_mm.empty())
+    for (double f : o.ae_fractions) ae.push_back(on_grid(f * t.diameter_mm));
   return ae;
 }
 
 // Length along a face from its free end to the far end of the last segment:
 // lead (the corner kept free), n segments, n - 1 spaces, the last cutter's reach.
 double face_length_mm(const TestCutter& t, const TestCutOptions& o, double ae_max) {
-  const double R = t.diameter_mm / 2, n = static_cast<double>(o.ae_fractions.size() * o.ap_pitches.size());
+  const double R = t.diameter_mm / 2, n = static_cast<double>(radial_depths(t, o).size() * axial_depths(t, o).size());
   const double seg = o.probe_length_mm + 2 * R;
   return (ae_max + o.gap_mm + R) + n * seg + (n - 1) * (2 * R + o.gap_mm) + R + o.gap_mm;
 }
@@ -132,14 +138,19 @@ void check_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions
   if (!(o.spindle_rpm > 0 && o.spindle_rpm <= 1e5)) bad("{spindle_rpm} must be in (0, 100000] rpm");
   if (!(o.fz_mm > 0 && o.fz_mm <= 1)) bad("{fz_mm} must be in (0, 1] mm per tooth");
   if (!(o.fz_mm * t.flutes * o.spindle_rpm <= 1e5)) bad("{feed_mm_per_min} must be at most 100000 mm/min");
-  if (o.ae_fractions.empty() || o.ap_pitches.empty()) bad("testcut: no radial or no axial depth given");
-  for (double f : o.ae_fractions)
-    if (!(f > 0 && f <= 0.5)) bad("testcut: each radial depth must be in (0, 0.5] D: a wider cut is no longer a side cut of one face");
+  if (radial_depths(t, o).empty() || axial_depths(t, o).empty() || o.ae_mm.size() > 10 || o.ap_mm.size() > 10)
+    bad("testcut: give 1 to 10 radial and 1 to 10 axial depths");
   for (double f : o.ap_pitches)
     if (!(f > 0 && f <= 5)) bad("testcut: each axial depth must be in (0, 5] axial pitches");
+  for (double ae : radial_depths(t, o))
+    if (!(ae > 0 && ae <= t.diameter_mm / 2 + 1e-9))
+      bad("{ae_mm}: each radial depth must be in (0, " + fixed_decimals(t.diameter_mm / 2, 3) +
+          "] mm (half the diameter): a wider cut is no longer a side cut of one face");
   for (double ap : axial_depths(t, o))
-    if (!(ap > t.corner_radius_mm + 0.5))
-      bad("testcut: an axial depth of " + fixed_decimals(ap, 3) + " mm leaves no wall above " + t.id + "'s corner radius");
+    if (!(ap > t.corner_radius_mm + 0.5 && ap <= deepest_ap_mm(t) + 1e-9))
+      bad("{ap_mm}: each axial depth must be in (" + fixed_decimals(t.corner_radius_mm + 0.5, 3) + ", " +
+          fixed_decimals(deepest_ap_mm(t), 3) + "] mm: a wall above " + t.id +
+          "'s corner radius, within 90 % of its flute length");
   if (!(o.probe_length_mm >= 1 && o.probe_length_mm <= 100)) bad("testcut: the probe region must be 1 to 100 mm long");
   if (!(o.gap_mm >= 0.5 && o.air_mm >= 0.5 && o.clearance_mm >= 1 && o.floor_margin_mm >= 0))
     bad("testcut: gap and air at least 0.5 mm, clearance at least 1 mm");

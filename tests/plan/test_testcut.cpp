@@ -79,6 +79,26 @@ TEST_SUITE("plan") {
     CHECK(p.features[0].path[2][0] - 5 >= 0 + 5 + 3 - 1e-9);
   }
 
+  TEST_CASE("testcut: the depths asked for, every a_e at every a_p on both faces; out of range refused") {
+    plan::TestCutOptions o;
+    o.ae_mm = {0.5, 3};
+    o.ap_mm = {2, 8, 12.5};
+    const plan::TestCutPlan p = plan::plan_testcut(kBlock, flat10(), o);
+    REQUIRE(p.features.size() == 12);
+    for (std::size_t k = 0; k < 12; ++k) {
+      CAPTURE(p.features[k].id);
+      CHECK(p.features[k].ae_mm == o.ae_mm[k % 2]);
+      CHECK(p.features[k].ap_mm == o.ap_mm[(k % 6) / 2]);
+      CHECK(p.features[k].z0_mm == -o.ap_mm[(k % 6) / 2]);
+    }
+    o.ap_mm = {20};  // beyond 90 % of the 22 mm of flutes
+    CHECK(error_of([&] { plan::check_testcut(kBlock, flat10(), o); }, ErrorKind::settings) ==
+          "ap_mm: each axial depth must be in (0.500, 19.800] mm: a wall above T1's corner radius, within 90 % of its flute length");
+    o.ap_mm = {5};
+    o.ae_mm = {5.5};
+    CHECK(error_of([&] { plan::check_testcut(kBlock, flat10(), o); }, ErrorKind::settings).starts_with("ae_mm: each radial depth must be in (0, 5.000] mm"));
+  }
+
   TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the probe points above that") {
     plan::TestCutter t = flat10();
     t.type = stock::EndShape::bull;

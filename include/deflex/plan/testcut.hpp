@@ -57,6 +57,7 @@ struct TestCutOptions {
   double fz_mm = 0.05;                            // feed per tooth; the feed is fz N n
   std::vector<double> ae_fractions{0.1, 0.25, 0.5};  // a_e / D of the walls
   std::vector<double> ap_pitches{0.4, 1.25};      // a_p / axial pitch (single flute, overlap)
+  std::vector<double> ae_mm, ap_mm;               // the depths asked for, mm (empty: the two above)
   double probe_length_mm = 6;                     // steady-state wall along the feed, mm
   double gap_mm = 3;                              // between the reach of neighbouring cuts
   double air_mm = 2;                              // the cutter this far from the block when it goes down
