@@ -75,8 +75,9 @@ int cmd_testcut(const std::vector<std::string>& args, Io& io) {
                "region (steady-state cut), a_e, a_p, f_z and program lines. --ae and --ap\n"
                "choose the depths in mm instead (every a_e at every a_p, on both faces). Then:\n"
                "  deflex probe testcut.yaml --dialect D -o probe.nc\n"
-               "writes the on-machine probing program of those walls. Ball end mills need\n"
-               "slope patches, which are not implemented yet.\n",
+               "writes the on-machine probing program of those walls. A ball end mill cuts\n"
+               "slope patches instead: the block's front top edge (y = Y0) chamfered at 15, 30\n"
+               "and 45 deg, passes along +X down the slope 0.1 R apart, each at most 0.8 R deep.\n",
                desc);
     return 0;
   }
@@ -84,7 +85,9 @@ int cmd_testcut(const std::vector<std::string>& args, Io& io) {
   if (!ap.empty()) s.options.ap_mm = numbers_of(ap, "--ap");
   const job::TestCutResult r = job::testcut(s, io);
   const plan::TestCutPlan& p = r.plan;
-  io.info() << r.program << ": " << plural(p.features.size(), "wall") << " of " << s.tool << " in " << p.material << ", S"
+  const bool ball = p.tool.type == stock::EndShape::ball;
+  io.info() << r.program << ": " << (ball ? plural(p.features.size(), "slope patch", "slope patches") : plural(p.features.size(), "wall"))
+            << " of " << s.tool << " in " << p.material << ", S"
             << fixed_decimals(p.spindle_rpm, 0) << " F" << fixed_decimals(p.feed_mm_per_min, 1) << " (fz "
             << fixed_decimals(p.fz_mm, 4) << " mm), " << plural(r.moves, "move") << "; plan " << r.plan_file << "\n";
   return 0;
@@ -109,7 +112,7 @@ int cmd_probe(const std::vector<std::string>& args, Io& io) {
   parse_with_files(args, desc, files, 1);
   if (help) {
     print_help(io.out, "deflex probe testcut.yaml [--dialect D] [-o probe.nc]",
-               "Writes the on-machine probing program of the walls a test cut left (its plan from\n"
+               "Writes the on-machine probing program of the walls (or slopes) a test cut left (its plan from\n"
                "deflex testcut): on each wall's probe region, three positions along the feed and\n"
                "heights every --step from the floor up, each point approached along the wall's\n"
                "normal: the ball centre --approach off the surface, a probing move that stops on\n"
@@ -127,7 +130,7 @@ int cmd_probe(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(ErrorKind::settings, "probe: give the test cut's plan (see deflex probe --help)");
   s.plan = files[0];
   const job::ProbeResult r = job::probe(s, io.out, io);
-  io.info() << r.name << ": " << plural(r.points, "point") << " on " << plural(r.program.features.size(), "wall") << " of "
+  io.info() << r.name << ": " << plural(r.points, "point") << " on " << plural(r.program.features.size(), "feature") << " of "
             << s.plan << ", ball D" << fixed_decimals(o.ball_diameter_mm, 3) << "\n";
   return 0;
 }

@@ -26,8 +26,13 @@ class ProbeWriter {
     out_ << "M0\n";
     // LinuxCNC logs every G38.x trip point while the file is open; the ISO
     // controls print what DPRNT gives to the device POPEN opened.
-    if (linuxcnc_) out_ << "(PROBEOPEN " << p_.options.results_file << ")\n";
-    else out_ << "POPEN\n";
+    if (linuxcnc_) {
+      out_ << "(PROBEOPEN " << p_.options.results_file << ")\n";
+    } else {
+      comment("DPRNT WRITES ONE LINE PT<ID> X Y Z PER POINT TO THE OUTPUT DEVICE OF THE CONTROL'S I/O CHANNEL "
+              "[FANUC: PARAMETER 20]");
+      out_ << "POPEN\n";
+    }
     for (std::size_t k = 0; k < p_.features.size(); ++k) feature(p_.plan.features[k], p_.features[k]);
     if (linuxcnc_) out_ << "(PROBECLOSE)\n";
     else out_ << "PCLOS\n";

@@ -35,7 +35,7 @@ TEST_SUITE("cli") {
     REQUIRE(p.rc == 0);
     CHECK(p.out.find("G38.2 ") != std::string::npos);
     CHECK(p.out.find("BALL 1.500)\n") != std::string::npos);
-    CHECK(p.err.find("points on 12 walls of " + dir / "cut.yaml" + ", ball D3.000") != std::string::npos);
+    CHECK(p.err.find("points on 12 features of " + dir / "cut.yaml" + ", ball D3.000") != std::string::npos);
     const auto f = test::run_cli({"probe", dir / "cut.yaml", "-o", dir / "probe.nc", "--probe-tool", "T20", "--probe-length", "40"});
     REQUIRE(f.rc == 0);
     const std::string fanuc = test::read_file(dir / "probe.nc");
