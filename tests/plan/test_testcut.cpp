@@ -138,7 +138,7 @@ TEST_SUITE("plan") {
     }
   }
 
-  TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the probe points above that") {
+  TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the floor a_p down") {
     plan::TestCutter t = flat10();
     t.type = stock::EndShape::bull;
     t.corner_radius_mm = 1;
@@ -150,7 +150,7 @@ TEST_SUITE("plan") {
     }
   }
 
-  TEST_CASE("testcut: a block too small names the smallest that fits, which fits; a ball end and bad options are refused") {
+  TEST_CASE("testcut: a block too small names the smallest that fits, which fits; depths for a ball and bad options are refused") {
     const plan::TestCutter t = flat10();
     const plan::Vec3 need = plan::smallest_block_mm(t, {});
     const std::string m = error_of([&] { plan::check_testcut({0, 0, -30, 100, 100, 0}, t, {}); }, ErrorKind::settings);
