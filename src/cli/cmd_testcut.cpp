@@ -1,6 +1,9 @@
 // deflex testcut and deflex probe: the calibration test cut for a machine,
 // tool and material on a block, with its plan (job::testcut), and the
 // on-machine probing program of its walls (job::probe).
+#include <algorithm>
+#include <exception>
+
 #include "common.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/job/testcut.hpp"
@@ -13,10 +16,33 @@ auto optional_value(std::optional<double>& dst) {
   return po::value<double>()->notifier([&dst](double v) { dst = v; });
 }
 
+// "1,2.5,5" as numbers; a settings Error naming `flag` on anything else.
+std::vector<double> numbers_of(const std::string& list, const char* flag) {
+  std::vector<double> v;
+  std::size_t at = 0;
+  while (at <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', at), list.size());
+    const std::string item = list.substr(at, comma - at);
+    std::size_t used = 0;
+    double d = 0;
+    try {
+      d = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size())
+      throw Error(ErrorKind::settings, std::string(flag) + " takes numbers separated by commas (mm), not '" + list + "'");
+    v.push_back(d);
+    at = comma + 1;
+  }
+  return v;
+}
+
 }  // namespace
 
 int cmd_testcut(const std::vector<std::string>& args, Io& io) {
   job::TestCutSettings s;
+  std::string ae, ap;
   bool help = false;
   po::options_description desc("options");
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")(
@@ -29,7 +55,9 @@ int cmd_testcut(const std::vector<std::string>& args, Io& io) {
       "stock", po::value(&s.stock), "the test block, box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame; required)")(
       "spindle", optional_value(s.spindle_rpm), "spindle speed, rpm (default 6000; the tool library has no cutting data)")(
       "feed", optional_value(s.feed_mm_per_min), "feed of the walls, mm/min (or --fz)")(
-      "fz", optional_value(s.fz_mm), "feed per tooth, mm (default 0.05): the feed is fz x flutes x rpm");
+      "fz", optional_value(s.fz_mm), "feed per tooth, mm (default 0.05): the feed is fz x flutes x rpm")(
+      "ae", po::value(&ae), "radial depths of the walls, mm, comma-separated (default 0.1, 0.25 and 0.5 D)")(
+      "ap", po::value(&ap), "axial depths of the walls, mm, comma-separated (default 0.4 and 1.25 axial pitches)");
   add_read_options(desc, s.read);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 0);
@@ -44,16 +72,22 @@ int cmd_testcut(const std::vector<std::string>& args, Io& io) {
                "in Morelli 2021). Each wall is entered from air beside the block; rapids run\n"
                "only above the block top + 5 mm. A block too small is refused with the\n"
                "smallest that fits. The plan states each wall's intended plane, its probe\n"
-               "region (steady-state cut), a_e, a_p, f_z and program lines. Then:\n"
+               "region (steady-state cut), a_e, a_p, f_z and program lines. --ae and --ap\n"
+               "choose the depths in mm instead (every a_e at every a_p, on both faces). Then:\n"
                "  deflex probe testcut.yaml --dialect D -o probe.nc\n"
-               "writes the on-machine probing program of those walls. Ball end mills need\n"
-               "slope patches, which are not implemented yet.\n",
+               "writes the on-machine probing program of those walls. A ball end mill cuts\n"
+               "slope patches instead: the block's front top edge (y = Y0) chamfered at 15, 30\n"
+               "and 45 deg, passes along +X down the slope 0.1 R apart, each at most 0.8 R deep.\n",
                desc);
     return 0;
   }
+  if (!ae.empty()) s.options.ae_mm = numbers_of(ae, "--ae");
+  if (!ap.empty()) s.options.ap_mm = numbers_of(ap, "--ap");
   const job::TestCutResult r = job::testcut(s, io);
   const plan::TestCutPlan& p = r.plan;
-  io.info() << r.program << ": " << plural(p.features.size(), "wall") << " of " << s.tool << " in " << p.material << ", S"
+  const bool ball = p.tool.type == stock::EndShape::ball;
+  io.info() << r.program << ": " << (ball ? plural(p.features.size(), "slope patch", "slope patches") : plural(p.features.size(), "wall"))
+            << " of " << s.tool << " in " << p.material << ", S"
             << fixed_decimals(p.spindle_rpm, 0) << " F" << fixed_decimals(p.feed_mm_per_min, 1) << " (fz "
             << fixed_decimals(p.fz_mm, 4) << " mm), " << plural(r.moves, "move") << "; plan " << r.plan_file << "\n";
   return 0;
@@ -78,7 +112,7 @@ int cmd_probe(const std::vector<std::string>& args, Io& io) {
   parse_with_files(args, desc, files, 1);
   if (help) {
     print_help(io.out, "deflex probe testcut.yaml [--dialect D] [-o probe.nc]",
-               "Writes the on-machine probing program of the walls a test cut left (its plan from\n"
+               "Writes the on-machine probing program of the walls (or slopes) a test cut left (its plan from\n"
                "deflex testcut): on each wall's probe region, three positions along the feed and\n"
                "heights every --step from the floor up, each point approached along the wall's\n"
                "normal: the ball centre --approach off the surface, a probing move that stops on\n"
@@ -96,7 +130,7 @@ int cmd_probe(const std::vector<std::string>& args, Io& io) {
   if (files.empty()) throw Error(ErrorKind::settings, "probe: give the test cut's plan (see deflex probe --help)");
   s.plan = files[0];
   const job::ProbeResult r = job::probe(s, io.out, io);
-  io.info() << r.name << ": " << plural(r.points, "point") << " on " << plural(r.program.features.size(), "wall") << " of "
+  io.info() << r.name << ": " << plural(r.points, "point") << " on " << plural(r.program.features.size(), "feature") << " of "
             << s.plan << ", ball D" << fixed_decimals(o.ball_diameter_mm, 3) << "\n";
   return 0;
 }

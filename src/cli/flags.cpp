@@ -25,7 +25,8 @@ std::string flag_of(std::string_view keyword) {
       {"measured_reach_mm", "--measured-reach"}, {"rough_tool", "--rough-tool"}, {"pair_mm", "--pair-mm"},
       {"mesh_tolerance_mm", "--mesh-tolerance"}, {"fz_mm", "--fz"}, {"plan", "--plan"},
       {"ball_diameter_mm", "--ball-diameter"}, {"probe_length_mm", "--probe-length"}, {"probe_tool", "--probe-tool"},
-      {"step_mm", "--step"}, {"approach_mm", "--approach"}, {"probe_feed_mm_per_min", "--probe-feed"}};
+      {"step_mm", "--step"}, {"approach_mm", "--approach"}, {"probe_feed_mm_per_min", "--probe-feed"},
+      {"ae_mm", "--ae"}, {"ap_mm", "--ap"}};
   for (const auto& [k, flag] : kFlags)
     if (k == keyword) return std::string(flag);
   // A keyword added to the library's vocabulary without a flag here: named

@@ -59,12 +59,14 @@ plan::TestCutOptions cut_options(const TestCutSettings& s, const plan::TestCutte
 std::vector<std::string> cut_header(const TestCutSettings& s, const plan::TestCutPlan& p, const std::string& box,
                                     const std::string& plan_file) {
   const plan::TestCutter& t = p.tool;
-  return {"DEFLEX TESTCUT - WALLS FOR THE STIFFNESS FIT, PROBED WITH DEFLEX PROBE " + plan_file,
+  const std::string features = t.type == stock::EndShape::ball ? plural(p.features.size(), "SLOPE PATCH", "SLOPE PATCHES")
+                                                                 : plural(p.features.size(), "WALL", "WALLS");
+  return {"DEFLEX TESTCUT - A CALIBRATION CUT FOR THE STIFFNESS FIT, PROBED WITH DEFLEX PROBE " + plan_file,
           "MACHINE " + p.machine + " - MATERIAL " + p.material + " - BLOCK " + box,
           s.tool + " " + shape_name(t.type) + " D" + fixed_decimals(t.diameter_mm, 3) + " " + plural(t.flutes, "FLUTE", "FLUTES") +
               " HELIX " + fixed_decimals(t.helix_deg, 1) + " - S" + fixed_decimals(p.spindle_rpm, 0) + " F" +
               fixed_decimals(p.feed_mm_per_min, 1) + " FZ " + fixed_decimals(p.fz_mm, 4),
-          "DOWN MILLING, SPINDLE M3 - " + plural(p.features.size(), "WALL", "WALLS") + ", EACH ENTERED FROM AIR BESIDE THE BLOCK"};
+          "DOWN MILLING, SPINDLE M3 - " + features + ", EACH PASS ENTERED FROM AIR BESIDE THE BLOCK"};
 }
 
 }  // namespace

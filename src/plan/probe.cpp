@@ -50,10 +50,14 @@ std::vector<ProbePoint> feature_points(const WallFeature& f, const ProbeOptions&
       p.id = ++id;
       p.feature = f.id;
       p.normal = f.normal;
-      // The intended surface point: on the plane through point_mm at (u, h).
-      Vec3 s = f.point_mm;
-      s[f.feed_axis] = u;
+      // The intended surface point: on the plane through point_mm at (u, h),
+      // the other horizontal coordinate from the plane (a wall: point_mm's).
+      const Vec3& q = f.point_mm;
+      const int a = f.feed_axis, b = 1 - a;
+      Vec3 s = q;
+      s[a] = u;
       s[2] = h;
+      s[b] = on_grid(q[b] - (f.normal[a] * (u - q[a]) + f.normal[2] * (h - q[2])) / f.normal[b]);
       p.surface_mm = s;
       p.start_mm = along(s, f.normal, r + o.approach_mm);
       p.end_mm = along(s, f.normal, r - o.overtravel_mm);

@@ -2,6 +2,7 @@
 // G38.2 with its probe log, or the ISO controls' G31 skip with DPRNT.
 #include <ostream>
 
+#include "deflex/diag/diagnostics.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/plan/probe.hpp"
 #include "deflex/writer/writer.hpp"
@@ -25,8 +26,13 @@ class ProbeWriter {
     out_ << "M0\n";
     // LinuxCNC logs every G38.x trip point while the file is open; the ISO
     // controls print what DPRNT gives to the device POPEN opened.
-    if (linuxcnc_) out_ << "(PROBEOPEN " << p_.options.results_file << ")\n";
-    else out_ << "POPEN\n";
+    if (linuxcnc_) {
+      out_ << "(PROBEOPEN " << p_.options.results_file << ")\n";
+    } else {
+      comment("DPRNT WRITES ONE LINE PT<ID> X Y Z PER POINT TO THE OUTPUT DEVICE OF THE CONTROL'S I/O CHANNEL "
+              "[FANUC: PARAMETER 20]");
+      out_ << "POPEN\n";
+    }
     for (std::size_t k = 0; k < p_.features.size(); ++k) feature(p_.plan.features[k], p_.features[k]);
     if (linuxcnc_) out_ << "(PROBECLOSE)\n";
     else out_ << "PCLOS\n";
@@ -68,6 +74,12 @@ class ProbeWriter {
 }  // namespace
 
 void write_probe(std::ostream& out, const ProbeProgram& p, const profile::Dialect& d, const std::vector<std::string>& header) {
+  // The TNC probes with its own touch probe cycles (TCH PROBE); its ISO mode
+  // has neither the skip function G31 nor macro B's DPRNT.
+  if (d.name.starts_with("heidenhain"))
+    throw Error(ErrorKind::settings, "probe: the " + d.name +
+                                         " dialect has no G31 skip and no DPRNT (the control probes with its own "
+                                         "cycles): write the probing program for linuxcnc, fanuc, haas or siemens-iso");
   ProbeWriter(out, p, d).write(header);
 }
 

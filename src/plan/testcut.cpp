@@ -11,6 +11,7 @@
 #include "deflex/diag/plural.hpp"
 #include "deflex/force/morelli.hpp"
 #include "deflex/writer/writer.hpp"
+#include "testcut_slope.hpp"
 
 namespace deflex::plan {
 namespace {
@@ -19,27 +20,33 @@ namespace {
 // the program cuts, in every dialect (all write 3 decimals or more).
 double on_grid(double v) { return std::round(v * 1000) / 1000; }
 
-double largest(const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); }
+double largest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
-// a_p of each entry of o.ap_pitches: at most 90 % of the flute length (the
-// shank must not rub the wall), or 1.5 D when the flute length is unknown.
+// The deepest a_p: 90 % of the flute length (the shank must not rub the
+// wall), or 1.5 D when the flute length is unknown.
+double deepest_ap_mm(const TestCutter& t) { return t.flute_length_mm > 0 ? 0.9 * t.flute_length_mm : 1.5 * t.diameter_mm; }
+
+// The a_p asked for, else o.ap_pitches of the axial pitch up to the deepest.
 std::vector<double> axial_depths(const TestCutter& t, const TestCutOptions& o) {
-  const double cap = t.flute_length_mm > 0 ? 0.9 * t.flute_length_mm : 1.5 * t.diameter_mm;
   std::vector<double> ap;
-  for (double f : o.ap_pitches) ap.push_back(on_grid(std::min(cap, f * axial_pitch_mm(t))));
+  for (double d : o.ap_mm) ap.push_back(on_grid(d));
+  if (o.ap_mm.empty())
+    for (double f : o.ap_pitches) ap.push_back(on_grid(std::min(deepest_ap_mm(t), f * axial_pitch_mm(t))));
   return ap;
 }
 
 std::vector<double> radial_depths(const TestCutter& t, const TestCutOptions& o) {
   std::vector<double> ae;
-  for (double f : o.ae_fractions) ae.push_back(on_grid(f * t.diameter_mm));
+  for (double d : o.ae_mm) ae.push_back(on_grid(d));
+  if (o.ae_mm.empty())
+    for (double f : o.ae_fractions) ae.push_back(on_grid(f * t.diameter_mm));
   return ae;
 }
 
 // Length along a face from its free end to the far end of the last segment:
 // lead (the corner kept free), n segments, n - 1 spaces, the last cutter's reach.
 double face_length_mm(const TestCutter& t, const TestCutOptions& o, double ae_max) {
-  const double R = t.diameter_mm / 2, n = static_cast<double>(o.ae_fractions.size() * o.ap_pitches.size());
+  const double R = t.diameter_mm / 2, n = static_cast<double>(radial_depths(t, o).size() * axial_depths(t, o).size());
   const double seg = o.probe_length_mm + 2 * R;
   return (ae_max + o.gap_mm + R) + n * seg + (n - 1) * (2 * R + o.gap_mm) + R + o.gap_mm;
 }
@@ -106,6 +113,15 @@ void add_face(TestCutPlan& p, const TestBlock& b, const TestCutter& t, const Tes
     }
 }
 
+// The comment before a feature's cut.
+std::string feature_title(const WallFeature& f) {
+  const std::string depths = ", AE " + fixed_decimals(f.ae_mm, 3) + " AP " + fixed_decimals(f.ap_mm, 3) + " FZ " +
+                             fixed_decimals(f.fz_mm, 3) + " DOWN MILLING";
+  if (f.kind == "slope")
+    return f.id + ": SLOPE " + fixed_decimals(f.slope_deg, 1) + " DEG, PASSES FED +X" + depths + " [AE: THE STEPOVER]";
+  return f.id + ": WALL FED +" + (f.feed_axis == 0 ? "X" : "Y") + depths + (f.morelli.empty() ? "" : ", MORELLI " + f.morelli);
+}
+
 }  // namespace
 
 double axial_pitch_mm(const TestCutter& t) {
@@ -114,35 +130,34 @@ double axial_pitch_mm(const TestCutter& t) {
 }
 
 Vec3 smallest_block_mm(const TestCutter& t, const TestCutOptions& o) {
+  if (t.type == stock::EndShape::ball) return smallest_slope_block_mm(t, o);
   const double ae_max = largest(radial_depths(t, o)), ap_max = largest(axial_depths(t, o));
   const double face = face_length_mm(t, o, ae_max);
   return {std::ceil(face), std::ceil(face), std::ceil(ap_max + o.floor_margin_mm)};
 }
 
-void check_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions& o) {
+namespace {
+
+// The depths of the walls.
+void check_walls(const TestCutter& t, const TestCutOptions& o) {
   auto bad = [](const std::string& what) { throw Error(ErrorKind::settings, what); };
-  if (t.type == stock::EndShape::ball)
-    bad("testcut: " + t.id + " is a ball end mill: the slope patches a ball needs are not implemented yet "
-        "(use a flat or bull-nose end mill)");
-  if (!(t.diameter_mm > 0)) bad("testcut: " + t.id + " has no diameter");
-  if (t.flutes < 1) bad("testcut: " + t.id + " has no flutes");
-  if (!(t.helix_deg > 0 && t.helix_deg < 80))
-    bad("testcut: " + t.id + "'s helix must be in (0, 80) deg: the axial depths are chosen against the axial pitch between flutes");
-  if (o.tool_number < 0 || o.tool_number > 99999) bad("testcut: the tool number must be in 0..99999");
-  if (!(o.spindle_rpm > 0 && o.spindle_rpm <= 1e5)) bad("{spindle_rpm} must be in (0, 100000] rpm");
-  if (!(o.fz_mm > 0 && o.fz_mm <= 1)) bad("{fz_mm} must be in (0, 1] mm per tooth");
-  if (!(o.fz_mm * t.flutes * o.spindle_rpm <= 1e5)) bad("{feed_mm_per_min} must be at most 100000 mm/min");
-  if (o.ae_fractions.empty() || o.ap_pitches.empty()) bad("testcut: no radial or no axial depth given");
-  for (double f : o.ae_fractions)
-    if (!(f > 0 && f <= 0.5)) bad("testcut: each radial depth must be in (0, 0.5] D: a wider cut is no longer a side cut of one face");
+  if (radial_depths(t, o).empty() || axial_depths(t, o).empty() || o.ae_mm.size() > 10 || o.ap_mm.size() > 10)
+    bad("testcut: give 1 to 10 radial and 1 to 10 axial depths");
   for (double f : o.ap_pitches)
     if (!(f > 0 && f <= 5)) bad("testcut: each axial depth must be in (0, 5] axial pitches");
+  for (double ae : radial_depths(t, o))
+    if (!(ae > 0 && ae <= t.diameter_mm / 2 + 1e-9))
+      bad("{ae_mm}: each radial depth must be in (0, " + fixed_decimals(t.diameter_mm / 2, 3) +
+          "] mm (half the diameter): a wider cut is no longer a side cut of one face");
   for (double ap : axial_depths(t, o))
-    if (!(ap > t.corner_radius_mm + 0.5))
-      bad("testcut: an axial depth of " + fixed_decimals(ap, 3) + " mm leaves no wall above " + t.id + "'s corner radius");
-  if (!(o.probe_length_mm >= 1 && o.probe_length_mm <= 100)) bad("testcut: the probe region must be 1 to 100 mm long");
-  if (!(o.gap_mm >= 0.5 && o.air_mm >= 0.5 && o.clearance_mm >= 1 && o.floor_margin_mm >= 0))
-    bad("testcut: gap and air at least 0.5 mm, clearance at least 1 mm");
+    if (!(ap > t.corner_radius_mm + 0.5 && ap <= deepest_ap_mm(t) + 1e-9))
+      bad("{ap_mm}: each axial depth must be in (" + fixed_decimals(t.corner_radius_mm + 0.5, 3) + ", " +
+          fixed_decimals(deepest_ap_mm(t), 3) + "] mm: a wall above " + t.id +
+          "'s corner radius, within 90 % of its flute length");
+}
+
+void check_block(const TestBlock& b, const TestCutter& t, const TestCutOptions& o) {
+  auto bad = [](const std::string& what) { throw Error(ErrorKind::settings, what); };
   if (!(b.x1_mm > b.x0_mm && b.y1_mm > b.y0_mm && b.z1_mm > b.z0_mm)) bad("testcut: the block is empty");
   const Vec3 need = smallest_block_mm(t, o);
   if (b.x1_mm - b.x0_mm < need[0] || b.y1_mm - b.y0_mm < need[1] || b.z1_mm - b.z0_mm < need[2]) {
@@ -157,6 +172,27 @@ void check_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions
   }
 }
 
+}  // namespace
+
+void check_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions& o) {
+  auto bad = [](const std::string& what) { throw Error(ErrorKind::settings, what); };
+  if (!(t.diameter_mm > 0)) bad("testcut: " + t.id + " has no diameter");
+  if (t.flutes < 1) bad("testcut: " + t.id + " has no flutes");
+  if (!(t.helix_deg > 0 && t.helix_deg < 80))
+    bad("testcut: " + t.id + "'s helix must be in (0, 80) deg: the axial depths are chosen against the axial pitch between flutes");
+  if (o.tool_number < 0 || o.tool_number > 99999) bad("testcut: the tool number must be in 0..99999");
+  if (!(o.spindle_rpm > 0 && o.spindle_rpm <= 1e5)) bad("{spindle_rpm} must be in (0, 100000] rpm");
+  if (!(o.fz_mm > 0 && o.fz_mm <= 1)) bad("{fz_mm} must be in (0, 1] mm per tooth");
+  if (!(o.fz_mm * t.flutes * o.spindle_rpm <= 1e5)) bad("{feed_mm_per_min} must be at most 100000 mm/min");
+  if (t.type == stock::EndShape::ball) check_slopes(t, o);
+  else check_walls(t, o);
+  if (!(o.probe_length_mm >= 1 && o.probe_length_mm <= 100)) bad("testcut: the probe region must be 1 to 100 mm long");
+  if (!(o.gap_mm >= 0.5 && o.air_mm >= 0.5 && o.clearance_mm >= 1 && o.floor_margin_mm >= 0))
+    bad("testcut: gap and air at least 0.5 mm, clearance at least 1 mm");
+  check_block(b, t, o);
+}
+
+
 TestCutPlan plan_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions& o) {
   check_testcut(b, t, o);
   TestCutPlan p;
@@ -170,6 +206,10 @@ TestCutPlan plan_testcut(const TestBlock& b, const TestCutter& t, const TestCutO
   // Back face: segments from the corner X0/Y1 (kept free of the left face's
   // cuts, which reach x = X0 + a_e) towards X1; left face: from Y0 towards
   // the same corner.
+  if (t.type == stock::EndShape::ball) {
+    add_slopes(p, b, t, o);
+    return p;
+  }
   const double R = t.diameter_mm / 2, ae_max = largest(radial_depths(t, o));
   add_face(p, b, t, o, 0, on_grid(b.x0_mm + ae_max + o.gap_mm + R));
   add_face(p, b, t, o, 1, on_grid(b.y0_mm + o.gap_mm + R));
@@ -181,7 +221,7 @@ void write_testcut(std::ostream& out, TestCutPlan& p, const profile::Dialect& d,
   std::vector<std::string> lines{"%"};
   for (const std::string& c : header) lines.push_back(writer::format_comment(c, d));
   const std::string t = std::to_string(p.tool_number);
-  const double clear = p.block.z1_mm + p.clearance_mm;
+  const double clear = p.block.z1_mm + p.clearance_mm;  // the first feature's path starts there
   const Vec3& first = p.features.front().path.front();
   lines.push_back("G21 G90 G17 G40 G49 G80");
   lines.push_back("T" + t + " M6");
@@ -190,25 +230,28 @@ void write_testcut(std::ostream& out, TestCutPlan& p, const profile::Dialect& d,
   lines.push_back("G43 H" + t + " Z" + num(clear));
   for (std::size_t k = 0; k < p.features.size(); ++k) {
     WallFeature& f = p.features[k];
-    const char* axis = f.feed_axis == 0 ? "X" : "Y";
-    lines.push_back(writer::format_comment(f.id + ": WALL FED +" + axis + ", AE " + fixed_decimals(f.ae_mm, 3) + " AP " +
-                                               fixed_decimals(f.ap_mm, 3) + " FZ " + fixed_decimals(f.fz_mm, 3) +
-                                               " DOWN MILLING" + (f.morelli.empty() ? "" : ", MORELLI " + f.morelli),
-                                           d));
+    lines.push_back(writer::format_comment(feature_title(f), d));
     const std::vector<Vec3>& q = f.path;
     if (k) lines.push_back("G0 X" + num(q[0][0]) + " Y" + num(q[0][1]));
-    lines.push_back("G1 Z" + num(q[1][2]) + " F" + num(p.feed_mm_per_min));  // down in air beside the block
+    // Down in air beside the block, then each axis that changes: in to the
+    // depth, along the face, out into air (a slope: pass after pass).
+    lines.push_back("G1 Z" + num(q[1][2]) + " F" + num(p.feed_mm_per_min));
     f.first_line = static_cast<int>(lines.size());
-    const int in = f.feed_axis == 0 ? 1 : 0, along = f.feed_axis;
-    const char in_letter = "XY"[in], along_letter = "XY"[along];
-    lines.push_back(std::string(1, in_letter) + num(q[2][in]));        // in to the radial depth
-    lines.push_back(std::string(1, along_letter) + num(q[3][along]));  // along the face
-    lines.push_back(std::string(1, in_letter) + num(q[4][in]));        // out into air
-    f.last_line = static_cast<int>(lines.size());
-    lines.push_back("Z" + num(clear));  // up in air, fed: rapids only above the clearance
+    for (std::size_t i = 2; i < q.size(); ++i) {
+      std::string block;
+      for (int a = 0; a < 3; ++a)
+        if (num(q[i][a]) != num(q[i - 1][a])) block += std::string(block.empty() ? "" : " ") + "XYZ"[a] + num(q[i][a]);
+      if (block.empty()) continue;
+      lines.push_back(block);
+      if (i + 2 == q.size()) f.last_line = static_cast<int>(lines.size());
+    }  // the last: up in air, fed (rapids only above the clearance)
   }
   lines.insert(lines.end(), {"M5", "M30", "%"});
-  for (const std::string& l : lines) out << l << "\n";
+  // A control that needs N on every block (the Heidenhain TNC in ISO) gets
+  // them on every line, comments too, between the tape marks.
+  const bool numbered = d.n_policy == profile::NPolicy::required;
+  for (std::size_t i = 0; i < lines.size(); ++i)
+    out << (numbered && lines[i] != "%" ? "N" + std::to_string(10 * i) + " " : "") << lines[i] << "\n";
 }
 
 }  // namespace deflex::plan

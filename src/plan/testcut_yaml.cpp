@@ -63,18 +63,23 @@ bool valid_id(const std::string& id) {
 
 WallFeature read_feature(const YAML::Node& n, const std::string& name, const std::string& file, const TestBlock& b) {
   const yaml::Map m(n, name, file,
-                    {"id", "kind", "feed_direction", "point_mm", "normal", "u_mm", "z_mm", "ae_mm", "ap_mm", "fz_mm", "mode",
-                     "morelli", "lines"});
+                    {"id", "kind", "inclination_deg", "feed_direction", "point_mm", "normal", "u_mm", "z_mm", "ae_mm", "ap_mm",
+                     "fz_mm", "mode", "morelli", "lines"});
   WallFeature f;
   f.id = m.text("id");
   if (!valid_id(f.id)) m.fail("id", name + ".id must be uppercase letters, digits and underscores (at most 16), not '" + f.id + "'");
-  if (m.text("kind") != "wall") m.fail("kind", name + ".kind must be wall (the only kind of feature so far)");
+  f.kind = m.text("kind");
+  if (f.kind != "wall" && f.kind != "slope") m.fail("kind", name + ".kind must be wall or slope");
   if (m.text("mode") != "down") m.fail("mode", name + ".mode must be down (the test cut only mills down)");
   f.feed_direction = unit(m, "feed_direction");
   f.normal = unit(m, "normal");
   const double dot = f.feed_direction[0] * f.normal[0] + f.feed_direction[1] * f.normal[1] + f.feed_direction[2] * f.normal[2];
   if (std::abs(dot) > 1e-3) m.fail("normal", name + ".normal must be perpendicular to the feed direction");
-  if (std::abs(f.normal[2]) > 1e-3) m.fail("normal", name + ".normal must be horizontal (a wall)");
+  if (f.kind == "wall" && std::abs(f.normal[2]) > 1e-3) m.fail("normal", name + ".normal must be horizontal (a wall)");
+  if (f.kind == "slope") {
+    f.slope_deg = m.number("inclination_deg", yaml::Range::between(1, 89));
+    if (!(f.normal[2] > 0.01 && f.normal[2] < 0.9999)) m.fail("normal", name + ".normal must point up and sideways (a slope)");
+  }
   f.feed_axis = std::abs(f.feed_direction[0]) >= std::abs(f.feed_direction[1]) ? 0 : 1;
   if (std::abs(f.feed_direction[f.feed_axis]) < 1 - 1e-6 || f.feed_direction[f.feed_axis] < 0)
     m.fail("feed_direction", name + ".feed_direction must be [1, 0, 0] or [0, 1, 0]");
@@ -114,7 +119,8 @@ void write_plan_yaml(std::ostream& out, const TestCutPlan& p, const std::string&
       << "spindle_rpm: " << yn(p.spindle_rpm, 0) << "   # M3, clockwise\n"
       << "feed_mm_per_min: " << yn(p.feed_mm_per_min) << "   # fz x flutes x rpm\n"
       << "clearance_mm: " << yn(p.clearance_mm) << "   # rapids only this far above the block top\n"
-      << "# Each feature: a wall side-milled down (climb), its intended surface the plane\n"
+      << "# Each feature: a wall side-milled down (climb), or a ball's slope patch (an\n"
+      << "# inclined plane; ae_mm: the stepover, ap_mm: its depth), its intended surface the plane\n"
       << "# through point_mm with the outward normal (material to air); the probe region\n"
       << "# is steady-state cut: u_mm along the feed direction's coordinate, z_mm from\n"
       << "# the floor (plus a bull nose's corner radius) to the block top. morelli: the\n"
@@ -123,7 +129,9 @@ void write_plan_yaml(std::ostream& out, const TestCutPlan& p, const std::string&
       << "features:\n";
   for (const WallFeature& f : p.features) {
     out << "  - id: " << f.id << "\n"
-        << "    kind: wall\n"
+        << "    kind: " << f.kind << "\n";
+    if (f.kind == "slope") out << "    inclination_deg: " << yn(f.slope_deg, 2) << "\n";
+    out
         << "    feed_direction: " << seq(f.feed_direction, 0) << "\n"
         << "    point_mm: " << seq(f.point_mm) << "\n"
         << "    normal: " << seq(f.normal, 4) << "\n"
@@ -156,8 +164,8 @@ TestCutPlan read_plan_yaml(const std::string& text, const std::string& file) {
   p.tool.id = tm.text("id");
   p.tool_number = static_cast<int>(tm.integer("number", 0, 99999));
   const std::string type = tm.text("type");
-  if (type != "flat" && type != "bull") tm.fail("type", "tool.type must be flat or bull");
-  p.tool.type = type == "flat" ? stock::EndShape::flat : stock::EndShape::bull;
+  if (type != "flat" && type != "bull" && type != "ball") tm.fail("type", "tool.type must be flat, bull or ball");
+  p.tool.type = type == "flat" ? stock::EndShape::flat : type == "bull" ? stock::EndShape::bull : stock::EndShape::ball;
   p.tool.diameter_mm = tm.number("diameter_mm", yaml::Range::positive());
   p.tool.corner_radius_mm = tm.number("corner_radius_mm", yaml::Range::between(0, p.tool.diameter_mm / 2));
   p.tool.flutes = static_cast<int>(tm.integer("flutes", 1, 20));

@@ -35,7 +35,7 @@ TEST_SUITE("cli") {
     REQUIRE(p.rc == 0);
     CHECK(p.out.find("G38.2 ") != std::string::npos);
     CHECK(p.out.find("BALL 1.500)\n") != std::string::npos);
-    CHECK(p.err.find("points on 12 walls of " + dir / "cut.yaml" + ", ball D3.000") != std::string::npos);
+    CHECK(p.err.find("points on 12 features of " + dir / "cut.yaml" + ", ball D3.000") != std::string::npos);
     const auto f = test::run_cli({"probe", dir / "cut.yaml", "-o", dir / "probe.nc", "--probe-tool", "T20", "--probe-length", "40"});
     REQUIRE(f.rc == 0);
     const std::string fanuc = test::read_file(dir / "probe.nc");
@@ -48,6 +48,17 @@ TEST_SUITE("cli") {
     const auto o = test::run_cli(a);
     CHECK(o.rc == 0);
     CHECK(test::read_file(dir / "other.yaml").find("fz_mm: 0.0500") != std::string::npos);
+    // The depths asked for.
+    a = testcut_args(dir);
+    a.back() = dir / "asked.nc";
+    a.insert(a.end(), {"--ae", "1.5,4", "--ap", "6"});
+    const auto d = test::run_cli(a);
+    CAPTURE(d.err);
+    REQUIRE(d.rc == 0);
+    const std::string asked = test::read_file(dir / "asked.yaml");
+    CHECK(asked.find("ae_mm: 1.500\n    ap_mm: 6.000\n") != std::string::npos);
+    CHECK(asked.find("ae_mm: 4.000\n    ap_mm: 6.000\n") != std::string::npos);
+    CHECK(d.err.find("asked.nc: 4 walls") != std::string::npos);
   }
 
   TEST_CASE("testcut and probe: --help teaches; bad options are refused before anything is written") {
@@ -76,6 +87,12 @@ TEST_SUITE("cli") {
     refused(both, "give --feed or --fz, not both");
     refused({"testcut", "--tool", "T1", "--material", "Al7075-T6", "--stock", "box:0,0,-30,200,200,0"},
             "the program goes to a file (-o FILE.nc)");
+    std::vector<std::string> list = testcut_args(dir);
+    list.insert(list.end(), {"--ae", "1,,2"});
+    refused(list, "--ae takes numbers separated by commas (mm), not '1,,2'");
+    list = testcut_args(dir);
+    list.insert(list.end(), {"--ap", "30"});
+    refused(list, "--ap: each axial depth must be in (0.500, 19.800] mm");
     const auto t = test::run_cli(testcut_args(dir));
     REQUIRE(t.rc == 0);
     fs::remove(dir / "cut.nc");

@@ -89,6 +89,8 @@ Canon rs274(const test::TempDir& dir, const std::string& prog) {
   return c;
 }
 
+void check_probing(const std::string& tool, const std::string& box);
+
 // The nearest material cell centre's distance to a ball centre `c` (cells
 // as columns up to their height), at most `reach`.
 double clearance(const stock::ZMap& z, const P3& c, double reach) {
@@ -171,14 +173,15 @@ TEST_SUITE("job") {
     }
   }
 
-  TEST_CASE("testcut refuses before writing: a block too small, a ball end, feed and fz together, no machine") {
+  TEST_CASE("testcut refuses before writing: a block too small (walls, slopes), feed and fz together, no box") {
     test::TempDir dir("testcut");
     job::TestCutSettings s = settings(dir);
     s.stock = "box:0,0,-30,100,100,0";
     CHECK(refused(s).find("the smallest block that fits is 182 x 182 x 20 mm") != std::string::npos);
     s = settings(dir);
     s.tool = "T3";
-    CHECK(refused(s).find("slope patches") != std::string::npos);
+    s.stock = "box:0,0,-30,60,60,0";
+    CHECK(refused(s).find("too small for the test cut of T3: the smallest block that fits is 66 x 12 x 5 mm") != std::string::npos);
     s = settings(dir);
     s.feed_mm_per_min = 1000;
     s.fz_mm = 0.05;
@@ -192,9 +195,25 @@ TEST_SUITE("job") {
   }
 
   TEST_CASE("probe, LinuxCNC, read by rs274: probing moves on the normal lines, no rapid below the top, the ball never in the cut stock") {
+    for (const char* tool : {"T1", "T3"}) {  // walls, then a ball's slopes
+      CAPTURE(std::string(tool));
+      check_probing(tool, tool == std::string("T1") ? kBox : "box:0,0,-30,100,40,0");
+    }
+  }
+}
+
+namespace {
+
+// The test cut of `tool` on `box`, its probing program read by rs274 and
+// checked against the stock the cut leaves.
+void check_probing(const std::string& tool, const std::string& box) {
+  {
     test::TempDir dir("probe");
     test::Streams st;
-    const job::TestCutResult cut = job::testcut(settings(dir), st.io);
+    job::TestCutSettings ts = settings(dir);
+    ts.tool = tool;
+    ts.stock = box;
+    const job::TestCutResult cut = job::testcut(ts, st.io);
     job::ProbeSettings ps;
     ps.plan = cut.plan_file;
     ps.read.dialect = "linuxcnc";
@@ -206,7 +225,7 @@ TEST_SUITE("job") {
     const Canon c = rs274(dir, "probe.ngc");
     job::StockSettings ss;
     ss.read.machine = kMachine;
-    ss.stock = kBox;
+    ss.stock = box;
     ss.tool_file = "samples/tools.yaml";
     ss.stock_from = {{cut.program, ""}};
     ss.cell_mm = 0.1;
@@ -229,8 +248,10 @@ TEST_SUITE("job") {
         CHECK(std::stod(m[9]) == r);
         const P3 start{at[0] + n[0] * (r + 2), at[1] + n[1] * (r + 2), at[2] + n[2] * (r + 2)};
         const P3 end{at[0] + n[0] * (r - 1), at[1] + n[1] * (r - 1), at[2] + n[2] * (r - 1)};
-        CHECK(dist(a.end, start) < 1e-4);
-        CHECK(dist(b.end, end) < 1e-4);
+        // To the program's 0.001 mm and the comment's 4-decimal normal (a
+        // slope's tilted normal rounds in two coordinates).
+        CHECK(dist(a.end, start) < 1e-3);
+        CHECK(dist(b.end, end) < 1e-3);
       }
       // The ball centre along the move, every 0.05 mm: no material within r,
       // but where a probing move (or the backing off after it) passes the
@@ -246,6 +267,20 @@ TEST_SUITE("job") {
       }
     }
     CHECK(probes == pr.points);
-    CHECK(probes > 100);
+    CHECK(probes > 30);
+    // A slope's cut surface is its plane, to the cusp and a cell.
+    for (const plan::WallFeature& f : cut.plan.features) {
+      if (f.kind != "slope") continue;
+      CAPTURE(f.id);
+      for (double zs = f.z0_mm + 0.3; zs < f.z1_mm - 0.3; zs += 0.2) {
+        // The plane's height at the centre of the cell under it; the cusp
+        // between passes 0.1 R apart is (0.3 mm)^2 / 8R = 4 um.
+        const int j = z.iy(f.point_mm[1] - f.normal[2] * (zs - f.point_mm[2]) / f.normal[1]);
+        const double plane = f.point_mm[2] - f.normal[1] * (z.cy(j) - f.point_mm[1]) / f.normal[2];
+        CHECK(std::abs(z.at(z.ix((f.u0_mm + f.u1_mm) / 2), j) - plane) < 0.01);
+      }
+    }
   }
 }
+
+}  // namespace

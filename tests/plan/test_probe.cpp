@@ -136,5 +136,12 @@ TEST_SUITE("plan") {
     CHECK(out.str().find("T20 M6\nG54 G0 G43 H20 Z5.\n") != std::string::npos);
     CHECK(out.str().find("G38") == std::string::npos);
     CHECK(out.str().find("ACTIVATE THE PROBE") != std::string::npos);
+    // Haas and Siemens in ISO alike; the Heidenhain TNC has no G31 nor DPRNT.
+    std::ostringstream haas;
+    plan::write_probe(haas, pp, profile::load_dialect("haas"), {});
+    CHECK(haas.str().find("G31 ") != std::string::npos);
+    std::ostringstream tnc;
+    CHECK(test::error_of([&] { plan::write_probe(tnc, pp, profile::load_dialect("heidenhain-iso"), {}); }, ErrorKind::settings)
+              .find("no G31 skip and no DPRNT") != std::string::npos);
   }
 }

@@ -79,7 +79,66 @@ TEST_SUITE("plan") {
     CHECK(p.features[0].path[2][0] - 5 >= 0 + 5 + 3 - 1e-9);
   }
 
-  TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the probe points above that") {
+  TEST_CASE("testcut: the depths asked for, every a_e at every a_p on both faces; out of range refused") {
+    plan::TestCutOptions o;
+    o.ae_mm = {0.5, 3};
+    o.ap_mm = {2, 8, 12.5};
+    const plan::TestCutPlan p = plan::plan_testcut(kBlock, flat10(), o);
+    REQUIRE(p.features.size() == 12);
+    for (std::size_t k = 0; k < 12; ++k) {
+      CAPTURE(p.features[k].id);
+      CHECK(p.features[k].ae_mm == o.ae_mm[k % 2]);
+      CHECK(p.features[k].ap_mm == o.ap_mm[(k % 6) / 2]);
+      CHECK(p.features[k].z0_mm == -o.ap_mm[(k % 6) / 2]);
+    }
+    o.ap_mm = {20};  // beyond 90 % of the 22 mm of flutes
+    CHECK(error_of([&] { plan::check_testcut(kBlock, flat10(), o); }, ErrorKind::settings) ==
+          "ap_mm: each axial depth must be in (0.500, 19.800] mm: a wall above T1's corner radius, within 90 % of its flute length");
+    o.ap_mm = {5};
+    o.ae_mm = {5.5};
+    CHECK(error_of([&] { plan::check_testcut(kBlock, flat10(), o); }, ErrorKind::settings).starts_with("ae_mm: each radial depth must be in (0, 5.000] mm"));
+  }
+
+  TEST_CASE("testcut with a ball: slope patches at 15, 30, 45 deg chamfer the front edge; the ball tangent to the plane, never in it") {
+    plan::TestCutter t = flat10();
+    t.type = stock::EndShape::ball;
+    t.diameter_mm = 6;
+    t.corner_radius_mm = 3;
+    const plan::TestCutPlan p = plan::plan_testcut(kBlock, t, {});
+    REQUIRE(p.features.size() == 3);
+    const double R = 3;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const plan::WallFeature& f = p.features[k];
+      CAPTURE(f.id);
+      const double th = std::vector<double>{15, 30, 45}[k] * std::numbers::pi / 180;
+      CHECK(f.kind == "slope");
+      CHECK(f.id == "S" + std::to_string(k + 1));
+      CHECK(f.normal[1] == doctest::Approx(-std::sin(th)));
+      CHECK(f.normal[2] == doctest::Approx(std::cos(th)));
+      CHECK(f.ap_mm == doctest::Approx(0.8 * R).epsilon(1e-3));  // the wedge at most 0.8 R thick
+      CHECK(f.z0_mm == doctest::Approx(-0.8 * R).epsilon(1e-3));
+      // Every cutting pass: the ball centre R off the plane (tangent) where
+      // it cuts along the strike, the last pass's contact past the front face.
+      int along = 0;
+      double lowest_contact_y = 1e9;
+      for (std::size_t i = 3; i < f.path.size(); ++i) {
+        const plan::Vec3 &a = f.path[i - 1], &b = f.path[i];
+        if (!(a[1] == b[1] && a[2] == b[2] && b[0] > a[0])) continue;  // along +X at one height
+        ++along;
+        const plan::Vec3 c{b[0], b[1], b[2] + R};  // the ball centre
+        const double d = (c[0] - f.point_mm[0]) * f.normal[0] + (c[1] - f.point_mm[1]) * f.normal[1] + (c[2] - f.point_mm[2]) * f.normal[2];
+        CHECK(d == doctest::Approx(R).epsilon(2e-3 / R));
+        lowest_contact_y = std::min(lowest_contact_y, c[1] - R * f.normal[1]);
+        // Never lower than the wedge's bottom edge (z0 at the front face)
+        // reached by the ball, one stepover past it at most.
+        CHECK(b[2] >= f.z0_mm - R * (1 - std::cos(th)) - f.ae_mm * std::sin(th) - 1e-3);
+      }
+      CHECK(along >= 8);
+      CHECK(lowest_contact_y <= kBlock.y0_mm);
+    }
+  }
+
+  TEST_CASE("testcut with a bull nose: the wall starts above the corner radius, the floor a_p down") {
     plan::TestCutter t = flat10();
     t.type = stock::EndShape::bull;
     t.corner_radius_mm = 1;
@@ -91,7 +150,7 @@ TEST_SUITE("plan") {
     }
   }
 
-  TEST_CASE("testcut: a block too small names the smallest that fits, which fits; a ball end and bad options are refused") {
+  TEST_CASE("testcut: a block too small names the smallest that fits, which fits; depths for a ball and bad options are refused") {
     const plan::TestCutter t = flat10();
     const plan::Vec3 need = plan::smallest_block_mm(t, {});
     const std::string m = error_of([&] { plan::check_testcut({0, 0, -30, 100, 100, 0}, t, {}); }, ErrorKind::settings);
@@ -102,7 +161,9 @@ TEST_SUITE("plan") {
     CHECK_THROWS(plan::plan_testcut({0, 0, -need[2] + 1, need[0], need[1], 0}, t, {}));
     plan::TestCutter ball = t;
     ball.type = stock::EndShape::ball;
-    CHECK(error_of([&] { plan::check_testcut(kBlock, ball, {}); }, ErrorKind::settings).find("slope patches") !=
+    plan::TestCutOptions depths;
+    depths.ap_mm = {3};
+    CHECK(error_of([&] { plan::check_testcut(kBlock, ball, depths); }, ErrorKind::settings).find("slope patches take no") !=
           std::string::npos);
     plan::TestCutOptions o;
     o.ae_fractions = {0.7};
@@ -119,7 +180,13 @@ TEST_SUITE("plan") {
       plan::TestCutPlan p = plan::plan_testcut(kBlock, flat10(), {});
       std::ostringstream out;
       plan::write_testcut(out, p, d, {"HEADER"});
-      const std::vector<std::string> l = lines_of(out.str());
+      std::vector<std::string> l = lines_of(out.str());
+      // The Heidenhain TNC's N words, on every line but the tape marks.
+      for (std::string& s : l)
+        if (d.n_policy == profile::NPolicy::required && s != "%" && !s.empty()) {
+          REQUIRE(s.starts_with("N"));
+          s.erase(0, s.find(' ') + 1);
+        }
       CHECK(l[1] == "%");
       CHECK(l.back() == "%");
       CHECK(out.str().find(" M3\n") != std::string::npos);
@@ -173,9 +240,9 @@ TEST_SUITE("plan") {
     };
     CHECK(refused("  - id: WX2\n", "  - id: wx2\n").starts_with("testcut.yaml:"));
     CHECK(refused("  - id: WX2\n", "  - id: wx2\n").find(": error: features[1].id must be uppercase") != std::string::npos);
-    // The line and column of the value at fault: WX1's normal on line 23.
+    // The line and column of the value at fault: WX1's normal on line 24.
     CHECK(refused("normal: [0.0000, 1.0000, 0.0000]", "normal: [0.0000, 2.0000, 0.0000]") ==
-          "testcut.yaml:23:13: error: features[0].normal must be a unit vector");
+          "testcut.yaml:24:13: error: features[0].normal must be a unit vector");
     CHECK(refused("    mode: down\n", "    mode: up\n").find("mode must be down") != std::string::npos);
     CHECK(refused("    kind: wall\n", "    kind: wall\n    colour: red\n").find("unknown key 'colour'") != std::string::npos);
     CHECK(refused("u_mm: [", "u_mm: [900, ").find("u_mm must be a list of 2 numbers") != std::string::npos);

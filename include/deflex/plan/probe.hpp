@@ -1,6 +1,6 @@
-// The on-machine probing program of a test cut's walls (plan/testcut.hpp):
-// points over each feature's probe region, each approached along the wall's
-// intended outward normal N. With r the stylus ball's radius and P the
+// The on-machine probing program of a test cut's walls and slopes
+// (plan/testcut.hpp): points over each feature's probe region, on its
+// intended plane, each approached along its outward normal N. With r the stylus ball's radius and P the
 // intended surface point, the ball centre goes to P + N (r + approach), the
 // protected probing move runs along -N to P + N r - N overtravel (it stops
 // on contact), then back to the start. Heights every `step_mm` from the
@@ -72,7 +72,8 @@ ProbeProgram plan_probe(const TestCutPlan& p, const ProbeOptions& o);
 std::string probe_comment(const ProbePoint& pt, double ball_radius_mm);
 
 // The program for dialect `d`; linuxcnc: G38.2 and PROBEOPEN, any other: G31
-// and DPRNT.
+// and DPRNT, but for the Heidenhain TNC (Error(settings): it probes with its
+// own cycles).
 void write_probe(std::ostream& out, const ProbeProgram& p, const profile::Dialect& d, const std::vector<std::string>& header);
 
 }  // namespace deflex::plan

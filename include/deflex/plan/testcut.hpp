@@ -24,6 +24,9 @@
 // flute at a time generates the wall (Morelli's single-flute case); above it
 // the flutes overlap. Each feature records Morelli's shape code
 // (force/morelli.hpp) for its a_e, a_p.
+//
+// A ball end mill cuts slope patches instead: inclined planes chamfering the
+// block's front top edge (src/plan/testcut_slope.cpp explains them).
 #pragma once
 #include <array>
 #include <iosfwd>
@@ -57,6 +60,8 @@ struct TestCutOptions {
   double fz_mm = 0.05;                            // feed per tooth; the feed is fz N n
   std::vector<double> ae_fractions{0.1, 0.25, 0.5};  // a_e / D of the walls
   std::vector<double> ap_pitches{0.4, 1.25};      // a_p / axial pitch (single flute, overlap)
+  std::vector<double> ae_mm, ap_mm;               // the depths asked for, mm (empty: the two above)
+  std::vector<double> slopes_deg{15, 30, 45};     // a ball end's slope patches: their inclinations
   double probe_length_mm = 6;                     // steady-state wall along the feed, mm
   double gap_mm = 3;                              // between the reach of neighbouring cuts
   double air_mm = 2;                              // the cutter this far from the block when it goes down
@@ -65,8 +70,12 @@ struct TestCutOptions {
   double Ktc_N_per_mm2 = 752.9, Krc_N_per_mm2 = 200.5;  // for Morelli's classification only
 };
 
+// A wall (flat or bull nose), or a slope patch (ball end): a plane the cut
+// leaves, its probe region and how it was cut.
 struct WallFeature {
-  std::string id;                // WX1, WY2 ...: W, the feed axis, a number
+  std::string kind = "wall";     // wall | slope
+  double slope_deg = 90;         // the plane's inclination from horizontal (a wall: 90)
+  std::string id;                // WX1, WY2 ... (W, the feed axis, a number); slopes S1, S2 ...
   int feed_axis = 0;             // 0: fed along +X (back face), 1: along +Y (left face)
   Vec3 feed_direction{1, 0, 0};
   Vec3 point_mm{};               // a point of the intended wall plane
@@ -75,7 +84,7 @@ struct WallFeature {
   double z0_mm = 0, z1_mm = 0;   // the wall: floor (plus a bull nose's corner) to block top
   double ae_mm = 0, ap_mm = 0, fz_mm = 0;
   std::string morelli;           // Morelli's shape code, e.g. "IIM" ("" when it does not apply)
-  std::vector<Vec3> path;        // tool tip: above in air, down, in, along, out, up
+  std::vector<Vec3> path;        // tool tip: above in air, down, then in, along, out (a slope: per pass), up
   int first_line = 0, last_line = 0;  // program lines from going down to leaving (write_testcut)
 };
 
@@ -94,12 +103,12 @@ double axial_pitch_mm(const TestCutter& t);
 // The smallest block (lengths along X, Y, Z, mm) the features of `t`, `o` fit.
 Vec3 smallest_block_mm(const TestCutter& t, const TestCutOptions& o);
 
-// Throws Error(settings) naming the option out of range, the cutter that is
-// not a flat or bull-nose end mill (slope patches for a ball are not
-// implemented), or the block that is too small (naming the smallest that fits).
+// Throws Error(settings) naming the option out of range, or the block that is
+// too small (naming the smallest that fits).
 void check_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions& o);
 
-// The features and their tool paths (check_testcut first).
+// The features and their tool paths (check_testcut first): walls for a flat
+// or bull-nose end mill, slope patches for a ball (testcut_slope.cpp).
 TestCutPlan plan_testcut(const TestBlock& b, const TestCutter& t, const TestCutOptions& o);
 
 // The program for dialect `d` (mm, absolute): header comments, tool change,
