@@ -8,19 +8,20 @@ the profile a simulation ran on (plus Gaussian noise).
     python3 examples/synthetic_measurement.py sim/ --diameter 12 \\
         --probe-program probe.nc --log probe_results.txt [--dprnt]
 
-It reads the report's points.csv (each CL point's tip and wall normal) and
-flank_profile.csv (the error e(z) of every flank cut over its wall), so only
-walls cut with the flank of a flat or bull-nose end are measured. A wall
+It reads the report's points.csv (each CL point's tip, normal and error) and
+flank_profile.csv (the error e(z) of every flank cut over its wall). A wall
 point at height z above the tip lies D/2 from the axis against the normal's
-horizontal part; the machined surface stands e(z) out from it along the
-normal (e > 0: material left, deflex's sign).
+horizontal part; any other cutting point touches the surface where the
+cutter's corner circle faces it (a ball: its centre - R n). The machined
+surface stands the error out from there along the normal (e > 0: material
+left, deflex's sign).
 
 --csv: one measured surface point per flank sample (every --every'th).
 --log: per (DEFLEX PROBE ...) target of the probe program, the stylus ball's
 centre where it would trip - the intended point moved out by the ball radius
 plus the error there - as LinuxCNC's (PROBEOPEN) file writes it (nine
 numbers per line), or with --dprnt as the program's DPRNT lines.
-A target with no flank sample within --reach mm is an error: the probe
+A target with no sample within --reach mm is an error: the probe
 program is not for this cut.
 
 Only numpy; the nearest sample is found by brute force in chunks (a test
@@ -29,6 +30,8 @@ cut has tens of thousands of samples, not millions).
 
 import argparse
 import csv
+import io
+import os
 import re
 import sys
 
@@ -37,28 +40,43 @@ import numpy as np
 PROBE = re.compile(r"\(DEFLEX PROBE (\d+) (\w+) AT (\S+) (\S+) (\S+) N (\S+) (\S+) (\S+) BALL (\S+)\)")
 
 
-def flank_samples(report, diameter_mm):
-    """Wall points, outward normals and errors of every flank slice."""
+def horizontal(n):
+    h = np.array([n[0], n[1], 0.0])
+    return h / np.linalg.norm(h) if np.linalg.norm(h) > 1e-9 else np.zeros(3)
+
+
+def flank_samples(report, diameter_mm, corner_mm):
+    """Surface points, outward normals and errors: every flank slice of a
+    wall, and the contact of every other cutting point (a ball on a slope, a
+    flat end on a floor: the corner circle's point facing the surface)."""
     normals = {}
-    with open(f"{report}/points.csv", newline="") as f:
-        for r in csv.DictReader(f):
-            normals[(r["x_mm"], r["y_mm"], r["z_mm"])] = (float(r["nx"]), float(r["ny"]), float(r["nz"]))
     at, nrm, err = [], [], []
-    with open(f"{report}/flank_profile.csv", newline="") as f:
+    R, r = diameter_mm / 2, corner_mm
+    with open(f"{report}/points.csv", newline="") as f:
+        for row in csv.DictReader(f):
+            n = (float(row["nx"]), float(row["ny"]), float(row["nz"]))
+            normals[(row["x_mm"], row["y_mm"], row["z_mm"])] = n
+            if row["flank_min_mm"] or float(row["ap_mm"]) <= 0:
+                continue  # a wall (its slices below) or a point in air
+            tip = np.array([float(row["x_mm"]), float(row["y_mm"]), float(row["z_mm"])])
+            at.append(tip + np.array([0, 0, r]) - (R - r) * horizontal(n) - r * np.array(n))
+            nrm.append(n)
+            err.append(float(row["surface_error_mm"]))
+    flank = f"{report}/flank_profile.csv"  # only where the program cuts with a flank
+    with open(flank, newline="") if os.path.exists(flank) else io.StringIO("") as f:
         for r in csv.DictReader(f):
             n = normals.get((r["x_mm"], r["y_mm"], r["z_tip_mm"]))
             if n is None:
                 continue
-            h = np.array([n[0], n[1], 0.0])
-            if np.linalg.norm(h) < 1e-9:
+            h = horizontal(n)
+            if not h.any():
                 continue
-            h /= np.linalg.norm(h)
             tip = np.array([float(r["x_mm"]), float(r["y_mm"]), float(r["z_tip_mm"])])
             at.append(tip + np.array([0, 0, float(r["z_mm"])]) - diameter_mm / 2 * h)
             nrm.append(n)
             err.append(float(r["error_mm"]))
     if not at:
-        sys.exit(f"{report}: no flank samples (run deflex simulate with --report on a program that cuts walls)")
+        sys.exit(f"{report}: no cutting points (run deflex simulate with --report on the program)")
     return np.array(at), np.array(nrm), np.array(err)
 
 
@@ -78,6 +96,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("report", help="the --report folder of deflex simulate on the machine to measure")
     ap.add_argument("--diameter", type=float, required=True, help="the cutter's diameter, mm")
+    ap.add_argument("--corner", type=float, default=0.0,
+                    help="its corner radius, mm: 0 a flat end (default), a bull nose's, D/2 a ball")
     ap.add_argument("--noise-um", type=float, default=1.0, help="Gaussian noise of each measurement, um (default 1)")
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--csv", help="write surface points x_mm,y_mm,z_mm here")
@@ -88,7 +108,7 @@ def main():
     ap.add_argument("--reach", type=float, default=0.5, help="a target farther than this from every sample is an error, mm")
     a = ap.parse_args()
     rng = np.random.default_rng(a.seed)
-    at, nrm, err = flank_samples(a.report, a.diameter)
+    at, nrm, err = flank_samples(a.report, a.diameter, a.corner)
     noise = lambda n: rng.normal(0.0, a.noise_um / 1000.0, n)  # noqa: E731
     if a.csv:
         idx = np.arange(0, len(at), a.every)
@@ -109,7 +129,7 @@ def main():
         k = nearest(at, pt, a.reach)
         if (k < 0).any():
             sys.exit(f"{a.probe_program}: target {targets[int(np.argmax(k < 0))][0]} lies farther than {a.reach} mm "
-                     "from every wall of the simulation")
+                     "from every surface point of the simulation")
         centre = pt + (r + err[k] + noise(len(k)))[:, None] * n
         with open(a.log, "w") as f:
             if a.dprnt:
