@@ -7,11 +7,8 @@
 #include <limits>
 
 #include <CGAL/Fuzzy_sphere.h>
-#include <CGAL/Kd_tree.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Simple_cartesian.h>
-#include <boost/property_map/property_map.hpp>
+
+#include "point_index.hpp"
 
 namespace deflex::fit {
 
@@ -40,21 +37,14 @@ Matching match(const Surface& surface, const std::vector<Observation>& obs, doub
   return m;
 }
 
-// CGAL's kd-tree over the observations (indices), searched with a sphere of
-// the reach around each sample.
+// The kd-tree over the observations (point_index.hpp), searched with a
+// sphere of the reach around each sample.
 namespace {
-using K = CGAL::Simple_cartesian<double>;
-struct ObsMap {
-  const std::vector<K::Point_3>* pts = nullptr;
-  using key_type = std::size_t;
-  using value_type = K::Point_3;
-  using reference = const value_type&;
-  using category = boost::readable_property_map_tag;
-  friend reference get(const ObsMap& m, std::size_t i) { return (*m.pts)[i]; }
-};
-using Traits = CGAL::Search_traits_adapter<std::size_t, ObsMap, CGAL::Search_traits_3<K>>;
-using Tree = CGAL::Kd_tree<Traits>;
+using detail::K;
+using detail::Traits;
+using Tree = detail::Tree;
 using Sphere = CGAL::Fuzzy_sphere<Traits>;
+using ObsMap = detail::PointMap;
 }  // namespace
 
 struct Nearest::Index {
@@ -66,10 +56,7 @@ struct Nearest::Index {
 Nearest::Nearest(const std::vector<Observation>& obs, double reach_mm, std::function<const stiffness::Tool*(int)> tool_of)
     : index_(std::make_unique<Index>()), found_(obs.size()), reach_mm_(reach_mm), tool_of_(std::move(tool_of)) {
   for (const Observation& o : obs) index_->pts.emplace_back(o.at_mm.x(), o.at_mm.y(), o.at_mm.z());
-  std::vector<std::size_t> ids(obs.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = i;
-  index_->tree = std::make_unique<Tree>(ids.begin(), ids.end(), Tree::Splitter(), Traits(ObsMap{&index_->pts}));
-  index_->tree->build();
+  index_->tree = detail::build_tree(index_->pts);
 }
 
 Nearest::Nearest(Nearest&&) noexcept = default;

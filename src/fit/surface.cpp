@@ -3,32 +3,20 @@
 
 #include <stdexcept>
 
-#include <CGAL/Kd_tree.h>
 #include <CGAL/Orthogonal_k_neighbor_search.h>
-#include <CGAL/Search_traits_3.h>
-#include <CGAL/Search_traits_adapter.h>
-#include <CGAL/Simple_cartesian.h>
-#include <boost/property_map/property_map.hpp>
 
 #include "deflex/compensate/contact.hpp"
 #include "deflex/stock/end_shape.hpp"
+#include "point_index.hpp"
 
 namespace deflex::fit {
 
-// CGAL's kd-tree over the samples' positions (indices into the samples).
+// The kd-tree over the samples' positions (point_index.hpp).
 namespace {
-using K = CGAL::Simple_cartesian<double>;
-struct PointMap {
-  const std::vector<K::Point_3>* pts = nullptr;
-  using key_type = std::size_t;
-  using value_type = K::Point_3;
-  using reference = const value_type&;
-  using category = boost::readable_property_map_tag;
-  friend reference get(const PointMap& m, std::size_t i) { return (*m.pts)[i]; }
-};
-using Traits = CGAL::Search_traits_adapter<std::size_t, PointMap, CGAL::Search_traits_3<K>>;
-using Search = CGAL::Orthogonal_k_neighbor_search<Traits>;
-using Tree = Search::Tree;
+using detail::K;
+using detail::PointMap;
+using Search = CGAL::Orthogonal_k_neighbor_search<detail::Traits>;
+using Tree = detail::Tree;
 }  // namespace
 
 struct Surface::Index {
@@ -66,11 +54,7 @@ Surface::Surface(const std::vector<compensate::Point>& points,
   }
   index_->pts.reserve(samples_.size());
   for (const SurfaceSample& s : samples_) index_->pts.emplace_back(s.at_mm.x(), s.at_mm.y(), s.at_mm.z());
-  std::vector<std::size_t> ids(samples_.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = i;
-  index_->tree = std::make_unique<Tree>(ids.begin(), ids.end(), Tree::Splitter(),
-                                        Traits(PointMap{&index_->pts}));
-  index_->tree->build();
+  index_->tree = detail::build_tree(index_->pts);
 }
 
 Surface::Surface(Surface&&) noexcept = default;
