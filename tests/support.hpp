@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include <doctest/doctest.h>
+
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/gcode/program.hpp"
@@ -110,6 +112,20 @@ struct CliResult {
   int rc;
   std::string out, err;
 };
+
+// Runs f, expects deflex::Error of kind `kind` (a doctest check), returns its
+// message; "" (and a failed check) when nothing is thrown.
+template <class F>
+std::string error_of(F f, ErrorKind kind) {
+  try {
+    f();
+  } catch (const Error& e) {
+    CHECK(e.kind() == kind);
+    return e.what();
+  }
+  FAIL_CHECK("no error thrown");
+  return {};
+}
 
 inline CliResult run_cli(const std::vector<std::string>& args, const std::string& stdin_text = "") {
   std::istringstream in(stdin_text);

@@ -70,6 +70,16 @@ class Job:
         A run that fails writes nothing. progress, rows: as simulate()."""
         return CompensateResult(self._job.compensate(output, progress, rows))
 
+    def fit(self, output=None, progress=None, determined_within=0.10):
+        """Fits the machine profile to the ``measured`` points of the part the
+        program cut (docs/fit.md), as ``deflex fit`` does. output: None keeps
+        the fitted profile in the result's ``"profile"`` (text); a path writes
+        it there atomically. Returns a dict: ``"parameters"`` (per parameter:
+        ``fitted``, ``factor`` of the starting value, ``interval95``,
+        ``why_held``), ``"features"`` (the residuals per test-cut feature),
+        the residual rms and max before and after (mm), ``"profile"``."""
+        return self._job.fit(output, progress, determined_within)
+
     def __repr__(self):
         given = {k: v for k, v in self.settings.items() if v not in (None, "", [], False)}
         return "deflex.Job(" + ", ".join(f"{k}={v!r}" for k, v in given.items()) + ")"

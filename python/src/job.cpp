@@ -3,6 +3,8 @@
 // (deflex/results.py wraps them).
 #include "deflex/job/job.hpp"
 
+#include "deflex/job/fit.hpp"
+
 #include <pybind11/stl.h>
 
 #include <sstream>
@@ -114,6 +116,62 @@ struct Job {
   }
 };
 
+// job::fit of the job's program to its `measured` points: the fitted profile
+// (text, or written to `output`), each parameter and the residuals.
+py::dict fit_job(const Job& j, py::object output, py::object progress, double determined_within) {
+  job::FitSettings s;
+  s.run = j.settings;
+  if (!output.is_none()) s.output = path_text("output", output);
+  s.options.determined_within = determined_within;
+  PyObserver obs(std::move(progress), false);
+  Captured c;
+  job::FitReport r;
+  std::exception_ptr failure;
+  {
+    py::gil_scoped_release nogil;
+    try {
+      r = job::fit(s, c.out, c.io, &obs);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+  }
+  if (failure) {
+    if (obs.pending()) throw std::move(*obs.pending());
+    raise_python(failure, c.err.str());
+  }
+  py::dict params;
+  for (int k = 0; k < fit::kParams; ++k) {
+    const fit::ParamFit& f = r.fit.params[k];
+    py::dict p;
+    p["fitted"] = f.fitted;
+    p["factor"] = f.fitted ? py::object(py::float_(f.scale)) : py::object(py::none());
+    p["interval95"] = f.fitted ? py::object(py::make_tuple(f.lo95, f.hi95)) : py::object(py::none());
+    p["at_bound"] = f.at_bound;
+    p["why_held"] = f.why_held;
+    params[fit::name(fit::Param(k))] = p;
+  }
+  py::dict features;
+  for (const job::FeatureFit& f : r.features) {
+    py::dict d;
+    d["points"] = f.points;
+    d["rms_before_mm"] = f.rms_before_mm, d["rms_after_mm"] = f.rms_after_mm;
+    d["max_before_mm"] = f.max_before_mm, d["max_after_mm"] = f.max_after_mm;
+    features[py::str(f.feature)] = d;
+  }
+  py::dict d;
+  d["parameters"] = params;
+  d["features"] = features;
+  d["measured_points"] = r.observations;
+  d["compared_points"] = r.matched;
+  d["rms_before_mm"] = r.all.rms_before_mm, d["rms_after_mm"] = r.all.rms_after_mm;
+  d["max_before_mm"] = r.all.max_before_mm, d["max_after_mm"] = r.all.max_after_mm;
+  d["sigma_mm"] = r.fit.sigma_mm;
+  d["profile"] = r.profile_text;
+  d["output"] = s.output.empty() || s.output == "-" ? py::object(py::none()) : py::object(py::str(s.output));
+  d["messages"] = c.err.str();
+  return d;
+}
+
 Job from_file(py::handle file, const py::kwargs& overrides) {
   Job j;
   apply_keywords(j.settings, overrides);
@@ -138,7 +196,9 @@ void bind_job(py::module_& m) {
       .def_property_readonly("settings", [](const Job& j) { return keywords_of(j.settings); })
       .def("simulate", &Job::simulate, py::arg("progress") = py::none(), py::arg("rows") = true)
       .def("compensate", &Job::compensate, py::arg("output") = py::none(), py::arg("progress") = py::none(),
-           py::arg("rows") = true);
+           py::arg("rows") = true)
+      .def("fit", &fit_job, py::arg("output") = py::none(), py::arg("progress") = py::none(),
+           py::arg("determined_within") = 0.10);
 }
 
 }  // namespace deflex::python

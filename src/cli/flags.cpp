@@ -23,7 +23,9 @@ std::string flag_of(std::string_view keyword) {
       {"max_iterations", "--max-iterations"}, {"threads", "--threads"}, {"tool_only", "--tool-only"},
       {"expand_subprograms", "--expand-subprograms"}, {"measured", "--measured"}, {"probe_program", "--probe-program"},
       {"measured_reach_mm", "--measured-reach"}, {"rough_tool", "--rough-tool"}, {"pair_mm", "--pair-mm"},
-      {"mesh_tolerance_mm", "--mesh-tolerance"}};
+      {"mesh_tolerance_mm", "--mesh-tolerance"}, {"fz_mm", "--fz"}, {"plan", "--plan"},
+      {"ball_diameter_mm", "--ball-diameter"}, {"probe_length_mm", "--probe-length"}, {"probe_tool", "--probe-tool"},
+      {"step_mm", "--step"}, {"approach_mm", "--approach"}, {"probe_feed_mm_per_min", "--probe-feed"}};
   for (const auto& [k, flag] : kFlags)
     if (k == keyword) return std::string(flag);
   // A keyword added to the library's vocabulary without a flag here: named

@@ -29,13 +29,15 @@ const Command kCommands[] = {
   {"diff", cmd_diff, "pair the motions of two programs and measure what moved"},
   {"rewrite", cmd_rewrite, "read, interpret and write a program back (byte-identical; atomic -o)"},
   {"rough", cmd_rough, "a roughing program that leaves an allowance over what a finishing program cuts"},
+  {"testcut", cmd_testcut, "a calibration test cut (walls, down-milling) and its plan, for the stiffness fit"},
+  {"probe", cmd_probe, "the on-machine probing program of a test cut's walls (G38.2 or G31 + DPRNT)"},
+  {"fit", cmd_fit, "fit the machine profile's stiffness and force scale to a measured cut"},
   {"stock", cmd_stock, "the stock after earlier programs: a .zmap for the next run, or a closed STL for CAM"},
   {"list", cmd_list, "the names of machines, dialects, tools and materials a command line can give"},
   {"tools", cmd_tools, "import a Fusion 360 (JSON) or LinuxCNC (.tbl) tool library as deflex YAML"},
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
   {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},
   {"calibrate", cmd_calibrate, "fit cutting/edge coefficients from slot-test forces"},
-  {"fit", cmd_fit, "fit the machine profile's stiffness and force scale to a measured cut"},
 };
 
 void top_help(std::ostream& out) {

@@ -6,7 +6,7 @@
 namespace deflex {
 namespace {
 
-constexpr std::array<std::string_view, 42> kKeywords = {
+constexpr std::array<std::string_view, 50> kKeywords = {
     // The job's settings (include/deflex/job/settings.hpp), as Python names them.
     "program", "output", "reference", "report_dir", "dialect", "machine", "config", "max_errors", "block_delete",
     "strict", "max_blocks", "material", "material_file", "kt_N_per_mm2", "kr_N_per_mm2", "ka_N_per_mm2",
@@ -15,7 +15,10 @@ constexpr std::array<std::string_view, 42> kKeywords = {
     "cl_spacing_mm", "max_iterations", "threads", "tool_only", "expand_subprograms", "measured", "probe_program",
     "measured_reach_mm",
     // Settings of the other calls: rough and the stock file (job/stock.hpp), diff (job/diff.hpp).
-    "rough_tool", "pair_mm", "mesh_tolerance_mm"};
+    "rough_tool", "pair_mm", "mesh_tolerance_mm",
+    // The test cut and its probing (job/testcut.hpp).
+    "fz_mm", "plan", "ball_diameter_mm", "probe_length_mm", "probe_tool", "step_mm", "approach_mm",
+    "probe_feed_mm_per_min"};
 
 // The keyword of the {keyword} at text[at] (at: the '{'), or "" when there is none.
 std::string_view keyword_at(std::string_view text, std::size_t at) {

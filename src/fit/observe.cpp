@@ -75,13 +75,15 @@ Nearest::Nearest(const std::vector<Observation>& obs, double reach_mm, std::func
 Nearest::Nearest(Nearest&&) noexcept = default;
 Nearest::~Nearest() = default;
 
-void Nearest::add(const compensate::Point& p) {
+void Nearest::add(const compensate::Point& p, const V3& offset) {
   const std::uint32_t index = points_++;
   const stiffness::Tool* t = tool_of_(p.tool);
   if (!t || found_.empty()) return;
   scratch_.clear();
   append_samples(p, index, *t, scratch_);
-  for (const SurfaceSample& s : scratch_) {
+  const double along = offset.dot(p.normal);
+  for (SurfaceSample& s : scratch_) {
+    s.at_mm -= offset;
     index_->hits.clear();
     index_->tree->search(std::back_inserter(index_->hits),
                          Sphere(K::Point_3(s.at_mm.x(), s.at_mm.y(), s.at_mm.z()), reach_mm_, 0.0, Traits(ObsMap{&index_->pts})));
@@ -90,7 +92,7 @@ void Nearest::add(const compensate::Point& p) {
       const double d = (s.at_mm - V3(q.x(), q.y(), q.z())).norm();
       Found& f = found_[i];
       if (f.found && d > f.distance_mm) continue;
-      f = {true, s, sample_error(p, s), d};
+      f = {true, s, sample_error(p, s) + along, d};
     }
   }
 }

@@ -76,8 +76,9 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty());
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
-    rec.rec->point(p, report::offset_at(p, intent), p.motion);
-    if (nearest) nearest->add(p);
+    const V3 offset = report::offset_at(p, intent);
+    rec.rec->point(p, offset, p.motion);
+    if (nearest) nearest->add(p, offset);
   };
   if (j.pieces) {
     compensate::PipelineInput in = detail::pipeline_input(j, progress);

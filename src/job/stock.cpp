@@ -13,13 +13,12 @@
 #include "deflex/stock/mesh_out.hpp"
 #include "deflex/stock/zmap_file.hpp"
 #include "deflex/writer/writer.hpp"
+#include "read_back.hpp"
 
 namespace deflex::job {
-namespace {
 
-// The generated program read back as any program is (a self-check: it must
-// interpret without a diagnostic and stay in the machine's travel).
-std::vector<interp::Motion> read_back(const std::string& text, const std::string& name, const Setup& s) {
+std::vector<interp::Motion> read_back(const std::string& text, const std::string& name, const Setup& s,
+                                      const std::string& what) {
   const gcode::Program prog(SourceText(name, text));
   std::ostringstream err;
   Diagnostics diags(&err, 0);
@@ -28,9 +27,11 @@ std::vector<interp::Motion> read_back(const std::string& text, const std::string
   interp::interpret(prog, s.interp(), diags, c);
   for (const interp::Motion& m : motions) interp::check_travel(m, s.machine->travel, prog.source(), diags);
   if (diags.errors() || diags.warnings())
-    throw Error(ErrorKind::settings, "the roughing program does not fit this machine (nothing written):\n" + err.str());
+    throw Error(ErrorKind::settings, what + " does not fit this machine (nothing written):\n" + err.str());
   return motions;
 }
+
+namespace {
 
 // The settings checked and the plan's tool, stepdown and stepover set.
 plan::RoughingOptions roughing_options(const RoughSettings& s, const stiffness::Tool& rt) {
@@ -124,7 +125,7 @@ RoughResult rough(const RoughSettings& s, std::ostream& out, Io& io) {
   r.name = s.output.empty() || s.output == "-" ? "<stdout>" : s.output;
   std::ostringstream text;
   plan::write_roughing(text, r.plan, o, setup.dialect, header(s, rt, o, spec, r.line_spacing_mm));
-  const std::vector<interp::Motion> motions = read_back(text.str(), r.name, setup);
+  const std::vector<interp::Motion> motions = read_back(text.str(), r.name, setup, "the roughing program");
   if (s.output.empty() || s.output == "-") out << text.str();
   else writer::write_file_atomically(s.output, s.finish_program, [&](std::ostream& f) { f << text.str(); });
   r.moves = motions.size();

@@ -14,7 +14,7 @@ using namespace deflex;
 TEST_SUITE("cli") {
   TEST_CASE("every setting the library's messages may name has its flag, taken by a command") {
     std::string helps;
-    for (const char* c : {"compensate", "simulate", "rough", "diff", "check", "path", "stock"})
+    for (const char* c : {"compensate", "simulate", "rough", "diff", "check", "path", "stock", "testcut", "probe"})
       helps += test::run_cli({c, "--help"}).out;
     for (std::string_view k : setting_keywords()) {
       CAPTURE(k);

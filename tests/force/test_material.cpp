@@ -7,6 +7,7 @@
 #include "deflex/force/material.hpp"
 #include "deflex/force/tool.hpp"
 #include "deflex/stiffness/tool.hpp"
+#include "../support.hpp"
 
 using namespace deflex::force;
 using deflex::Error;
@@ -15,18 +16,7 @@ using deflex::ErrorKind;
 namespace {
 const std::string src = DEFLEX_SOURCE_DIR;
 
-// Runs f, expects deflex::Error of kind `kind`, returns its message.
-template <class F>
-std::string error_of(F f, ErrorKind kind) {
-  try {
-    f();
-  } catch (const Error& e) {
-    CHECK(e.kind() == kind);
-    return e.what();
-  }
-  FAIL("no error thrown");
-  return {};
-}
+using deflex::test::error_of;
 }  // namespace
 
 TEST_SUITE("force") {

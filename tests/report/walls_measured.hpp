@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "../job/support.hpp"
+#include "../fit/support.hpp"
 
 namespace deflex::test {
 
@@ -36,14 +36,7 @@ inline std::size_t write_walls_measured(const std::string& csv, int far) {
 
 // The walls simulated on mill3 against `csv`, the report into `report_dir`.
 inline job::Settings walls_measured_settings(const std::string& csv, const std::string& report_dir) {
-  const std::string src = DEFLEX_SOURCE_DIR;
-  job::Settings s;
-  s.program = src + "/tests/data/fit/walls_xy.nc";
-  s.read.machine = src + "/samples/machines/mill3.yaml";
-  s.tool_file = src + "/samples/tools.yaml";
-  s.material.material = "Al6082-T4";
-  s.material.material_file = src + "/samples/materials.yaml";
-  s.stock = "box:0,0,-20,100,100,0";
+  job::Settings s = walls(kSrc + "/samples/machines/mill3.yaml");
   s.measured = csv;
   s.report_dir = report_dir;
   return s;

@@ -45,6 +45,8 @@ int cmd_list(const std::vector<std::string>& args, Io& io);
 int cmd_stock(const std::vector<std::string>& args, Io& io);
 int cmd_rough(const std::vector<std::string>& args, Io& io);
 int cmd_fit(const std::vector<std::string>& args, Io& io);
+int cmd_testcut(const std::vector<std::string>& args, Io& io);
+int cmd_probe(const std::vector<std::string>& args, Io& io);
 
 // Runs `deflex ARGS...` in-process (what main() does); used by golden tests.
 int run(const std::vector<std::string>& argv, Io& io);

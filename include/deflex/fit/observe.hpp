@@ -56,7 +56,10 @@ class Nearest {
           std::function<const stiffness::Tool*(int)> tool_of);
   Nearest(Nearest&&) noexcept;
   ~Nearest();
-  void add(const compensate::Point& p);
+  // `offset_mm`: where the point runs off the design (simulate against a
+  // reference: the compensation), so that the samples lie on the design
+  // surface and their errors are measured from it (landing_error()).
+  void add(const compensate::Point& p, const V3& offset_mm = V3::Zero());
 
   struct Found {
     bool found = false;
