@@ -62,6 +62,49 @@ Json grid_json(const Grid& g, const std::vector<std::pair<std::string, std::stri
           {"zmid", lo <= hi ? (lo + hi) / 2 : 0.0}, {"z", std::move(z)}};
 }
 
+// At most this many measured points on the page: a probe's few thousand all
+// show; a scanned cloud of 10^5 would make the page heavy and its point views slow.
+constexpr std::size_t kMeasuredShown = 5000;
+
+// The measured points by columns (x, y, z in mm to the micrometre; m and p the
+// measured and predicted error in mm, null where unknown). Past
+// kMeasuredShown, each run of `per_bucket` consecutive points (a probe's path
+// or a scan line: neighbours on the part) keeps its point of largest
+// |predicted - measured|, or of largest |measured| where none has a
+// prediction: the disagreements this section is for are never dropped.
+Json measured_json(const std::vector<MeasuredMark>& marks) {
+  const std::size_t per = std::max<std::size_t>(1, (marks.size() + kMeasuredShown - 1) / kMeasuredShown);
+  auto weight = [](const MeasuredMark& k) {
+    if (std::isnan(k.measured_error_mm)) return std::pair(-1, 0.0);
+    if (k.predicted) return std::pair(1, std::fabs(k.predicted_error_mm - k.measured_error_mm));
+    return std::pair(0, std::fabs(k.measured_error_mm));
+  };
+  Json x = Json::array(), y = Json::array(), z = Json::array(), m = Json::array(), p = Json::array();
+  for (std::size_t b = 0; b < marks.size(); b += per) {
+    const auto end = marks.begin() + static_cast<std::ptrdiff_t>(std::min(marks.size(), b + per));
+    const MeasuredMark& k = *std::max_element(marks.begin() + static_cast<std::ptrdiff_t>(b), end,
+                                              [&](const MeasuredMark& u, const MeasuredMark& v) { return weight(u) < weight(v); });
+    x.push_back(fixed(k.x_mm, 3));
+    y.push_back(fixed(k.y_mm, 3));
+    z.push_back(fixed(k.z_mm, 3));
+    m.push_back(num_or_null(k.measured_error_mm, 6));
+    p.push_back(k.predicted ? num_or_null(k.predicted_error_mm, 6) : Json());
+  }
+  return {{"points", marks.size()}, {"per_bucket", per}, {"x", std::move(x)}, {"y", std::move(y)},
+          {"z", std::move(z)},      {"m", std::move(m)},  {"p", std::move(p)}};
+}
+
+// The template's measured section (between its two marks) kept, marks
+// dropped, or cut out: a run without measurements shows no empty section.
+std::string measured_section(std::string page, bool keep) {
+  static const std::string begin = "<!--@@MEASURED{-->", end = "<!--}@@MEASURED-->";
+  const std::size_t a = page.find(begin), b = page.find(end);
+  if (a == std::string::npos || b == std::string::npos || b < a)
+    throw Error(ErrorKind::internal, "report template: no measured section");
+  if (keep) return page.erase(b, end.size()).erase(a, begin.size());
+  return page.erase(a, b + end.size() - a);
+}
+
 // Fills the template's marks in the order they stand in it, each searched
 // after the text put in before it: no inserted text (a program line with
 // "@@DATA@@" in a comment) is ever taken for a mark.
@@ -147,6 +190,7 @@ std::string report_html(const HtmlInput& in) {
   data["plots"] = plots_json(pg.maps);
   data["histogram"] = pg.histogram;
   data["worst"] = pg.worst;
+  if (!in.measured.empty()) data["measured"] = measured_json(in.measured);
   for (auto& row : data["worst"]["rows"]) {
     const auto it = in.line_text.find(row["line"].get<std::uint32_t>());
     if (it != in.line_text.end()) row["text"] = it->second;
@@ -155,7 +199,7 @@ std::string report_html(const HtmlInput& in) {
   // Inside <script>: "</" never appears outside a JSON string, and "<\/" reads the same in one.
   for (std::size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 3)) json.insert(at + 1, "\\");
   const std::string title = escape_html(in.title);
-  return fill(embedded::report_page(), {{"@@TITLE@@", title},
+  return fill(measured_section(embedded::report_page(), !in.measured.empty()), {{"@@TITLE@@", title},
                                         {"/*@@DYGRAPHS_CSS@@*/", embedded::dygraphs_css()},
                                         {"@@TITLE@@", title},
                                         {"@@DATA@@", json},

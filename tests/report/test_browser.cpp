@@ -21,6 +21,7 @@
 #endif
 
 #include "../support.hpp"
+#include "walls_measured.hpp"
 #include "deflex/report/json.hpp"
 
 namespace fs = std::filesystem;
@@ -102,6 +103,33 @@ double red_share(const Image& im, const report::Json& r) {
     }
   return n > 0 ? red / n : 0.0;
 }
+
+// A page as Chromium shows it: the DOM after its scripts ran, the console's
+// lines, the regions of its drawings (the page's data-layout), the screenshot.
+struct Rendered {
+  std::string dom, console;
+  report::Json layout;
+  Image shot;
+};
+
+Rendered render(const std::string& exe, const fs::path& page, const fs::path& work) {
+  REQUIRE(browse(exe, work / "profile", "--dump-dom", page, work / "dom.html", work / "dom.log") == 0);
+  REQUIRE(browse(exe, work / "profile", "--screenshot='" + (work / "shot.png").string() + "'", page, work / "shot.out",
+                 work / "shot.log") == 0);
+  Rendered r;
+  r.dom = test::read_file((work / "dom.html").string());
+  const std::string log = test::read_file((work / "dom.log").string()) + test::read_file((work / "shot.log").string());
+  for (std::size_t at = log.find("CONSOLE"); at != std::string::npos; at = log.find("CONSOLE", at + 1))
+    r.console += log.substr(at, log.find('\n', at) - at) + "\n";
+  std::smatch m;
+  const std::regex lay("data-layout=\"([^\"]*)\"");
+  REQUIRE(std::regex_search(r.dom, m, lay));
+  std::string lj = m[1];
+  for (std::size_t at; (at = lj.find("&quot;")) != std::string::npos;) lj.replace(at, 6, "\"");
+  r.layout = report::Json::parse(lj);
+  r.shot = read_png((work / "shot.png").string());
+  return r;
+}
 #endif
 
 // The text a summary figure is shown with (as the page's um() and share format them).
@@ -109,6 +137,17 @@ std::string shown(const std::string& key, double v) {
   char b[64];
   if (key.find("out_of_tolerance_share") != std::string::npos) std::snprintf(b, sizeof b, "%.1f %%", 100 * v);
   else std::snprintf(b, sizeof b, "%.1f", 1000 * v);
+  return b;
+}
+
+// The text a figure of summary.json's "measured" is shown with in the agreement table.
+std::string shown_measured(const std::string& key, const report::Json& v) {
+  if (v.is_null()) return "–";
+  char b[64];
+  if (key.ends_with("_mm")) std::snprintf(b, sizeof b, "%.1f", 1000 * v.get<double>());
+  else if (key.ends_with("_share")) std::snprintf(b, sizeof b, "%.1f %%", 100 * v.get<double>());
+  else if (key == "correlation") std::snprintf(b, sizeof b, "%.3f", v.get<double>());
+  else std::snprintf(b, sizeof b, "%zu", v.get<std::size_t>());
   return b;
 }
 
@@ -130,17 +169,11 @@ TEST_SUITE("report_browser") {
     const fs::path page = rep / "report.html";
     REQUIRE(fs::exists(page));
 
-    REQUIRE(browse(exe, tmp.p / "profile", "--dump-dom", page, tmp.p / "dom.html", tmp.p / "dom.log") == 0);
-    REQUIRE(browse(exe, tmp.p / "profile", "--screenshot='" + (tmp.p / "shot.png").string() + "'", page,
-                   tmp.p / "shot.out", tmp.p / "shot.log") == 0);
-    const std::string dom = test::read_file((tmp.p / "dom.html").string());
-    const std::string log = test::read_file((tmp.p / "dom.log").string()) + test::read_file((tmp.p / "shot.log").string());
+    const Rendered shown_page = render(exe, page, tmp.p);
+    const std::string& dom = shown_page.dom;
 
     // No console message at all (the page logs nothing when all is well) and no script error.
-    std::string console;
-    for (std::size_t at = log.find("CONSOLE"); at != std::string::npos; at = log.find("CONSOLE", at + 1))
-      console += log.substr(at, log.find('\n', at) - at) + "\n";
-    CHECK_MESSAGE(console.empty(), console);
+    CHECK_MESSAGE(shown_page.console.empty(), shown_page.console);
     CHECK(dom.find("<pre id=\"errors\"></pre>") != std::string::npos);
     REQUIRE(dom.find("data-ready=\"yes\"") != std::string::npos);
 
@@ -162,13 +195,14 @@ TEST_SUITE("report_browser") {
     CHECK(std::stoul(m[1]) == summary["compensated_points"].get<std::size_t>());
     CHECK(std::stoul(m[2]) == summary["cl_points"].get<std::size_t>());
 
+    // No measurements given: no section for them.
+    CHECK(dom.find("<h2>Predicted against measured</h2>") == std::string::npos);
+    CHECK(dom.find("id=\"scatter\"") == std::string::npos);
+
     // The drawings: each region of the screenshot holds more than its background.
-    const std::regex lay("data-layout=\"([^\"]*)\"");
-    REQUIRE(std::regex_search(dom, m, lay));
-    std::string lj = m[1];
-    for (std::size_t at; (at = lj.find("&quot;")) != std::string::npos;) lj.replace(at, 6, "\"");
-    const report::Json layout = report::Json::parse(lj);
-    const Image shot = read_png((tmp.p / "shot.png").string());
+    const report::Json& layout = shown_page.layout;
+    const Image& shot = shown_page.shot;
+    CHECK(layout["measured3d"].empty());
     const unsigned char view_bg[3] = {0xf7, 0xf7, 0xf7}, white[3] = {0xff, 0xff, 0xff};
     REQUIRE(layout["view3d"].size() == 2);  // as written and compensated, side by side
     for (const auto& v : layout["view3d"]) CHECK(drawn_share(shot, v, view_bg) > 0.05);
@@ -188,6 +222,45 @@ TEST_SUITE("report_browser") {
       if (v[1].get<int>() + v[3].get<int>() > shot.h) continue;  // below the window
       CHECK(drawn_share(shot, v, white) > 0.02);
     }
+#endif
+  }
+  TEST_CASE("report.html with measured points in headless Chromium: both point views and the scatter drawn, the agreement = summary.json" *
+            doctest::skip(chromium().empty() || !kHavePng)) {
+#ifdef DEFLEX_HAVE_PNG
+    const std::string exe = chromium();
+    TempDir tmp;
+    test::write_walls_measured(tmp / "m.csv", 3);
+    const auto r = test::simulate_job(test::walls_measured_settings(tmp / "m.csv", tmp / "rep"));
+    REQUIRE_MESSAGE(r.ok(), r.what);
+    const Rendered shown_page = render(exe, tmp.p / "rep/report.html", tmp.p);
+    const std::string& dom = shown_page.dom;
+    CHECK_MESSAGE(shown_page.console.empty(), shown_page.console);
+    CHECK(dom.find("<pre id=\"errors\"></pre>") != std::string::npos);
+    REQUIRE(dom.find("data-ready=\"yes\"") != std::string::npos);
+    CHECK(dom.find("<h2>Predicted against measured</h2>") != std::string::npos);
+
+    // Measured on the left, predicted on the right, and the scatter: each drawn.
+    const report::Json& layout = shown_page.layout;
+    const unsigned char view_bg[3] = {0xf7, 0xf7, 0xf7}, white[3] = {0xff, 0xff, 0xff};
+    REQUIRE(layout["measured3d"].size() == 2);
+    for (const auto& v : layout["measured3d"]) CHECK(drawn_share(shown_page.shot, v, view_bg) > 0.01);
+    CHECK(layout["measured3d"][0][0].get<int>() < layout["measured3d"][1][0].get<int>());
+    REQUIRE(layout["scatter"].size() == 1);
+    CHECK(drawn_share(shown_page.shot, layout["scatter"][0], white) > 0.02);
+
+    // The agreement table says what summary.json says.
+    const report::Json summary = report::Json::parse(test::read_file((tmp.p / "rep/summary.json").string()));
+    const std::regex cell("data-key=\"measured\\.([a-z_]+)\">([^<]*)<");
+    int compared = 0;
+    for (auto it = std::sregex_iterator(dom.begin(), dom.end(), cell); it != std::sregex_iterator(); ++it) {
+      const std::string key = (*it)[1], text = (*it)[2];
+      CAPTURE(key);
+      REQUIRE(summary["measured"].contains(key));
+      CHECK(text == shown_measured(key, summary["measured"][key]));
+      ++compared;
+    }
+    CHECK(compared == 9);
+    CHECK(summary["measured"]["without_prediction"] == 3);
 #endif
   }
 }

@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "../support.hpp"
+#include "walls_measured.hpp"
 #include "deflex/report/compare.hpp"
 #include "deflex/report/html.hpp"
 #include "deflex/report/stats.hpp"
@@ -120,6 +121,80 @@ TEST_SUITE("report") {
     for (const auto& v : d["series"]["e0"])
       if (!v.is_null()) top = std::max(top, v.get<double>());
     CHECK(top == Approx(500.0));  // um
+  }
+
+  TEST_CASE("report.html: the measured section only with measured points; past 5000 each run keeps its worst disagreement") {
+    const report::Page pg = page_of(100, [](std::size_t i) { return 1e-3 * std::sin(i * 0.1); });
+    report::HtmlInput in;
+    in.page = &pg;
+    in.summary = {{"surface_error_mm", "x"}};
+    const std::string without = report::report_html(in);
+    CHECK(without.find("<h2>Predicted against measured</h2>") == std::string::npos);
+    CHECK(without.find("id=\"scatter\"") == std::string::npos);
+    CHECK(without.find("@@MEASURED") == std::string::npos);
+    CHECK(!report::Json::parse(data_of(without)).contains("measured"));
+
+    // 12,001 points, every third without a prediction, one far off its
+    // prediction (point 7001): 4001 drawn, runs of 3, that one among them.
+    for (std::size_t i = 0; i < 12001; ++i) {
+      const double m = 1e-3 * std::cos(i * 0.01);
+      in.measured.push_back({0.1 * i, 1, -2, m, i % 3 != 1, i == 7001 ? m + 0.05 : m + 1e-4});
+    }
+    const std::string with = report::report_html(in);
+    CHECK(with.find("<h2>Predicted against measured</h2>") != std::string::npos);
+    CHECK(with.find("id=\"measured3d\"") != std::string::npos);
+    CHECK(with.find("id=\"scatter\"") != std::string::npos);
+    CHECK(with.find("@@MEASURED") == std::string::npos);
+    const report::Json d = report::Json::parse(data_of(with))["measured"];
+    CHECK(d["points"] == 12001);
+    CHECK(d["per_bucket"] == 3);
+    for (const char* col : {"x", "y", "z", "m", "p"}) CHECK(d[col].size() == 4001);
+    // Each run of three keeps a point with a prediction (the disagreement is
+    // what is kept), and point 7001's 50 um is there.
+    double worst_mm = 0;
+    for (std::size_t k = 0; k < d["p"].size(); ++k) {
+      REQUIRE(!d["p"][k].is_null());
+      worst_mm = std::max(worst_mm, std::fabs(d["p"][k].get<double>() - d["m"][k].get<double>()));
+    }
+    CHECK(worst_mm == Approx(0.05));
+    bool has_7001 = false;
+    for (const auto& x : d["x"]) has_7001 |= x.get<double>() == Approx(700.1);
+    CHECK(has_7001);
+
+    // A few points: all drawn, those without a prediction null in "p", errors in mm.
+    in.measured.resize(4);
+    const report::Json few = report::Json::parse(data_of(report::report_html(in)))["measured"];
+    CHECK(few["per_bucket"] == 1);
+    REQUIRE(few["p"].size() == 4);
+    CHECK(few["p"][1].is_null());
+    CHECK(few["p"][0].get<double>() == Approx(1e-3 + 1e-4));
+    CHECK(few["m"][1].get<double>() == Approx(1e-3 * std::cos(0.01)).epsilon(1e-6));
+  }
+
+  TEST_CASE("simulate --measured: report.html holds every measured point, as measured.csv has them") {
+    test::TempDir dir("page");
+    const std::size_t n = test::write_walls_measured(dir / "m.csv", 3);
+    const auto r = test::simulate_job(test::walls_measured_settings(dir / "m.csv", dir / "rep"));
+    REQUIRE_MESSAGE(r.ok(), r.what);
+    const std::string page = test::read_file(dir / "rep/report.html");
+    CHECK(page.find("<h2>Predicted against measured</h2>") != std::string::npos);
+    const report::Json d = report::Json::parse(data_of(page));
+    const report::Json& m = d["measured"];
+    const test::Csv csv = test::read_csv(dir / "rep/measured.csv");
+    REQUIRE(csv.rows.size() == n);
+    CHECK(m["points"] == n);
+    REQUIRE(m["x"].size() == n);  // fewer than 5000: all drawn
+    std::size_t without = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      CAPTURE(i);
+      CHECK(std::fabs(m["x"][i].get<double>() - csv.num(i, "x_mm")) <= 0.5e-3 + 1e-9);  // to the micrometre
+      const bool predicted = !csv.rows[i][csv.col("predicted_error_mm")].empty();
+      CHECK(m["p"][i].is_null() == !predicted);
+      if (predicted) CHECK(m["p"][i].get<double>() == Approx(csv.num(i, "predicted_error_mm")).epsilon(1e-9));
+      without += !predicted;
+    }
+    CHECK(without == 3);  // the points above the block
+    CHECK(d["summary"]["measured"]["without_prediction"] == 3);
   }
 
   TEST_CASE("deflex compare: each row equals simulate's figures for that program; CSV and JSON say the same") {
