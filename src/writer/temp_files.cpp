@@ -1,7 +1,10 @@
 // The registry of temporary files (include/deflex/writer/temp_files.hpp).
 #include "deflex/writer/temp_files.hpp"
 
+#include <stdlib.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 #include <atomic>
 #include <cstring>
@@ -46,6 +49,34 @@ int add(const std::string& path) noexcept {
     return i;
   }
   return -1;
+}
+
+int create(std::string& tmpl, int& slot) noexcept {
+  slot = -1;
+  for (int i = 0; i < static_cast<int>(std::size(g_slots)); ++i) {
+    int free = kFree;
+    if (!g_slots[i].state.compare_exchange_strong(free, kFilling)) continue;
+    if (!fill(g_slots[i], tmpl)) {
+      g_slots[i].state.store(kFree);
+      break;
+    }
+    g_slots[i].state.store(kArmed, std::memory_order_release);
+    const int fd = ::mkstemp(g_slots[i].path);
+    if (fd < 0) {
+      const int e = errno;
+      forget(i);
+      errno = e;
+      return -1;
+    }
+    tmpl = g_slots[i].path;
+    slot = i;
+    return fd;
+  }
+  // No slot: the file is created all the same, unregistered.
+  std::string name = tmpl;
+  const int fd = ::mkstemp(name.data());
+  if (fd >= 0) tmpl = name;
+  return fd;
 }
 
 void forget(int slot) noexcept {

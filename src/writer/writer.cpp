@@ -348,14 +348,10 @@ AtomicFile::AtomicFile(const std::string& path, const std::string& input_path) :
   fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string hidden(".");
   hidden.append(target.filename().string()).append(".deflex-XXXXXX");
-  std::string tmpl = (dir / hidden).string();
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  const int fd = mkstemp(name.data());
+  tmp_ = (dir / hidden).string();
+  const int fd = temp_files::create(tmp_, slot_);
   if (fd < 0) throw Error(ErrorKind::io, path + ": error: cannot create a temporary file in " + dir.string() + ": " + std::strerror(errno));
   ::close(fd);
-  tmp_ = name.data();
-  slot_ = temp_files::add(tmp_);
   out_.open(tmp_, std::ios::binary | std::ios::trunc);
   if (!out_) {
     std::remove(tmp_.c_str());
@@ -401,14 +397,12 @@ void write_file_atomically(const std::string& path, const std::string& input_pat
 }
 
 void write_through_temporary(std::ostream& out, const std::function<void(std::ostream&)>& fill) {
-  std::string tmpl = (fs::temp_directory_path() / "deflex-out-XXXXXX").string();
-  std::vector<char> name(tmpl.begin(), tmpl.end());
-  name.push_back('\0');
-  const int fd = mkstemp(name.data());
+  std::string tmp = (fs::temp_directory_path() / "deflex-out-XXXXXX").string();
+  const std::string tmpl = tmp;
+  int slot = -1;
+  const int fd = temp_files::create(tmp, slot);
   if (fd < 0) throw Error(ErrorKind::io, "error: cannot create a temporary file in " + tmpl + ": " + std::strerror(errno));
   ::close(fd);
-  const std::string tmp(name.data());
-  const int slot = temp_files::add(tmp);
   try {
     {
       std::ofstream o(tmp, std::ios::binary | std::ios::trunc);

@@ -21,6 +21,15 @@ namespace deflex::writer::temp_files {
 // returns its slot for forget(), or -1 when the table is full or the path too
 // long (the file then goes only when its owner removes it).
 int add(const std::string& path) noexcept;
+// mkstemp(3) run in a registry slot: the file is the handler's from the
+// instant it exists (registering it after mkstemp returned left an instant in
+// which a signal found the file and not its name). `tmpl` ends in XXXXXX and
+// gets the name chosen. Returns the open descriptor (-1 with errno on
+// failure) and the slot in `slot` (-1 when the table is full or the path too
+// long: the file then goes only when its owner removes it). While mkstemp
+// writes the name the handler may unlink a name half written: a file that
+// does not exist, or one of deflex's own leftovers.
+int create(std::string& tmpl, int& slot) noexcept;
 // The file is removed or renamed into place: no longer the handler's.
 void forget(int slot) noexcept;
 // An output is complete (renamed into place): the handler names the last one.
