@@ -33,7 +33,9 @@ const char* kFitHelp =
     "(LinuxCNC's PROBEOPEN file, or a Fanuc's DPRNT output) with --probe-program.\n"
     "The measured error is the signed distance from the intended surface along its\n"
     "normal (> 0: material left): --part where given, else the surface the program\n"
-    "cuts with a rigid tool. Then:\n"
+    "cuts with a rigid tool. --also adds another measured cut (a job file): the test\n"
+    "cuts of two or three tools of different stick-out, fitted together, determine\n"
+    "what the walls of one tool cannot. Then:\n"
     "  deflex compensate part.nc --machine fitted.yaml ...\n";
 
 std::string n_per_um(const std::optional<double>& n_per_mm) {
@@ -104,7 +106,12 @@ int cmd_fit(const std::vector<std::string>& args, Io& io) {
   std::string job_file;
   po::options_description desc("options");
   describe(desc, s.run, help, job_file, false);
+  std::vector<std::string> also;
   desc.add_options()("output,o", po::value(&s.output), "write the fitted machine profile here (atomically); default stdout")(
+      "also", po::value(&also)->composing(),
+      "another measured cut of the same machine, fitted together with PROGRAM: a job file (YAML: program, tool, stock, "
+      "measured, probe_program; what it leaves out is this command line's, the tool the program's T words). Repeat it. Test cuts of tools that stick out "
+      "differently tell the clamp, the spindle and the force scale apart where one tool cannot")(
       "determined-within", po::value(&s.options.determined_within)->default_value(0.10, "0.10"),
       "a parameter whose 95 % interval reaches beyond x(1 + this) is held, not fitted");
   std::vector<std::string> files;
@@ -113,7 +120,7 @@ int cmd_fit(const std::vector<std::string>& args, Io& io) {
   if (help) {
     print_help(io.out,
                "deflex fit PROGRAM --measured FILE [--probe-program probe.nc] --machine M [--tool-file F] [--material M] "
-               "--stock S [-o fitted.yaml]",
+               "--stock S [--also CUT2.yaml ...] [-o fitted.yaml]",
                kFitHelp, desc);
     return 0;
   }
@@ -121,6 +128,16 @@ int cmd_fit(const std::vector<std::string>& args, Io& io) {
   if (!s.run.reference.empty() || !s.run.report_dir.empty())
     throw Error(ErrorKind::settings, "fit: --reference and --report have no meaning here (simulate --measured --report shows predicted against measured)");
   s.run.program = files[0];
+  for (const std::string& job : also) {
+    job::Settings more = s.run;  // material, libraries, tolerance ... as given here
+    more.program.clear(), more.measured.clear(), more.probe_program.clear(), more.tool.clear(), more.stock.clear();
+    std::vector<std::string> programs;
+    job::apply_job_file(job, more, programs);
+    if (more.stock.empty()) more.stock = s.run.stock;  // the same block unless the job file says
+    if (programs.empty()) throw Error(ErrorKind::settings, job + ": error: --also needs a job file naming its program");
+    more.program = programs.front();
+    s.more.push_back(std::move(more));
+  }
   ProgressLine progress(io);
   const job::FitReport r = job::fit(s, io.out, io, &progress);
   print_fit(r, io);

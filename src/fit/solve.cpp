@@ -35,14 +35,17 @@ struct Data {
   Eigen::VectorXd measured_mm;
 };
 
-Data data_of(const Basis& b, const Matching& m) {
-  Data d{Eigen::MatrixXd(static_cast<Eigen::Index>(m.matched.size()), kStiffnessParams + 1),
-         Eigen::VectorXd(static_cast<Eigen::Index>(m.matched.size()))};
-  for (std::size_t i = 0; i < m.matched.size(); ++i) {
-    const auto r = static_cast<Eigen::Index>(i);
-    d.rows.row(r) = b.errors_mm.row(static_cast<Eigen::Index>(m.matched[i].sample));
-    d.measured_mm(r) = m.matched[i].measured_error_mm;
-  }
+// The matched points of every cut, one row each, in the order given.
+Data data_of(const std::vector<Cut>& cuts) {
+  std::size_t n = 0;
+  for (const Cut& c : cuts) n += c.matching->matched.size();
+  Data d{Eigen::MatrixXd(static_cast<Eigen::Index>(n), kStiffnessParams + 1), Eigen::VectorXd(static_cast<Eigen::Index>(n))};
+  Eigen::Index r = 0;
+  for (const Cut& c : cuts)
+    for (const Matched& m : c.matching->matched) {
+      d.rows.row(r) = c.basis->errors_mm.row(static_cast<Eigen::Index>(m.sample));
+      d.measured_mm(r++) = m.measured_error_mm;
+    }
   return d;
 }
 
@@ -156,16 +159,20 @@ std::string factor(double f) {
 
 }  // namespace
 
-FitResult solve(const Basis& b, const Matching& m, const FitOptions& o) {
-  const Data d = data_of(b, m);
+FitResult solve(const Basis& b, const Matching& m, const FitOptions& o) { return solve({{&b, &m}}, o); }
+
+FitResult solve(const std::vector<Cut>& cuts, const FitOptions& o) {
+  const Data d = data_of(cuts);
   FitResult res;
-  const std::size_t n = m.matched.size();
+  const auto n = static_cast<std::size_t>(d.rows.rows());
+  // One machine: every cut's basis has the same components.
+  const std::array<bool, kParams>& present = cuts.front().basis->present;
   std::array<bool, kParams> free{};
   const std::array<double, kParams> sens = sensitivities(d);
   const double top = *std::max_element(sens.begin(), sens.end());
   for (int k = 0; k < kParams; ++k) {
     ParamFit& p = res.params[k];
-    if (!b.present[k]) p.why_held = "the starting profile has it rigid: there is nothing to scale";
+    if (!present[k]) p.why_held = "the starting profile has it rigid: there is nothing to scale";
     else if (o.hold[k]) p.why_held = "held at the profile's value as asked";
     else if (!(sens[k] > 1e-3 * top)) p.why_held = "the measured points do not feel it";
     else free[k] = true;

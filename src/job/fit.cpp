@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <ostream>
 #include <sstream>
@@ -45,16 +46,32 @@ void finish(FeatureFit& f) {
   f.rms_after_mm = std::sqrt(f.rms_after_mm / static_cast<double>(f.points));
 }
 
-void feature_fits(FitReport& r, const std::vector<fit::Observation>& obs, const fit::Matching& m) {
+// One measured cut: its run, its points, its basis and their matching.
+struct CutData {
+  Run run;
+  std::vector<fit::Observation> obs;
+  std::unique_ptr<fit::Basis> basis;
+  fit::Matching matching;
+};
+
+// The residuals per feature; with several cuts a feature is named with its
+// program's file name (and the tool given for it).
+void feature_fits(FitReport& r, const std::vector<CutData>& cuts) {
   std::map<std::string, FeatureFit> by;
-  for (std::size_t i = 0; i < m.matched.size(); ++i) {
-    const auto k = static_cast<Eigen::Index>(i);
-    const double before = r.fit.residual_before_mm(k), after = r.fit.residual_mm(k);
-    FeatureFit& f = by[obs[m.matched[i].observation].feature];
-    f.feature = obs[m.matched[i].observation].feature;
-    add_residual(f, before, after);
-    add_residual(r.all, before, after);
-  }
+  Eigen::Index k = 0;
+  for (const CutData& c : cuts)
+    for (const fit::Matched& m : c.matching.matched) {
+      const double before = r.fit.residual_before_mm(k), after = r.fit.residual_mm(k);
+      ++k;
+      const std::string& feature = c.obs[m.observation].feature;
+      const Settings& g = c.run.given;
+      const std::string cut = std::filesystem::path(g.program).filename().string() + (g.tool.empty() ? "" : " " + g.tool);
+      const std::string name = cuts.size() > 1 ? cut + (feature.empty() ? "" : " " + feature) : feature;
+      FeatureFit& f = by[name];
+      f.feature = name;
+      add_residual(f, before, after);
+      add_residual(r.all, before, after);
+    }
   for (auto& [name, f] : by) {
     finish(f);
     r.features.push_back(f);
@@ -72,8 +89,12 @@ std::string sig(double v, int digits = 4) {
 // The comment lines at the head of the fitted profile: what was fitted from what.
 std::vector<std::string> provenance(const FitSettings& s, const Run& run, const FitReport& r) {
   std::vector<std::string> p;
-  p.push_back("Fitted by deflex " DEFLEX_VERSION " (deflex fit) from the program " + s.run.program + " and the measurements " +
-              s.run.measured + (s.run.probe_program.empty() ? "" : " (probe program " + s.run.probe_program + ")") + ".");
+  auto cut = [](const Settings& c) {
+    return c.program + " measured by " + c.measured + (c.probe_program.empty() ? "" : " (probe program " + c.probe_program + ")");
+  };
+  std::string from = cut(s.run);
+  for (const Settings& c : s.more) from += "; " + cut(c);
+  p.push_back("Fitted by deflex " DEFLEX_VERSION " (deflex fit) from " + from + ".");
   p.push_back("Starting profile: " + run.setup.machine->file + "; material " + run.material + ".");
   p.push_back(std::to_string(r.matched) + " of " + std::to_string(r.observations) + " measured points compared; " +
               "|predicted - measured| rms " + fixed_decimals(r.all.rms_before_mm * 1000, 2) + " um before, " +
@@ -97,24 +118,30 @@ std::vector<std::string> provenance(const FitSettings& s, const Run& run, const 
 
 namespace {
 
-FitReport fit_run(const FitSettings& s, Run& run, const std::vector<fit::Observation>& obs, std::ostream& out, Io& io,
-                  Observer* observer) {
+// Simulates each cut once per basis machine, matches its points, and fits them together.
+FitReport fit_cuts(const FitSettings& s, std::vector<CutData>& cuts, std::ostream& out, Io& io, Observer* observer) {
   const compensate::Progress progress = detail::progress_of(observer);
-  const fit::Basis b = fit::simulate_basis(run.motions, run.physics, run.settings, tool_of(run), progress);
-  detail::end_progress(progress);
-  const fit::Matching m = fit::match(b.surface, obs, s.run.measured_reach_mm, run.part.get());
-
   FitReport r;
-  r.observations = obs.size();
-  r.matched = m.matched.size();
-  for (std::size_t i : m.unmatched) r.unmatched.push_back(obs[i].source);
-  if (!m.unmatched.empty())
-    io.err << (obs[m.unmatched.front()].source.empty() ? s.run.measured : obs[m.unmatched.front()].source)
-           << ": warning: " << plural(m.unmatched.size(), "measured point") << " of " << obs.size() << " lie farther than "
-           << fixed_decimals(s.run.measured_reach_mm, 3) << " mm from the surface " << s.run.program
-           << " cuts: left out of the fit (is the work offset, or the program, the one measured?)\n";
-  r.fit = fit::solve(b, m, s.options);
-  feature_fits(r, obs, m);
+  std::vector<fit::Cut> parts;
+  for (CutData& c : cuts) {
+    c.basis = std::make_unique<fit::Basis>(
+        fit::simulate_basis(c.run.motions, c.run.physics, c.run.settings, tool_of(c.run), progress));
+    c.matching = fit::match(c.basis->surface, c.obs, s.run.measured_reach_mm, c.run.part.get());
+    r.observations += c.obs.size();
+    r.matched += c.matching.matched.size();
+    for (std::size_t i : c.matching.unmatched) r.unmatched.push_back(c.obs[i].source);
+    if (!c.matching.unmatched.empty())
+      io.err << (c.obs[c.matching.unmatched.front()].source.empty() ? c.run.given.measured
+                                                                     : c.obs[c.matching.unmatched.front()].source)
+             << ": warning: " << plural(c.matching.unmatched.size(), "measured point") << " of " << c.obs.size()
+             << " lie farther than " << fixed_decimals(s.run.measured_reach_mm, 3) << " mm from the surface "
+             << c.run.given.program << " cuts: left out of the fit (is the work offset, or the program, the one measured?)\n";
+    parts.push_back({c.basis.get(), &c.matching});
+  }
+  detail::end_progress(progress);
+  const Run& run = cuts.front().run;
+  r.fit = fit::solve(parts, s.options);
+  feature_fits(r, cuts);
   r.start = run.physics.machine;
   r.fitted = fit::scaled(run.physics.machine, r.fit.scales);
   r.start_force_scale = run.setup.machine->force_scale;
@@ -128,13 +155,30 @@ FitReport fit_run(const FitSettings& s, Run& run, const std::vector<fit::Observa
   return r;
 }
 
+// The more cuts, opened after the first: each on the first's machine.
+void open_more(const FitSettings& s, std::vector<CutData>& cuts, Io& io, Observer* observer) {
+  for (const Settings& more : s.more) {
+    Settings m = more;
+    m.read.machine = s.run.read.machine;
+    m.measured_reach_mm = s.run.measured_reach_mm;
+    if (m.measured.empty()) throw Error(ErrorKind::settings, "fit: " + m.program + " has no measurements ({measured})");
+    if (m.tool_only) throw Error(ErrorKind::settings, "{tool_only} leaves the machine out of the deflection: there is nothing to fit");
+    CutData c{open(m, Purpose::fit, io, observer), {}, nullptr, {}};
+    c.obs = std::move(c.run.measured);
+    cuts.push_back(std::move(c));
+  }
+}
+
 }  // namespace
 
 FitReport fit(const FitSettings& s, std::ostream& out, Io& io, Observer* observer) {
   check(s);
   if (s.run.measured.empty()) throw Error(ErrorKind::settings, "fit: give the measurements ({measured})");
-  Run run = open(s.run, Purpose::fit, io, observer);
-  return fit_run(s, run, run.measured, out, io, observer);
+  std::vector<CutData> cuts;
+  cuts.push_back({open(s.run, Purpose::fit, io, observer), {}, nullptr, {}});
+  cuts.back().obs = std::move(cuts.back().run.measured);
+  open_more(s, cuts, io, observer);
+  return fit_cuts(s, cuts, out, io, observer);
 }
 
 FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, std::ostream& out, Io& io,
@@ -143,8 +187,10 @@ FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, st
   if (obs.empty()) throw Error(ErrorKind::settings, "no measured points: there is nothing to fit");
   FitSettings given = s;
   given.run.measured.clear();  // the observations are given: no file to read
-  Run run = open(given.run, Purpose::fit, io, observer);
-  return fit_run(s, run, obs, out, io, observer);
+  std::vector<CutData> cuts;
+  cuts.push_back({open(given.run, Purpose::fit, io, observer), obs, nullptr, {}});
+  open_more(s, cuts, io, observer);
+  return fit_cuts(s, cuts, out, io, observer);
 }
 
 }  // namespace deflex::job

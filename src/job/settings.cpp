@@ -38,7 +38,7 @@ void apply_job_file(const std::string& file, Settings& a, std::vector<std::strin
   const YAML::Node root = yaml::load_text(yaml::read_file(file), file);
   const yaml::Map m(root, "job", file,
                     {"program", "machine", "dialect", "tool_file", "tool", "material", "material_file", "stock",
-                     "stock_from", "part", "tolerance_mm", "gain", "output", "report"});
+                     "stock_from", "part", "tolerance_mm", "gain", "output", "report", "measured", "probe_program"});
   const fs::path dir = fs::path(file).parent_path();
   // A path of the job is relative to the job's folder (the file sits beside
   // the program); a box, a built-in name or an absolute path is taken as is.
@@ -65,6 +65,8 @@ void apply_job_file(const std::string& file, Settings& a, std::vector<std::strin
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);
   text("report", a.report_dir, true);
+  text("measured", a.measured, true);
+  text("probe_program", a.probe_program, true);
   refuse_output_onto_input(input_files(a, files));  // the files the job names
 }
 

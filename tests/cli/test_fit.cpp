@@ -50,4 +50,28 @@ TEST_SUITE("cli") {
     CHECK(n.rc == 2);
     CHECK(n.err.find("give the measurements (--measured)") != std::string::npos);
   }
+
+  TEST_CASE("fit --also: another measured cut from a job file, fitted with the first; its features named by program and tool") {
+    test::TempDir dir("fitcli");
+    const std::string csv6 = dir / "t6.csv", csv1 = dir / "t1.csv", job = dir / "t1.yaml";
+    // The back wall (normal +Y) where each tool leaves it: T6 (R 6) at y 96, T1 (R 5) at y 97.
+    std::ofstream(csv6) << "x_mm,y_mm,z_mm\n50,96,-6\n50,96,-4\n50,96,-2\n";
+    std::ofstream(csv1) << "x_mm,y_mm,z_mm\n50,97,-6\n50,97,-4\n50,97,-2\n";
+    std::ofstream(job) << "program: " << std::filesystem::absolute("tests/data/fit/walls_xy.nc").string()
+                       << "\ntool: T1\nmeasured: t1.csv\n";
+    const auto r = test::run_cli({"fit", "tests/data/fit/walls_xy.nc", "--machine", "samples/machines/mill3.yaml", "--material",
+                                  "Al6082-T4", "--stock", "box:0,0,-20,100,100,0", "--measured", csv6, "--also", job, "-o",
+                                  dir / "fitted.yaml"});
+    CHECK(r.rc == 0);
+    CHECK(r.err.find("fit: 6 of 6 measured points compared") != std::string::npos);
+    CHECK(r.err.find("  walls_xy.nc T1 ") != std::string::npos);
+    CHECK(test::read_file(dir / "fitted.yaml").find("walls_xy.nc measured by " + csv1) != std::string::npos);
+    // A job file without a program.
+    const std::string bad = dir / "bad.yaml";
+    std::ofstream(bad) << "tool: T1\nmeasured: t1.csv\n";
+    const auto b = test::run_cli({"fit", "tests/data/fit/walls_xy.nc", "--machine", "samples/machines/mill3.yaml", "--material",
+                                  "Al6082-T4", "--stock", "box:0,0,-20,100,100,0", "--measured", csv6, "--also", bad});
+    CHECK(b.rc == 2);
+    CHECK(b.err.find("--also needs a job file naming its program") != std::string::npos);
+  }
 }

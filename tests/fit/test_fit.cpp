@@ -193,4 +193,76 @@ TEST_CASE("fit: measurements read from a CSV (job::fit with Settings::measured) 
 
 }  // namespace deflex::test
 
+
+namespace deflex::test {
+
+namespace {
+
+// A CMM's CSV of the four walls as `hidden` cuts them with `tool`: every
+// 13th flank sample of its surface, moved by its error and 1 um noise.
+std::string walls_csv(const TempDir& dir, const std::string& hidden, const std::string& tool) {
+  job::Settings h = walls(hidden);
+  h.tool = tool;
+  const Simulated sim = simulate_on(h);
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  const std::string path = dir / (tool + ".csv");
+  std::ofstream o(path);
+  o << "x_mm,y_mm,z_mm\n";
+  o.precision(10);
+  const auto& smp = sim.surface->samples();
+  for (std::size_t i = 0; i < smp.size(); i += 13) {
+    if (smp[i].slice < 0) continue;
+    const fit::V3 at = smp[i].at_mm + (sim.errors[i] + noise(rng)) * smp[i].normal;
+    o << at.x() << "," << at.y() << "," << at.z() << "\n";
+  }
+  return path;
+}
+
+}  // namespace
+
+TEST_CASE("fit: the walls of three tools of different stick-out recover the whole hidden machine") {
+  // The hidden machine of the issue a shop has: structure X and Y 40 % apart
+  // (x1.4, x1.2), the clamp x0.6, the forces x1.2; the spindle as the profile.
+  // One tool's walls cannot tell the clamp and the force scale from the
+  // structure (the cases above); T6 (D12, 50 mm out), T1 (D10, 40 mm) and T4
+  // (D20, 65 mm) weigh tool, clamp and structure differently enough.
+  TempDir dir("fit");
+  const std::string hidden = hidden_machine(dir, true, true);
+  job::FitSettings s;
+  s.run = walls(kSrc + "/samples/machines/mill3.yaml");
+  s.run.tool = "T6";
+  s.run.measured = walls_csv(dir, hidden, "T6");
+  for (const char* tool : {"T1", "T4"}) {
+    job::Settings more = walls("");
+    more.tool = tool;
+    more.measured = walls_csv(dir, hidden, tool);
+    s.more.push_back(more);
+  }
+  Streams st;
+  const job::FitReport r = job::fit(s, st.out, st.io);
+  const fit::Scales truth = {0.6, 1.0, 1.4, 1.2, 1.0, 1.2};
+  for (int k : {int(fit::Param::clamp), int(fit::Param::structure_x), int(fit::Param::structure_y), int(fit::Param::coefficients)}) {
+    const fit::ParamFit& p = r.fit.params[k];
+    CAPTURE(fit::name(fit::Param(k)));
+    CAPTURE(p.scale);
+    CAPTURE(p.lo95);
+    CAPTURE(p.hi95);
+    REQUIRE(p.fitted);
+    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
+    CHECK(p.lo95 <= truth[k]);
+    CHECK(truth[k] <= p.hi95);
+  }
+  // The spindle is the clamp's twin still (both at the tool's top): held and named.
+  CHECK_FALSE(r.fit.params[int(fit::Param::spindle)].fitted);
+  CHECK(r.fit.params[int(fit::Param::spindle)].why_held.find("trades off") != std::string::npos);
+  CHECK_FALSE(r.fit.params[int(fit::Param::structure_z)].fitted);
+  REQUIRE(r.features.size() == 3);  // a cut each: its program's file name and its tool
+  CHECK(r.features[0].feature == "walls_xy.nc T1");
+  CHECK(r.all.rms_after_mm < 0.0012);
+  CHECK(st.out.str().find("T6.csv; ") != std::string::npos);  // the provenance names every cut
+}
+
+}  // namespace deflex::test
+
 TEST_SUITE_END();

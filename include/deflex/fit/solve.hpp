@@ -66,4 +66,14 @@ struct FitResult {
 
 FitResult solve(const Basis& b, const Matching& m, const FitOptions& o = {});
 
+// Several measured cuts of one machine fitted together (each its program's
+// basis and its points), residuals in the order given. Cuts of tools that
+// stick out differently weigh tool, clamp, spindle and structure
+// differently: what one tool's walls cannot tell apart, two may.
+struct Cut {
+  const Basis* basis = nullptr;
+  const Matching* matching = nullptr;
+};
+FitResult solve(const std::vector<Cut>& cuts, const FitOptions& o = {});
+
 }  // namespace deflex::fit

@@ -26,6 +26,12 @@ struct FitSettings {
   // The program whose cut was measured, machine, tool, material, stock, part,
   // and the measurements (Settings::measured, probe_program, measured_reach_mm).
   Settings run;
+  // More measured cuts of the same machine fitted together with `run`: each
+  // its own program, tool, stock and measurements (its machine is run's).
+  // Tools that stick out differently weigh tool, clamp, spindle and
+  // structure differently: what one tool's walls cannot tell apart, several
+  // can (docs/fit.md).
+  std::vector<Settings> more;
   std::string output;         // the fitted machine profile ("" or "-": the output stream)
   fit::FitOptions options;
 };

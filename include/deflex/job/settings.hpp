@@ -71,7 +71,7 @@ struct Settings {
 
 // Fills what `s` leaves out from the job file `file` (YAML: program, machine,
 // dialect, tool_file, tool, material, material_file, stock, stock_from, part,
-// tolerance_mm, gain, output, report). Paths in it are relative to its folder.
+// tolerance_mm, gain, output, report, measured, probe_program). Paths in it are relative to its folder.
 // `programs` gets the job's program when it holds none. Throws a config Error
 // at line:col of a bad key or value.
 void apply_job_file(const std::string& file, Settings& s, std::vector<std::string>& programs);
