@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "../job/support.hpp"
+#include "deflex/fit/solve.hpp"
 #include "deflex/fit/surface.hpp"
 
 namespace deflex::test {
@@ -69,6 +70,25 @@ inline Simulated simulate_on(const job::Settings& s) {
   r.surface = std::make_unique<fit::Surface>(r.points, job::tool_of(run));
   r.errors = r.surface->errors(r.points);
   return r;
+}
+
+// Every fitted parameter within 5 % of `truth`, the truth inside its 95 %
+// interval; a held one says why; each of `must_fit` fitted.
+inline void check_recovered(const fit::FitResult& r, const fit::Scales& truth, std::initializer_list<fit::Param> must_fit) {
+  for (int k = 0; k < fit::kParams; ++k) {
+    const fit::ParamFit& p = r.params[k];
+    CAPTURE(fit::name(fit::Param(k)));
+    CAPTURE(p.scale);
+    CAPTURE(p.lo95);
+    CAPTURE(p.hi95);
+    CAPTURE(p.why_held);
+    CHECK(p.fitted == p.why_held.empty());
+    if (!p.fitted) continue;
+    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
+    CHECK(p.lo95 <= truth[k]);
+    CHECK(truth[k] <= p.hi95);
+  }
+  for (fit::Param p : must_fit) CHECK(r.params[int(p)].fitted);
 }
 
 }  // namespace deflex::test

@@ -79,19 +79,7 @@ TEST_CASE("fit: a hidden machine's structure is recovered from four walls; what 
   const Simulated hidden = simulate_on(walls(hidden_machine(dir, false, false)));
   Streams st;
   const job::FitReport r = fit_mill3(hidden, false, st);
-  const fit::Scales truth = {1.0, 1.0, 1.4, 1.2, 1.0, 1.0};
-  for (int k = 0; k < fit::kParams; ++k) {
-    const fit::ParamFit& p = r.fit.params[k];
-    CAPTURE(fit::name(fit::Param(k)));
-    CAPTURE(p.scale);
-    CAPTURE(p.lo95);
-    CAPTURE(p.hi95);
-    CAPTURE(p.why_held);
-    if (!p.fitted) continue;
-    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
-    CHECK(p.lo95 <= truth[k]);
-    CHECK(truth[k] <= p.hi95);
-  }
+  check_recovered(r.fit, {1.0, 1.0, 1.4, 1.2, 1.0, 1.0}, {fit::Param::structure_x, fit::Param::structure_y});
   MESSAGE(st.out.str());
   CHECK(r.fit.params[int(fit::Param::structure_x)].fitted);
   CHECK(r.fit.params[int(fit::Param::structure_y)].fitted);
@@ -241,18 +229,8 @@ TEST_CASE("fit: the walls of three tools of different stick-out recover the whol
   }
   Streams st;
   const job::FitReport r = job::fit(s, st.out, st.io);
-  const fit::Scales truth = {0.6, 1.0, 1.4, 1.2, 1.0, 1.2};
-  for (int k : {int(fit::Param::clamp), int(fit::Param::structure_x), int(fit::Param::structure_y), int(fit::Param::coefficients)}) {
-    const fit::ParamFit& p = r.fit.params[k];
-    CAPTURE(fit::name(fit::Param(k)));
-    CAPTURE(p.scale);
-    CAPTURE(p.lo95);
-    CAPTURE(p.hi95);
-    REQUIRE(p.fitted);
-    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
-    CHECK(p.lo95 <= truth[k]);
-    CHECK(truth[k] <= p.hi95);
-  }
+  check_recovered(r.fit, {0.6, 1.0, 1.4, 1.2, 1.0, 1.2},
+                  {fit::Param::clamp, fit::Param::structure_x, fit::Param::structure_y, fit::Param::coefficients});
   // The spindle is the clamp's twin still (both at the tool's top): held and named.
   CHECK_FALSE(r.fit.params[int(fit::Param::spindle)].fitted);
   CHECK(r.fit.params[int(fit::Param::spindle)].why_held.find("trades off") != std::string::npos);

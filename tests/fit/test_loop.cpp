@@ -139,22 +139,8 @@ TEST_CASE("fit loop: the test cuts of three tools, probed on the hidden machine,
   const job::FitReport r = job::fit(s, st.out, st.io);
   CHECK(r.matched == r.observations);
   CHECK(r.features.size() == 36);  // every wall of every test cut
-  const fit::Scales truth = {0.6, 1.0, 1.4, 1.2, 1.0, 1.2};
-  for (int k = 0; k < fit::kParams; ++k) {
-    const fit::ParamFit& p = r.fit.params[k];
-    CAPTURE(fit::name(fit::Param(k)));
-    CAPTURE(p.scale);
-    CAPTURE(p.lo95);
-    CAPTURE(p.hi95);
-    CAPTURE(p.why_held);
-    CHECK(p.fitted == p.why_held.empty());
-    if (!p.fitted) continue;
-    CHECK(std::abs(p.scale / truth[k] - 1) < 0.05);
-    CHECK(p.lo95 <= truth[k]);
-    CHECK(truth[k] <= p.hi95);
-  }
-  for (fit::Param p : {fit::Param::clamp, fit::Param::structure_x, fit::Param::structure_y, fit::Param::coefficients})
-    CHECK(r.fit.params[int(p)].fitted);
+  check_recovered(r.fit, {0.6, 1.0, 1.4, 1.2, 1.0, 1.2},
+                  {fit::Param::clamp, fit::Param::structure_x, fit::Param::structure_y, fit::Param::coefficients});
   CHECK(r.all.rms_after_mm < 0.0012);
 }
 
