@@ -7,9 +7,9 @@
 namespace deflex::fit {
 
 double Basis::predict(std::size_t i, const Scales& s) const {
-  double e = errors_mm(static_cast<Eigen::Index>(i), 0);
-  for (int k = 0; k < kStiffnessParams; ++k) e += errors_mm(static_cast<Eigen::Index>(i), 1 + k) / s[k];
-  return s[int(Param::coefficients)] * e;
+  double inverse[kStiffnessParams];
+  for (int k = 0; k < kStiffnessParams; ++k) inverse[k] = 1 / s[k];
+  return scaled_error(errors_mm.row(static_cast<Eigen::Index>(i)).data(), inverse, s[int(Param::coefficients)]);
 }
 
 Basis simulate_basis(const std::vector<interp::Motion>& motions, const compensate::Physics& ph,
@@ -32,7 +32,7 @@ Basis simulate_basis(const std::vector<interp::Motion>& motions, const compensat
     if (!surface) surface = std::make_unique<Surface>(pts, tool_of);
     cols.push_back(surface->errors(pts));
   }
-  Basis r{std::move(*surface), Eigen::MatrixXd(static_cast<Eigen::Index>(cols[0].size()), kStiffnessParams + 1), {}};
+  Basis r{std::move(*surface), BasisRows(static_cast<Eigen::Index>(cols[0].size()), kStiffnessParams + 1), {}};
   for (std::size_t i = 0; i < cols[0].size(); ++i) {
     const auto row = static_cast<Eigen::Index>(i);
     r.errors_mm(row, 0) = cols[0][i];

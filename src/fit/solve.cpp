@@ -22,16 +22,15 @@ struct PointResidual {
   template <class T>
   bool operator()(const T* const c, const T* const s, const T* const x, const T* const y, const T* const z,
                   const T* const k, T* r) const {
-    const T* logs[kStiffnessParams] = {c, s, x, y, z};
-    T e = T(b[0]);
-    for (int i = 0; i < kStiffnessParams; ++i) e += b[1 + i] * ceres::exp(-logs[i][0]);
-    r[0] = ceres::exp(k[0]) * e - measured_mm;
+    const T inverse[kStiffnessParams] = {ceres::exp(-c[0]), ceres::exp(-s[0]), ceres::exp(-x[0]), ceres::exp(-y[0]),
+                                         ceres::exp(-z[0])};
+    r[0] = scaled_error(b.data(), inverse, ceres::exp(k[0])) - measured_mm;
     return true;
   }
 };
 
 struct Data {
-  Eigen::MatrixXd rows;  // matched x (kStiffnessParams + 1)
+  BasisRows rows;  // matched x (kStiffnessParams + 1)
   Eigen::VectorXd measured_mm;
 };
 
@@ -39,7 +38,7 @@ struct Data {
 Data data_of(const std::vector<Cut>& cuts) {
   std::size_t n = 0;
   for (const Cut& c : cuts) n += c.matching->matched.size();
-  Data d{Eigen::MatrixXd(static_cast<Eigen::Index>(n), kStiffnessParams + 1), Eigen::VectorXd(static_cast<Eigen::Index>(n))};
+  Data d{BasisRows(static_cast<Eigen::Index>(n), kStiffnessParams + 1), Eigen::VectorXd(static_cast<Eigen::Index>(n))};
   Eigen::Index r = 0;
   for (const Cut& c : cuts)
     for (const Matched& m : c.matching->matched) {
@@ -50,12 +49,11 @@ Data data_of(const std::vector<Cut>& cuts) {
 }
 
 Eigen::VectorXd residuals(const Data& d, const std::array<double, kParams>& x) {
+  double inverse[kStiffnessParams];
+  for (int k = 0; k < kStiffnessParams; ++k) inverse[k] = std::exp(-x[k]);
   Eigen::VectorXd r(d.rows.rows());
-  for (Eigen::Index i = 0; i < d.rows.rows(); ++i) {
-    double e = d.rows(i, 0);
-    for (int k = 0; k < kStiffnessParams; ++k) e += d.rows(i, 1 + k) * std::exp(-x[k]);
-    r(i) = std::exp(x[kParams - 1]) * e - d.measured_mm(i);
-  }
+  for (Eigen::Index i = 0; i < d.rows.rows(); ++i)
+    r(i) = scaled_error(d.rows.row(i).data(), inverse, std::exp(x[kParams - 1])) - d.measured_mm(i);
   return r;
 }
 
@@ -72,8 +70,7 @@ struct Run {
   std::array<double, kParams> x{};
   Eigen::MatrixXd cov;  // of the log-parameters, kParams x kParams (0 where held)
   bool covariance_ok = false;
-  int iterations = 0;
-  bool converged = false;
+  bool converged = true;  // nothing to solve: the start stands
   std::string message;
 };
 
@@ -101,7 +98,6 @@ Run run_solver(const Data& d, const std::array<bool, kParams>& free, const FitOp
   so.logging_type = ceres::SILENT;
   ceres::Solver::Summary sum;
   ceres::Solve(so, &problem, &sum);
-  run.iterations = static_cast<int>(sum.iterations.size());
   run.converged = sum.termination_type == ceres::CONVERGENCE;
   run.message = sum.message;
 
@@ -192,7 +188,8 @@ FitResult solve(const std::vector<Cut>& cuts, const FitOptions& o) {
     return ra != rb ? ra < rb : sens[a] > sens[b];
   });
   std::array<bool, kParams> in{};
-  Run run = run_solver(d, in, o);  // nothing free: the starting profile
+  Run run;  // nothing free yet: the starting profile, x = 0
+  run.cov = Eigen::MatrixXd::Zero(kParams, kParams);
   double var = residuals(d, run.x).squaredNorm() / static_cast<double>(n);
   for (int k : order) {
     if (!free[k]) continue;
@@ -204,7 +201,6 @@ FitResult solve(const std::vector<Cut>& cuts, const FitOptions& o) {
       continue;
     }
     Run t = run_solver(d, trial, o);
-    res.iterations += t.iterations;
     const double tvar = residuals(d, t.x).squaredNorm() / static_cast<double>(static_cast<int>(n) - ntrial);
     int worst = -1;
     double worst_half = 0;

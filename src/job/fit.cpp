@@ -29,7 +29,12 @@ void check(const FitSettings& s) {
     throw Error(ErrorKind::settings, "the fit's bounds must lie below and above 1 (the starting profile)");
   if (!(o.determined_within > 0))
     throw Error(ErrorKind::settings, "the fit's determinacy limit must be above 0");
-  if (s.run.tool_only)
+}
+
+// What each measured cut needs: its measurements, and the machine in its deflection.
+void check_cut(const Settings& c) {
+  if (c.measured.empty()) throw Error(ErrorKind::settings, "fit: " + c.program + " has no measurements ({measured})");
+  if (c.tool_only)
     throw Error(ErrorKind::settings, "{tool_only} leaves the machine out of the deflection: there is nothing to fit");
 }
 
@@ -141,6 +146,9 @@ FitReport fit_cuts(const FitSettings& s, std::vector<CutData>& cuts, std::ostrea
   detail::end_progress(progress);
   const Run& run = cuts.front().run;
   r.fit = fit::solve(parts, s.options);
+  if (!r.fit.converged)
+    io.err << run.given.program << ": warning: the fit did not converge (Ceres: " << r.fit.message
+           << "): the factors are where it stopped, not a minimum\n";
   feature_fits(r, cuts);
   r.start = run.physics.machine;
   r.fitted = fit::scaled(run.physics.machine, r.fit.scales);
@@ -155,14 +163,12 @@ FitReport fit_cuts(const FitSettings& s, std::vector<CutData>& cuts, std::ostrea
   return r;
 }
 
-// The more cuts, opened after the first: each on the first's machine.
+// The more cuts (checked by check_cut()), opened after the first: each on the first's machine.
 void open_more(const FitSettings& s, std::vector<CutData>& cuts, Io& io, Observer* observer) {
   for (const Settings& more : s.more) {
     Settings m = more;
     m.read.machine = s.run.read.machine;
     m.measured_reach_mm = s.run.measured_reach_mm;
-    if (m.measured.empty()) throw Error(ErrorKind::settings, "fit: " + m.program + " has no measurements ({measured})");
-    if (m.tool_only) throw Error(ErrorKind::settings, "{tool_only} leaves the machine out of the deflection: there is nothing to fit");
     CutData c{open(m, Purpose::fit, io, observer), {}, nullptr, {}};
     c.obs = std::move(c.run.measured);
     cuts.push_back(std::move(c));
@@ -174,6 +180,8 @@ void open_more(const FitSettings& s, std::vector<CutData>& cuts, Io& io, Observe
 FitReport fit(const FitSettings& s, std::ostream& out, Io& io, Observer* observer) {
   check(s);
   if (s.run.measured.empty()) throw Error(ErrorKind::settings, "fit: give the measurements ({measured})");
+  check_cut(s.run);
+  for (const Settings& m : s.more) check_cut(m);
   std::vector<CutData> cuts;
   cuts.push_back({open(s.run, Purpose::fit, io, observer), {}, nullptr, {}});
   cuts.back().obs = std::move(cuts.back().run.measured);
@@ -185,6 +193,9 @@ FitReport fit(const FitSettings& s, const std::vector<fit::Observation>& obs, st
               Observer* observer) {
   check(s);
   if (obs.empty()) throw Error(ErrorKind::settings, "no measured points: there is nothing to fit");
+  if (s.run.tool_only)
+    throw Error(ErrorKind::settings, "{tool_only} leaves the machine out of the deflection: there is nothing to fit");
+  for (const Settings& m : s.more) check_cut(m);
   FitSettings given = s;
   given.run.measured.clear();  // the observations are given: no file to read
   std::vector<CutData> cuts;

@@ -17,7 +17,9 @@ struct Edit {
   std::string text;
 };
 
-// The extent of the plain or quoted scalar starting at `pos` of `text`.
+// The extent of the plain or quoted scalar starting at `pos` of `text`:
+// yaml-cpp marks where a node starts, not where it ends, and its emitter
+// would rewrite the whole file without its comments.
 std::size_t scalar_length(const std::string& text, std::size_t pos) {
   if (pos < text.size() && (text[pos] == '"' || text[pos] == '\'')) {
     const std::size_t close = text.find(text[pos], pos + 1);
@@ -77,7 +79,8 @@ std::string fitted_profile_text(const std::string& file, const fit::Scales& s, c
   }
   if (const YAML::Node n = root["name"]; n && n.IsScalar()) {
     const std::size_t pos = static_cast<std::size_t>(n.Mark().pos);
-    edits.push_back({pos, scalar_length(text, pos), n.as<std::string>() + "-fitted"});
+    const std::string name = n.as<std::string>();  // a profile fitted again keeps one suffix
+    edits.push_back({pos, scalar_length(text, pos), name.ends_with("-fitted") ? name : name + "-fitted"});
   }
   std::sort(edits.begin(), edits.end(), [](const Edit& a, const Edit& b) { return a.pos > b.pos; });
   std::string body = text;

@@ -28,6 +28,14 @@ TEST_SUITE("cli") {
     CHECK(r.err.find("fit: 3 of 3 measured points compared") != std::string::npos);
     CHECK(r.err.find("  held: structure X: the measured points do not feel it") != std::string::npos);
     CHECK(test::read_file(dir / "fitted.yaml").find("name: mill3-fitted") != std::string::npos);
+    // Fitted again from the fitted profile: one suffix, not two.
+    std::vector<std::string> again = ok;
+    again[3] = dir / "fitted.yaml";
+    again.back() = dir / "fitted2.yaml";
+    REQUIRE(test::run_cli(again).rc == 0);
+    const std::string twice = test::read_file(dir / "fitted2.yaml");
+    CHECK(twice.find("name: mill3-fitted\n") != std::string::npos);
+    CHECK(twice.find("fitted-fitted") == std::string::npos);
 
     // A LinuxCNC log with one number missing on its second line.
     const std::string probe = dir / "probe.nc", log = dir / "log.txt";

@@ -13,11 +13,14 @@
 
 namespace deflex::fit {
 
+// One row per sample, its terms contiguous (scaled_error() reads a row).
+using BasisRows = Eigen::Matrix<double, Eigen::Dynamic, kStiffnessParams + 1, Eigen::RowMajor>;
+
 struct Basis {
   Surface surface;
   // samples x (kStiffnessParams + 1): column 0 the fixed part's error, column
   // 1 + k that of stiffness parameter k at the starting profile, mm.
-  Eigen::MatrixXd errors_mm;
+  BasisRows errors_mm;
   std::array<bool, kParams> present{};  // the starting profile has the component
 
   // The error at sample i with the stiffness scales and coefficients' scale of `s`.

@@ -51,6 +51,18 @@ stiffness::MachineStiffness scaled(const stiffness::MachineStiffness& start, con
 // not have (rigid) gives a basis machine equal to the fixed part.
 std::array<stiffness::MachineStiffness, kStiffnessParams + 1> basis_machines(const stiffness::MachineStiffness& start);
 
+// The error at one sample from its basis row (row[0] the fixed part's error,
+// row[1 + k] stiffness term k's, mm), the reciprocal of each stiffness scale
+// and the coefficients' scale: s * (e_fixed + sum_k e_k / lambda_k). The one
+// place the formula is written: the fit's residuals (with Ceres' automatic
+// derivatives, T a Jet) and Basis::predict() both call it.
+template <class T>
+T scaled_error(const double* row, const T* inverse_stiffness_scales, const T& coefficients_scale) {
+  T e = T(row[0]);
+  for (int k = 0; k < kStiffnessParams; ++k) e += row[1 + k] * inverse_stiffness_scales[k];
+  return coefficients_scale * e;
+}
+
 // Whether `start` has the component at all (a rigid one cannot be scaled).
 bool present(const stiffness::MachineStiffness& start, Param p);
 

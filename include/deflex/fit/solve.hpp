@@ -59,9 +59,8 @@ struct FitResult {
   Eigen::VectorXd residual_before_mm;  // predicted - measured at the starting profile, per matched point
   Eigen::VectorXd residual_mm;         // the same after the fit
   double sigma_mm = 0;                 // residual standard deviation after the fit
-  int iterations = 0;                  // solver iterations, all runs
-  bool converged = false;
-  std::string message;                 // the solver's last message
+  bool converged = true;               // the last fit accepted ended by Ceres' convergence test
+  std::string message;                 // its solver's message (job::fit warns when it did not converge)
 };
 
 FitResult solve(const Basis& b, const Matching& m, const FitOptions& o = {});
