@@ -8,8 +8,25 @@
 #include "common.hpp"
 #include "terminal_line.hpp"
 #include "deflex/report/summary.hpp"
+#include "deflex/stock/sweep.hpp"
 
 namespace deflex::cli {
+
+namespace {
+
+// The Z-map work of a stage (stock::sweep_work): what a reader can compare
+// with other engagement simulators, whatever the machine.
+std::string sweep_work_since(const stock::SweepWork& before, std::chrono::duration<double> took) {
+  const stock::SweepWork now = stock::sweep_work();
+  const double cells = static_cast<double>(now.cells - before.cells);
+  if (cells <= 0) return "";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; Z-map: %.4g cells updated by %llu moves (%.3g cells/s)", cells,
+                static_cast<unsigned long long>(now.moves - before.moves), cells / std::max(took.count(), 1e-9));
+  return buf;
+}
+
+}  // namespace
 
 compensate::Progress progress_for(Io& io) {
   const bool shown = !io.quiet && (io.progress == ProgressWhen::always ||
@@ -20,6 +37,7 @@ compensate::Progress progress_for(Io& io) {
     std::string stage;
     Clock::time_point start;
     int decile = -1;
+    stock::SweepWork work;  // at the stage's start
   };
   auto st = std::make_shared<State>();
   // On a terminal one line redrawn in place; elsewhere (a log) a line per 10%.
@@ -31,10 +49,12 @@ compensate::Progress progress_for(Io& io) {
       if (io.verbose && !st->stage.empty()) {
         char done[32];
         std::snprintf(done, sizeof done, "%.1f s", std::chrono::duration<double>(now - st->start).count());
-        io.err << "deflex: " << st->stage << " done in " << done << "\n";
+        io.err << "deflex: " << st->stage << " done in " << done << sweep_work_since(st->work, now - st->start)
+               << "\n";
       }
       st->stage = stage;
       st->start = now;
+      st->work = stock::sweep_work();
       st->decile = -1;
     }
     if (!shown || stage.empty()) return;  // end_progress(): the last stage closed

@@ -219,24 +219,52 @@ struct Simulation::Impl {
   Impl(const Physics& p, const Settings& st, const DesignNormals& n, PointSink o, std::unique_ptr<stock::ZMap> map,
        Progress pr, std::size_t t)
       : ph(p), s(st), normals(n), out(std::move(o)), progress(std::move(pr)), total(t),
-        run(p, st, [this](const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
-          sample(cl, mt, eng);
-        }, std::move(map)) {}
+        run(
+            p, st, [this](const engage::CLSample& cl, const engage::Metrics&, const force::Engagement&) { emit(cl); },
+            std::move(map),
+            [this](std::size_t slot, const engage::CLSample& cl, const engage::Metrics& mt,
+                   const force::Engagement& eng) { prepare(slot, cl, mt, eng); }) {}
 
-  void sample(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
+  // A sample's point (its forces, deflection, normal, the stock around it)
+  // depends on its engagement alone: computed for a whole batch at once on
+  // the simulator's threads (engage::SampleWork), handed on in program order
+  // by emit(). A failure is kept with its sample, so that the first one in
+  // program order is the one reported, whatever the threads.
+  struct Prepared {
+    Point p;
+    std::exception_ptr failed;
+  };
+
+  void prepare(std::size_t slot, const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
+    if (slot >= slots.size()) throw Error(ErrorKind::internal, "simulation: a batch larger than its slots");
+    Prepared& r = slots[slot];
+    r.failed = nullptr;
     if (cl.rapid) return;
-    // A simulator runs every motion from its first one on: its count of
-    // motions is the program's index less its first one's.
-    const std::size_t gi = sim_base + cl.motion;
-    while (!held.empty() && held.front().index < gi) held.pop_front();
-    if (held.empty() || held.front().index != gi) throw Error(ErrorKind::internal, "simulation: a sample of an unknown motion");
-    const Held& h = held.front();
-    Point p = point_of(cl, mt, eng, *tm, h.design, h.design, gi, h.a, h.b, normals, ph.k, rev, s.flank_profiles);
-    p.motion = static_cast<std::uint32_t>(gi);
-    const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
-    p.stock_depth_mm = std::max(0.0, above_mm);
-    p.stock_gap_mm = std::max(0.0, -above_mm);
-    out(p);
+    try {
+      // A simulator runs every motion from its first one on: its count of
+      // motions is the program's index less its first one's.
+      const std::size_t gi = sim_base + cl.motion;
+      const auto it = std::lower_bound(held.begin(), held.end(), gi,
+                                       [](const Held& h, std::size_t i) { return h.index < i; });
+      if (it == held.end() || it->index != gi) throw Error(ErrorKind::internal, "simulation: a sample of an unknown motion");
+      thread_local std::vector<force::Vec3> rev;
+      r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, rev, s.flank_profiles);
+      r.p.motion = static_cast<std::uint32_t>(gi);
+      const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
+      r.p.stock_depth_mm = std::max(0.0, above_mm);
+      r.p.stock_gap_mm = std::max(0.0, -above_mm);
+    } catch (...) {
+      r.failed = std::current_exception();
+    }
+  }
+
+  void emit(const engage::CLSample& cl) {
+    if (cl.rapid) return;
+    Prepared& r = slots[run.sim().sink_slot()];
+    if (r.failed) std::rethrow_exception(r.failed);
+    // The motions before are done with.
+    while (!held.empty() && held.front().index < r.p.motion) held.pop_front();
+    out(r.p);
   }
 
   void add(const std::vector<interp::Motion>& motions, const std::vector<V3>& offsets) {
@@ -278,7 +306,8 @@ struct Simulation::Impl {
   std::size_t changes = 0;
   V3 prev = V3::Zero();      // offset of the last motion added
   const ToolModel* tm = nullptr;
-  std::vector<force::Vec3> rev;
+  // The points of the batch in the simulator's work, by slot.
+  std::vector<Prepared> slots = std::vector<Prepared>(engage::SimOptions{}.max_batch);
   Run run;
 };
 

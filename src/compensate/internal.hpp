@@ -69,8 +69,10 @@ inline double lowered_feed(double feed_mm_per_min, double limit_N, double peak_N
 class Run {
  public:
   // `own` (may be null): the map to cut, else a copy of the physics' stock.
-  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}, std::unique_ptr<stock::ZMap> own = nullptr)
-      : ph_(ph), s_(s), sink_(std::move(sink)), z_(std::move(own)) {
+  // `work`: the simulators' sample work (engage::Simulator::set_sample_work).
+  Run(const Physics& ph, const Settings& s, engage::PointSink sink = {}, std::unique_ptr<stock::ZMap> own = nullptr,
+      engage::SampleWork work = {})
+      : ph_(ph), s_(s), sink_(std::move(sink)), work_(std::move(work)), z_(std::move(own)) {
     if (!ph.stock) throw Error(ErrorKind::settings, "no stock: give {stock} box:X0,Y0,Z0,X1,Y1,Z1 or a solid file");
     if (!z_) z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
     so_.path.cl_spacing_mm = s.cl_spacing_mm;
@@ -90,6 +92,7 @@ class Run {
       proc.spindle_rpm = m.spindle_rpm > 0 ? m.spindle_rpm : 1.0;
       proc.fz_mm = m.feed_mm_per_min / (proc.spindle_rpm * tm_->slices.cutter.flutes);
       sim_ = std::make_unique<engage::Simulator>(*z_, tm_->slices, proc, so_, sink_);
+      if (work_) sim_->set_sample_work(work_);
       id_ = id;
       ++tool_changes_;
     }
@@ -107,6 +110,7 @@ class Run {
   const Physics& ph_;
   const Settings& s_;
   engage::PointSink sink_;
+  engage::SampleWork work_;
   std::unique_ptr<stock::ZMap> z_;
   engage::SimOptions so_;
   std::map<std::string, ToolModel> models_;

@@ -65,6 +65,7 @@ void Simulator::evaluate_batch() {
     const Sample& s = batch_[i];
     const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), s.pending), &s.current};
     metrics_[i] = eng_.evaluate(view, s.cl.point, proc_, engs_[i]);
+    if (work_) work_(i, s.cl, metrics_[i], engs_[i]);
   };
   if (o_.threads == 1 || n < 4) {
     for (std::size_t i = 0; i < n; ++i) one(i);
@@ -77,7 +78,10 @@ void Simulator::evaluate_batch() {
   }
   t_engage_ += now_s() - t0;
   if (sink_)
-    for (std::size_t i = 0; i < n; ++i) sink_(batch_[i].cl, metrics_[i], engs_[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+      sink_slot_ = i;
+      sink_(batch_[i].cl, metrics_[i], engs_[i]);
+    }
   samples_ += n;
   batch_.clear();
 }

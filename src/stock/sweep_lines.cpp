@@ -4,6 +4,7 @@
 #include "deflex/stock/sweep.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -57,6 +58,7 @@ class RowSweep {
 
   // The removed volume, mm^3.
   double rows(int j0, int j1);
+  std::uint64_t cells() const { return cells_; }  // heights computed so far
 
  private:
   static constexpr int chunk = ZMap::tile_cells;
@@ -95,6 +97,7 @@ class RowSweep {
   double wys_[chunk], ol0_[chunk], or0_[chunk], ol1_[chunk], or1_[chunk], pl0_[chunk], pr0_[chunk], pl1_[chunk],
       pr1_[chunk];
   float stack_buf_[stack_cells];
+  std::uint64_t cells_ = 0;
 };
 
 // first and last for the left-out cells, inside [lo, hi]: by a multiplication (the
@@ -182,10 +185,12 @@ void RowSweep::cut_row(int j, double y, int i0, int i1, int e0, int e1, double& 
   // The left-out cells get +inf (lower_row keeps them); a gap of a few cells
   // costs more (a second row_heights call) than it saves.
   if (e1 - e0 < 4 || (e0 > i0 && e1 < i1 && e1 - e0 < 12)) {
+    cells_ += static_cast<std::uint64_t>(n);
     s_.row_heights(y, g_.x0_mm, g_.cell_mm, i0, n, buf);
     removed += z_.lower_row(j, i0, n, buf);
     return;
   }
+  cells_ += static_cast<std::uint64_t>(e0 - i0 + i1 - e1);
   s_.row_heights(y, g_.x0_mm, g_.cell_mm, i0, e0 - i0, buf);
   s_.row_heights(y, g_.x0_mm, g_.cell_mm, e1 + 1, i1 - e1, buf + (e1 + 1 - i0));
   // Only the evaluated cells reach lower_row (the gap may be most of the row),
@@ -230,16 +235,40 @@ double RowSweep::rows(int j0, int j1) {
   return removed;
 }
 
-double sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, const LineSweep* next = nullptr,
-                  const Handoff* h = nullptr, const RowCache* mine = nullptr, RowCache* theirs = nullptr) {
+// The work of every sweep in the process (sweep_work()): one addition per
+// sweep call, not per row, so that counting costs nothing measurable.
+std::atomic<std::uint64_t> g_moves{0}, g_cells{0};
+
+// A band's or a whole move's sweep: the removed volume and the cells computed.
+struct Swept {
+  double removed_mm3 = 0;
+  std::uint64_t cells = 0;
+  Swept& operator+=(const Swept& o) {
+    removed_mm3 += o.removed_mm3;
+    cells += o.cells;
+    return *this;
+  }
+};
+
+Swept sweep_rows(ZMap& z, const LineSweep& s, int j0, int j1, bool start_cut, const LineSweep* next = nullptr,
+                 const Handoff* h = nullptr, const RowCache* mine = nullptr, RowCache* theirs = nullptr) {
   RowSweep sweep(z, s, start_cut, next, h, mine, theirs);
-  return sweep.rows(j0, j1);
+  const double removed = sweep.rows(j0, j1);
+  return {removed, sweep.cells()};
+}
+
+double counted(const Swept& w, std::size_t moves) {
+  g_moves.fetch_add(moves, std::memory_order_relaxed);
+  g_cells.fetch_add(w.cells, std::memory_order_relaxed);
+  return w.removed_mm3;
 }
 
 }  // namespace
 
+SweepWork sweep_work() { return {g_moves.load(std::memory_order_relaxed), g_cells.load(std::memory_order_relaxed)}; }
+
 double sweep_line(ZMap& z, const LineSweep& s, bool start_cut) {
-  return sweep_rows(z, s, 0, z.grid().ny - 1, start_cut);
+  return counted(sweep_rows(z, s, 0, z.grid().ny - 1, start_cut), 1);
 }
 
 double sweep_line_reference(ZMap& z, const LineSweep& s) {
@@ -279,9 +308,9 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) 
   for (std::size_t k = 0; k + 1 < s.size(); ++k)
     has[k] = chained(k + 1) && detail::make_handoff(s[k], s[k + 1], hand[k]);
   // One task per tile row: lower_row on different tile rows never shares a tile.
-  return tbb::parallel_reduce(
-      tbb::blocked_range<int>(j0 / T, j1 / T + 1, 1), 0.0,
-      [&](const tbb::blocked_range<int>& r, double acc) {
+  const Swept w = tbb::parallel_reduce(
+      tbb::blocked_range<int>(j0 / T, j1 / T + 1, 1), Swept{},
+      [&](const tbb::blocked_range<int>& r, Swept acc) {
         RowCache cache[2];
         for (int band = r.begin(); band != r.end(); ++band) {
           const RowCache* mine = nullptr;
@@ -299,7 +328,8 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) 
         }
         return acc;
       },
-      [](double a, double b) { return a + b; });
+      [](Swept a, const Swept& b) { return a += b; });
+  return counted(w, s.size());
 }
 
 double sweep_line(ZMap& z, const ToolProfile& tool, const Point3& a_mm, const Point3& b_mm) {

@@ -40,6 +40,11 @@ struct SimOptions {
 };
 
 using PointSink = std::function<void(const CLSample&, const Metrics&, const force::Engagement&)>;
+// Work on one sample done in parallel right after its engagement, before the
+// sink sees the batch in program order (Simulator::set_sample_work). `slot`
+// is the sample's place in its batch, so that the work can leave its result
+// where the sink finds it (Simulator::sink_slot()).
+using SampleWork = std::function<void(std::size_t slot, const CLSample&, const Metrics&, const force::Engagement&)>;
 
 // Parallelism. The engagement at a CL sample depends on the stock and on the
 // geometry of the path before it, and the path is known in advance: so the CL
@@ -65,6 +70,13 @@ class Simulator {
   // Sequential (one probe at a time); fills `cl` as run() would.
   Metrics probe(const interp::Motion& m, std::span<const Point3> v, int k, CLSample& cl, force::Engagement& out);
   const SimOptions& options() const { return o_; }
+  // What is computed from a sample's engagement alone (its forces, its
+  // deflection) runs with the evaluations, on as many threads, instead of
+  // one by one in the sink. Called concurrently for different slots while
+  // nothing cuts the stock; it may read the stock. Set before the first run().
+  void set_sample_work(SampleWork w) { work_ = std::move(w); }
+  // During a sink call: the slot its sample had in the sample work.
+  std::size_t sink_slot() const { return sink_slot_; }
   // Evaluates what is left and commits every pending volume: the Z-map is then
   // the stock as cut by all motions run so far.
   void finish();
@@ -93,6 +105,8 @@ class Simulator {
   Process proc_;
   SimOptions o_;
   PointSink sink_;
+  SampleWork work_;
+  std::size_t sink_slot_ = 0;
   double keep_mm_ = 0, batch_mm_ = 0;
   std::vector<stock::LineSweep> pend_;  // oldest first
   std::vector<double> pend_end_s_;      // path length at each one's end

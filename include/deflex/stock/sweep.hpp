@@ -15,6 +15,7 @@
 // Frame: work frame, mm; points are tool-tip positions (the programmed point).
 #pragma once
 #include <array>
+#include <cstdint>
 #include <span>
 
 #include "deflex/interp/arc.hpp"
@@ -113,6 +114,16 @@ double sweep_line_reference(ZMap& z, const LineSweep& s);
 // chained), bit for bit: a move followed by a chained one skips the cells of its
 // end_handoff, which the next move lowers further anyway.
 double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut);
+
+// The work of every sweep this process has done so far, on all threads: the
+// moves swept and the Z-map cells whose height under a move was computed (and
+// lowered where the move reaches below it). A measure of a simulation's work
+// independent of the machine: `deflex -v` prints it, bench/ divides it by the
+// wall time (cells updated per second).
+struct SweepWork {
+  std::uint64_t moves = 0, cells = 0;
+};
+SweepWork sweep_work();
 
 // Consecutive points joined by lines.
 double sweep_polyline(ZMap& z, const ToolProfile& tool, std::span<const Point3> pts_mm);
