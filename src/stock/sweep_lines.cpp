@@ -24,6 +24,9 @@ using detail::Handoff;
 // A band's row is left alone when its stock lies this far below the tool's lowest
 // possible surface on it (float rounding at |z| = 1000 mm: 6e-5 mm).
 constexpr double kRowSkipMargin_mm = 1e-3;
+// Cells per span of the span skip (cut_cells): a span's test (its floor, a scan
+// of its stock) costs about what computing a few cells does.
+constexpr int kSpanCells = 32;
 
 // A move's cells (row_range with start_cut) on the rows of one band, found while
 // sweeping the move before it, which needs them for the hand-off.
@@ -77,6 +80,7 @@ class RowSweep {
   bool row_cells(int r, int j, int& i0, int& i1) const;
   void left_out(int r, int i0, int i1, int& e0, int& e1) const;
   void cut_row(int j, double y, int i0, int i1, int e0, int e1, double& removed);
+  void cut_cells(int j, double y, int a, int b, float* buf, double& removed);
 
   ZMap& z_;
   const GridSpec& g_;
@@ -182,27 +186,43 @@ void RowSweep::cut_row(int j, double y, int i0, int i1, int e0, int e1, double& 
     heap_buf.resize(static_cast<std::size_t>(n));
     buf = heap_buf.data();
   }
-  // The left-out cells get +inf (lower_row keeps them); a gap of a few cells
-  // costs more (a second row_heights call) than it saves.
-  if (e1 - e0 < 4 || (e0 > i0 && e1 < i1 && e1 - e0 < 12)) {
+  // A gap of a few cells costs more (a second run of spans) than it saves.
+  if (e1 - e0 < 4) {
+    cut_cells(j, y, i0, i1, buf, removed);
+    return;
+  }
+  cut_cells(j, y, i0, e0 - 1, buf, removed);
+  cut_cells(j, y, e1 + 1, i1, buf, removed);
+}
+
+// Lowers cells [a, b] of row j, span by span: a span whose stock lies below the
+// tool's lowest possible surface over it (LineSweep::span_floor, less the row
+// skip's margin) is left alone, as the row skip leaves a row. In a finishing
+// pass that is most of a row: under and behind the tool the moves before have
+// cut deeper; only the cells ahead of it stand in its way. Runs of spans to cut
+// go to the row kernels in one call each.
+void RowSweep::cut_cells(int j, double y, int a, int b, float* buf, double& removed) {
+  auto reaches = [&](int k0, int k1) {
+    const float floor = static_cast<float>(s_.span_floor(y, z_.cx(k0), z_.cx(k1)) - kRowSkipMargin_mm);
+    return z_.cells_above(j, k0, k1, floor);
+  };
+  int k = a;
+  while (k <= b) {
+    int end = std::min(b, k + kSpanCells - 1);
+    if (!reaches(k, end)) {
+      k = end + 1;
+      continue;
+    }
+    // Extend the run while the next span needs cutting too.
+    int next_end = 0;
+    while (end < b && reaches(end + 1, next_end = std::min(b, end + kSpanCells))) end = next_end;
+    const int n = end - k + 1;
     cells_ += static_cast<std::uint64_t>(n);
-    s_.row_heights(y, g_.x0_mm, g_.cell_mm, i0, n, buf);
-    removed += z_.lower_row(j, i0, n, buf);
-    return;
+    s_.row_heights(y, g_.x0_mm, g_.cell_mm, k, n, buf);
+    removed += z_.lower_row(j, k, n, buf);
+    // The span after the run (if any) was found not to need cutting.
+    k = end < b ? std::min(b, end + kSpanCells) + 1 : end + 1;
   }
-  cells_ += static_cast<std::uint64_t>(e0 - i0 + i1 - e1);
-  s_.row_heights(y, g_.x0_mm, g_.cell_mm, i0, e0 - i0, buf);
-  s_.row_heights(y, g_.x0_mm, g_.cell_mm, e1 + 1, i1 - e1, buf + (e1 + 1 - i0));
-  // Only the evaluated cells reach lower_row (the gap may be most of the row),
-  // as one call across a short gap.
-  const int lead = e0 - i0, tail = i1 - e1;
-  if (lead > 0 && tail > 0 && e1 - e0 + 1 <= 16) {
-    std::fill(buf + lead, buf + (e1 - i0 + 1), std::numeric_limits<float>::infinity());
-    removed += z_.lower_row(j, i0, n, buf);
-    return;
-  }
-  if (lead > 0) removed += z_.lower_row(j, i0, lead, buf);
-  if (tail > 0) removed += z_.lower_row(j, e1 + 1, tail, buf + (e1 + 1 - i0));
 }
 
 double RowSweep::rows(int j0, int j1) {

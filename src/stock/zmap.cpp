@@ -276,6 +276,29 @@ float ZMap::max_height_in(double x0_mm, double y0_mm, double x1_mm, double y1_mm
   return m;
 }
 
+bool ZMap::cells_above(int j, int i0, int i1, float h) const {
+  i0 = std::max(i0, 0);
+  i1 = std::min(i1, g_.nx - 1);
+  if (j < 0 || j >= g_.ny || i1 < i0) return false;
+  const std::size_t r = static_cast<std::size_t>(j % T);
+  while (i0 <= i1) {
+    const Tile& t = tiles_[tile_index(i0, j)];
+    const int last = std::min(i1, (i0 / T) * T + T - 1);
+    if (t.max > h) {
+      if (!t.cells) return true;
+      const float* row = t.cells.get() + r * T;
+      if (t.cells[static_cast<std::size_t>(T) * T + r] > h) {  // the row's maximum (after the heights)
+        // Counted rather than returned at the first: the compiler vectorises this.
+        int above = 0;
+        for (int i = i0 % T; i <= last % T; ++i) above += row[i] > h;
+        if (above) return true;
+      }
+    }
+    i0 = last + 1;
+  }
+  return false;
+}
+
 bool ZMap::none_above(double x0_mm, double y0_mm, double x1_mm, double y1_mm, float h) const {
   const int i0 = std::max(ix(x0_mm), 0), i1 = std::min(ix(x1_mm), g_.nx - 1);
   const int j0 = std::max(iy(y0_mm), 0), j1 = std::min(iy(y1_mm), g_.ny - 1);

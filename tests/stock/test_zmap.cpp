@@ -86,6 +86,66 @@ TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above th
     }
 }
 
+TEST_CASE("span skip: span_floor bounds the lower surface over a span, cells_above is exact") {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<double> u(0, 1);
+  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 5, 1.5}};
+  int spans = 0;
+  for (const ToolProfile& t : tools)
+    for (int k = 0; k < 40; ++k) {
+      const Point3 a{5 + 20 * u(rng), 5 + 20 * u(rng), -2 * u(rng)};
+      const Point3 b{a[0] + 4 * (u(rng) - 0.5), a[1] + 4 * (u(rng) - 0.5), a[2] + (u(rng) - 0.5)};
+      const LineSweep s(t, a, b);
+      for (double y = s.y_min(); y <= s.y_max(); y += 0.37)
+        for (double x0 = s.x_min() - 1; x0 <= s.x_max(); x0 += 0.8, ++spans) {
+          const double x1 = x0 + 1.6 * u(rng), f = s.span_floor(y, x0, x1);
+          CHECK(f >= s.row_floor(y));  // never weaker than the row's bound
+          for (double x = x0; x <= x1; x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
+        }
+    }
+  CHECK(spans > 1000);
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
+  sweep_line_reference(z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  for (int j = 0; j < z.grid().ny; j += 3)
+    for (int i0 = -5; i0 < z.grid().nx; i0 += 7) {
+      const int i1 = i0 + static_cast<int>(u(rng) * 80);
+      float top = no_material;
+      for (int i = std::max(i0, 0); i <= std::min(i1, z.grid().nx - 1); ++i) top = std::max(top, z.at(i, j));
+      CHECK(z.cells_above(j, i0, i1, top - 1e-4f) == (top > no_material));
+      CHECK_FALSE(z.cells_above(j, i0, i1, top));
+    }
+}
+
+TEST_CASE("span skip: the second pass of a finishing raster updates a fraction of its footprint") {
+  // Two ball passes 0.25 mm apart along X over a box, the second in moves of
+  // 0.4 mm: under and behind the ball the first pass and the moves before cut
+  // deeper, so the skips leave most of each move's cells alone. The result is
+  // the reference's, cell for cell (the chain test above checks the rest).
+  ZMap fast = zmap_from_box(parse_box("box:0,0,-20,40,20,0"), 0.05);
+  ZMap ref = zmap_from_box(parse_box("box:0,0,-20,40,20,0"), 0.05);
+  const ToolProfile ball{EndShape::ball, 4, 4};
+  std::vector<LineSweep> first, second;
+  for (int k = 0; k < 75; ++k) {
+    const double x = 5 + 0.4 * k;
+    first.emplace_back(ball, Point3{x, 10, -0.5 - 0.01 * k}, Point3{x + 0.4, 10, -0.5 - 0.01 * (k + 1)});
+    second.emplace_back(ball, Point3{x, 10.25, -0.5 - 0.01 * k}, Point3{x + 0.4, 10.25, -0.5 - 0.01 * (k + 1)});
+  }
+  sweep_lines(fast, first, false);
+  for (const LineSweep& l : first) sweep_line_reference(ref, l);
+  const SweepWork before = sweep_work();
+  for (const LineSweep& l : second) sweep_lines(fast, std::span<const LineSweep>(&l, 1), &l != &second[0]);
+  const SweepWork after = sweep_work();
+  for (const LineSweep& l : second) sweep_line_reference(ref, l);
+  int differ = 0;  // beyond the float rounding of the same height
+  for (int j = 0; j < ref.grid().ny; ++j)
+    for (int i = 0; i < ref.grid().nx; ++i) differ += std::fabs(static_cast<double>(fast.at(i, j)) - ref.at(i, j)) > 1e-6;
+  CHECK(differ == 0);
+  // A move's footprint is about 8.4 x 8 mm: 27,000 cells at 0.05 mm.
+  const double per_move = static_cast<double>(after.cells - before.cells) / static_cast<double>(second.size());
+  CHECK(after.moves - before.moves == second.size());
+  CHECK(per_move < 2700);  // a tenth
+}
+
 TEST_CASE("box spec parsing") {
   const BoxSpec b = parse_box("box:10,-5,0,-10,5,-20");
   CHECK(b.x0_mm == -10);

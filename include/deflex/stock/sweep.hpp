@@ -14,6 +14,7 @@
 //
 // Frame: work frame, mm; points are tool-tip positions (the programmed point).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -73,6 +74,18 @@ class LineSweep {
     const double lo = std::min(a_[1], b_[1]), hi = std::max(a_[1], b_[1]);
     const double dy = y_mm < lo ? lo - y_mm : y_mm > hi ? y_mm - hi : 0.0;
     return std::min(a_[2], b_[2]) + profile_height(tool_, dy);
+  }
+
+  // A lower bound of the lower surface over the cells of the line y = y_mm with
+  // x in [x0_mm, x1_mm]: row_floor with the distance in X to the segment's X
+  // range as well (the segment lies in its bounding box, so every point of the
+  // span is at least that far from the axis). +inf where the tool cannot reach.
+  double span_floor(double y_mm, double x0_mm, double x1_mm) const {
+    const double ylo = std::min(a_[1], b_[1]), yhi = std::max(a_[1], b_[1]);
+    const double dy = y_mm < ylo ? ylo - y_mm : y_mm > yhi ? y_mm - yhi : 0.0;
+    const double xlo = std::min(a_[0], b_[0]), xhi = std::max(a_[0], b_[0]);
+    const double dx = x1_mm < xlo ? xlo - x1_mm : x0_mm > xhi ? x0_mm - xhi : 0.0;
+    return std::min(a_[2], b_[2]) + profile_height(tool_, std::sqrt(dx * dx + dy * dy));
   }
 
   const Point3& a() const { return a_; }

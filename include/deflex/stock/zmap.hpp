@@ -136,6 +136,9 @@ class ZMap {
     }
     return false;
   }
+  // Whether any cell of row j in [i0, i1] stands above h, cell by cell (exact;
+  // row_above first, when the tile's row maximum settles it).
+  bool cells_above(int j, int i0, int i1, float h) const;
   // max_height_in(...) <= h, stopping at the first tile above h: the cheap way to
   // prove that a region is above the stock.
   bool none_above(double x0_mm, double y0_mm, double x1_mm, double y1_mm, float h) const;
