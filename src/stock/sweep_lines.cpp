@@ -78,6 +78,7 @@ class RowSweep {
   void inner(double xa, double xb, int lo, int hi, int& c0, int& c1) const;
   void next_ranges(int jc, int jn);
   bool row_cells(int r, int j, int& i0, int& i1) const;
+  bool chunk_below(int jc, int jn) const;
   void left_out(int r, int i0, int i1, int& e0, int& e1) const;
   void cut_row(int j, double y, int i0, int i1, int e0, int e1, double& removed);
   void cut_cells(int j, double y, int a, int b, float* buf, double& removed);
@@ -225,6 +226,14 @@ void RowSweep::cut_cells(int j, double y, int a, int b, float* buf, double& remo
   }
 }
 
+bool RowSweep::chunk_below(int jc, int jn) const {
+  const double ya = z_.cy(jc), yb = z_.cy(jc + jn - 1);
+  // The chunk's row nearest the segment's Y range has the lowest floor.
+  const double nearest = std::clamp(std::min(s_.a()[1], s_.b()[1]), ya, yb);
+  const double floor = s_.row_floor(nearest) - kRowSkipMargin_mm;
+  return z_.none_above(s_.x_min(), ya, s_.x_max(), yb, static_cast<float>(floor));
+}
+
 double RowSweep::rows(int j0, int j1) {
   j0 = std::max({j0, 0, z_.iy(s_.y_min())});
   j1 = std::min({j1, g_.ny - 1, z_.iy(s_.y_max())});
@@ -233,6 +242,11 @@ double RowSweep::rows(int j0, int j1) {
   // from row_ranges, several rows per step.
   for (int jc = j0; jc <= j1; jc += chunk) {
     const int jn = std::min(j1 - jc + 1, chunk);
+    // The whole chunk left alone when no stock over the footprint's width
+    // stands above the tool's lowest possible surface on its rows (the floor of
+    // its row nearest the segment): no row ranges are computed for it. A ball
+    // reaches few rows far from its path; a finishing pass has cut the rest.
+    if (chunk_below(jc, jn)) continue;
     for (int r = 0; r < jn; ++r) ys_[r] = z_.cy(jc + r);
     if (!mine_) s_.row_ranges(ys_, jn, sa_, sb_, sok_, start_cut_);
     q0_ = q1_ = 0;
