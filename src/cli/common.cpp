@@ -154,7 +154,7 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
       ("tolerance", opt(a.tolerance_mm), "surface tolerance, mm: points predicted inside +-tolerance stay as programmed (default 0.01)")
       ("gain", opt(a.gain), "mirror gain: 1 reflects the whole deflection, 0 changes nothing (default 1)")
       ("report", po::value(&a.report_dir), "write report.html, points.csv (one row per CL point), flank_profile.csv (flank cuts) and summary.json into this folder")
-      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm (finishing: 0.05; 0.1 is ~4x faster)")
+      ("cell-mm", po::value(&a.cell_mm)->default_value(0.05, "0.05"), "Z-map cell size, mm (0.05: within 0.2 um of a 0.025 mm grid at the p95 of every case studied, docs/benchmarks.md; 0.1 saves about a quarter of the time)")
       ("cl-spacing", po::value(&a.cl_spacing_mm)->default_value(0.5), "largest distance between CL points along a move, mm")
       ("max-iterations", po::value(&a.max_iterations)->default_value(8), "mirror updates per point at most (secant steps toward the fixed point)")
       ("threads", po::value(&a.threads)->default_value(0), "worker threads (0: all cores)")

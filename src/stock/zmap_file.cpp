@@ -254,9 +254,12 @@ ZMap zmap_from_file(const std::string& path, double cell_mm) {
   std::vector<float> cells(tile_cells_count);
   for (std::size_t ty = 0; ty < z.tiles_y(); ++ty)
     for (std::size_t tx = 0; tx < z.tiles_x(); ++tx) {
+      // Between the file's cell centres (as an STL through them would give):
+      // the cell under a new centre would shift the stock by half a file cell
+      // where a coarser cell's centre falls on a boundary of the file's cells.
       for (std::size_t k = 0; k < tile_cells_count; ++k)
-        cells[k] = src.height_at(z.cx(static_cast<int>(tx) * T + static_cast<int>(k % T)),
-                                 z.cy(static_cast<int>(ty) * T + static_cast<int>(k / T)));
+        cells[k] = static_cast<float>(src.height_smooth(z.cx(static_cast<int>(tx) * T + static_cast<int>(k % T)),
+                                                        z.cy(static_cast<int>(ty) * T + static_cast<int>(k / T))));
       z.assign_tile(tx, ty, cells.data());
     }
   return z;

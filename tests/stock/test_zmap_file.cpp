@@ -82,7 +82,7 @@ TEST_SUITE("stock") {
     fs::remove(f);
   }
 
-  TEST_CASE("zmap file: an untouched box is a few bytes; another cell size samples the cell under each centre") {
+  TEST_CASE("zmap file: an untouched box is a few bytes; another cell size interpolates between the file's centres") {
     const ZMap box = make_stock("box:0,0,-5,40,30,0", {0.05});
     CHECK(bytes_of(box).size() < 2000);
     const ZMap z = scallop_field();
@@ -92,7 +92,24 @@ TEST_SUITE("stock") {
     CHECK(c.grid().nx == 400);
     CHECK(c.grid().ny == 300);
     for (int j = 0; j < 300; j += 7)
-      for (int i = 0; i < 400; i += 7) REQUIRE(c.at(i, j) == z.height_at(c.cx(i), c.cy(j)));
+      for (int i = 0; i < 400; i += 7) REQUIRE(c.at(i, j) == static_cast<float>(z.height_smooth(c.cx(i), c.cy(j))));
+    fs::remove(f);
+  }
+
+  TEST_CASE("zmap file: a plane read back at twice the cell is the plane, not shifted by half a cell") {
+    // Each centre of the coarse grid lies on a boundary of the file's cells:
+    // the cell on one side would put the plane 0.025 mm off in X and Y.
+    ZMap z = make_stock("box:0,0,-5,20,10,0", {0.05});
+    for (int j = 0; j < z.grid().ny; ++j)
+      for (int i = 0; i < z.grid().nx; ++i) z.set(i, j, static_cast<float>(-1 - 0.2 * z.cx(i) - 0.1 * z.cy(j)));
+    const fs::path f = temp_file("plane.zmap");
+    test::write_file(f.string(), bytes_of(z));
+    const ZMap c = make_stock(f.string(), {0.1});
+    double worst = 0;
+    for (int j = 1; j + 1 < c.grid().ny; ++j)
+      for (int i = 1; i + 1 < c.grid().nx; ++i)
+        worst = std::max(worst, std::fabs(c.at(i, j) - (-1 - 0.2 * c.cx(i) - 0.1 * c.cy(j))));
+    CHECK(worst < 1e-5);  // float rounding; the cell beside the centre is 0.0075 mm off
     fs::remove(f);
   }
 
