@@ -7,6 +7,7 @@
 
 #include "common.hpp"
 #include "terminal_line.hpp"
+#include "deflex/diag/parallel_trace.hpp"
 #include "deflex/report/summary.hpp"
 #include "deflex/stock/sweep.hpp"
 
@@ -26,6 +27,20 @@ std::string sweep_work_since(const stock::SweepWork& before, std::chrono::durati
   return buf;
 }
 
+// The stage's available parallelism from the trace of its parallel loops.
+std::string parallelism_since(const diag::ParallelTotals& before, std::chrono::duration<double> took) {
+  const diag::ParallelTotals now = diag::parallel_totals();
+  const double serial = took.count() - (now.loop_wall_s - before.loop_wall_s);
+  const double work = serial + now.task_sum_s - before.task_sum_s, path = serial + now.task_max_s - before.task_max_s;
+  if (now.loops == before.loops || !(path > 0)) return "";
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "deflex: parallelism: work %.1f s over a critical path of %.1f s: %.2f (%llu parallel loops; "
+                "%.1f s outside them)\n",
+                work, path, work / path, static_cast<unsigned long long>(now.loops - before.loops), serial);
+  return buf;
+}
+
 }  // namespace
 
 compensate::Progress progress_for(Io& io) {
@@ -38,6 +53,7 @@ compensate::Progress progress_for(Io& io) {
     Clock::time_point start;
     int decile = -1;
     stock::SweepWork work;  // at the stage's start
+    diag::ParallelTotals loops;
   };
   auto st = std::make_shared<State>();
   // On a terminal one line redrawn in place; elsewhere (a log) a line per 10%.
@@ -51,10 +67,14 @@ compensate::Progress progress_for(Io& io) {
         std::snprintf(done, sizeof done, "%.1f s", std::chrono::duration<double>(now - st->start).count());
         io.err << "deflex: " << st->stage << " done in " << done << sweep_work_since(st->work, now - st->start)
                << "\n";
+        // One thread of control only: compensate simulates the program as
+        // written on a second one (diag/parallel_trace.hpp).
+        if (st->stage == "simulating") io.err << parallelism_since(st->loops, now - st->start);
       }
       st->stage = stage;
       st->start = now;
       st->work = stock::sweep_work();
+      st->loops = diag::parallel_totals();
       st->decile = -1;
     }
     if (!shown || stage.empty()) return;  // end_progress(): the last stage closed

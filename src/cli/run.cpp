@@ -8,6 +8,7 @@
 #include "deflex/cli/command.hpp"
 #include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/diag/parallel_trace.hpp"
 #include "deflex/profile/search.hpp"
 #include "deflex/version.hpp"
 
@@ -81,6 +82,7 @@ std::vector<std::string> take_output_options(const std::vector<std::string>& arg
       io.quiet = true;
     } else if (a == "-v" || a == "--verbose") {
       io.verbose = true;
+      diag::set_parallel_trace(true);  // -v shows the stages' parallelism
     } else if (a == "--progress" || a.starts_with("--progress=")) {
       std::string when;
       if (a == "--progress") {

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/diag/parallel_trace.hpp"
 #include "deflex/stock/sweep.hpp"
 
 namespace deflex::engage {
@@ -67,14 +68,20 @@ void Simulator::evaluate_batch() {
     metrics_[i] = eng_.evaluate(view, s.cl.point, proc_, engs_[i]);
     if (work_) work_(i, s.cl, metrics_[i], engs_[i]);
   };
-  if (o_.threads == 1 || n < 4) {
-    for (std::size_t i = 0; i < n; ++i) one(i);
-  } else {
-    in_arena(arena_.get(), [&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) one(i);
+  // Traced as one loop of independent samples whatever the threads: the
+  // structure's parallelism (diag/parallel_trace.hpp), not this run's.
+  {
+    diag::TracedLoop loop;
+    auto task = [&](std::size_t i) { loop.task([&] { one(i); }); };
+    if (o_.threads == 1 || n < 4) {
+      for (std::size_t i = 0; i < n; ++i) task(i);
+    } else {
+      in_arena(arena_.get(), [&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) task(i);
+        });
       });
-    });
+    }
   }
   t_engage_ += now_s() - t0;
   if (sink_)

@@ -1,6 +1,8 @@
 // Cusp height per CL point (include/deflex/process/cusp.hpp; Mikó et al., Eq. 1-7).
 #include "deflex/process/cusp.hpp"
 
+#include "deflex/diag/parallel_trace.hpp"
+
 #include <CGAL/Fuzzy_sphere.h>
 #include <CGAL/Kd_tree.h>
 #include <CGAL/Search_traits_2.h>
@@ -152,10 +154,13 @@ void cusp_over(const std::vector<CuspSample>& s, std::size_t first, std::size_t 
   // same results whatever the threads. Isolated: a caller holding a lock (the
   // report's recorder) must not be handed an outer task that takes it again.
   tbb::this_task_arena::isolate([&] {
+    diag::TracedLoop loop;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-      std::vector<std::size_t> near;
-      for (std::size_t i = r.begin(); i != r.end(); ++i)
-        if (s[i].cutting && sideways(s[i])) out[i - first] = cusp_at(s, tree, i, near);
+      loop.task([&] {
+        std::vector<std::size_t> near;
+        for (std::size_t i = r.begin(); i != r.end(); ++i)
+          if (s[i].cutting && sideways(s[i])) out[i - first] = cusp_at(s, tree, i, near);
+      });
     });
   });
 }

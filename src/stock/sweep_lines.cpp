@@ -12,6 +12,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include "deflex/diag/parallel_trace.hpp"
 #include "handoff.hpp"
 #include "kernels.hpp"
 
@@ -342,11 +343,12 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) 
   for (std::size_t k = 0; k + 1 < s.size(); ++k)
     has[k] = chained(k + 1) && detail::make_handoff(s[k], s[k + 1], hand[k]);
   // One task per tile row: lower_row on different tile rows never shares a tile.
+  diag::TracedLoop loop;
   const Swept w = tbb::parallel_reduce(
       tbb::blocked_range<int>(j0 / T, j1 / T + 1, 1), Swept{},
       [&](const tbb::blocked_range<int>& r, Swept acc) {
         RowCache cache[2];
-        for (int band = r.begin(); band != r.end(); ++band) {
+        for (int band = r.begin(); band != r.end(); ++band) loop.task([&] {
           const RowCache* mine = nullptr;
           for (std::size_t k = 0; k < s.size(); ++k) {
             if (!has[k]) {
@@ -359,7 +361,7 @@ double sweep_lines(ZMap& z, std::span<const LineSweep> s, bool first_start_cut) 
             acc += sweep_rows(z, s[k], band * T, band * T + T - 1, chained(k), &s[k + 1], &hand[k], mine, theirs);
             mine = theirs;
           }
-        }
+        });
         return acc;
       },
       [](Swept a, const Swept& b) { return a += b; });
