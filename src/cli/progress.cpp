@@ -30,7 +30,7 @@ std::string sweep_work_since(const stock::SweepWork& before, std::chrono::durati
 // The stage's available parallelism from the trace of its parallel loops.
 std::string parallelism_since(const diag::ParallelTotals& before, std::chrono::duration<double> took) {
   const diag::ParallelTotals now = diag::parallel_totals();
-  const double serial = took.count() - (now.loop_wall_s - before.loop_wall_s);
+  const double serial = took.count() - (now.loop_wall_s - before.loop_wall_s) - (now.wait_s - before.wait_s);
   const double work = serial + now.task_sum_s - before.task_sum_s, path = serial + now.task_max_s - before.task_max_s;
   if (now.loops == before.loops || !(path > 0)) return "";
   char buf[200];

@@ -54,9 +54,53 @@ Simulator::Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Proces
   if (o.threads < 0) throw Error(ErrorKind::config, "simulation: threads must be >= 0");
 }
 
+Simulator::~Simulator() {
+  if (!commits_) return;
+  try {
+    wait_commit();
+  } catch (...) {  // a destructor does not throw; the run failed already
+  }
+}
+
+Simulator::TileBox Simulator::tiles_of(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const {
+  const int T = stock::ZMap::tile_cells;
+  // Floor division: cells left of or below the grid fall in tile -1, which no
+  // tile of the grid meets.
+  auto tile = [T](int cell) { return cell >= 0 ? cell / T : -1; };
+  return {tile(z_.ix(x0_mm)), tile(z_.ix(x1_mm)), tile(z_.iy(y0_mm)), tile(z_.iy(y1_mm))};
+}
+
+Simulator::TileBox Simulator::read_box(const Point3& tip_mm) const {
+  // The engagement reads the cells within the tool's radius and their
+  // neighbours (bilinear lookups); the sample work the stock around the tip.
+  const double r = eng_.tool().radius_mm + 2 * z_.grid().cell_mm;
+  return tiles_of(tip_mm[0] - r, tip_mm[1] - r, tip_mm[0] + r, tip_mm[1] + r);
+}
+
+void Simulator::wait_commit() {
+  if (!commit_running_) return;
+  commit_running_ = false;
+  diag::traced_wait([&] { in_arena(arena_.get(), [&] { commits_->wait(); }); });
+  removed_ += commit_removed_;
+  t_sweep_ += commit_s_;
+  committing_.clear();
+}
+
+void Simulator::wait_commit_if(const TileBox& reads) {
+  if (commit_running_ && reads.meets(commit_box_)) wait_commit();
+}
+
 void Simulator::evaluate_batch() {
   const std::size_t n = batch_.size();
   if (n == 0) return;
+  if (commit_running_) {
+    TileBox reads = read_box(batch_[0].cl.point.tip_mm);
+    for (const Sample& s : batch_) {
+      const TileBox b = read_box(s.cl.point.tip_mm);
+      reads = {std::min(reads.i0, b.i0), std::max(reads.i1, b.i1), std::min(reads.j0, b.j0), std::max(reads.j1, b.j1)};
+    }
+    wait_commit_if(reads);
+  }
   const double t0 = now_s();
   if (metrics_.size() < n) {
     metrics_.resize(n);
@@ -84,6 +128,8 @@ void Simulator::evaluate_batch() {
     }
   }
   t_engage_ += now_s() - t0;
+  // A sink may read the stock anywhere.
+  wait_commit();
   if (sink_)
     for (std::size_t i = 0; i < n; ++i) {
       sink_slot_ = i;
@@ -98,16 +144,37 @@ void Simulator::commit_old(bool all) {
   while (c < pend_.size() &&
          (all || s_ - pend_end_s_[c] > keep_mm_ || pend_.size() - c > o_.max_pending))
     ++c;
-  if (c == 0) return;
-  const std::span<const stock::LineSweep> done(pend_.data(), c);
-  const bool start_cut = have_committed_end_ && done[0].a() == committed_end_;
-  const double t0 = now_s();
-  in_arena(arena_.get(), [&] { removed_ += stock::sweep_lines(z_, done, start_cut); });
-  t_sweep_ += now_s() - t0;
+  if (c == 0) {
+    if (all) wait_commit();
+    return;
+  }
+  wait_commit();  // one commit at a time, in order
+  committing_.assign(pend_.begin(), pend_.begin() + static_cast<std::ptrdiff_t>(c));
+  const bool start_cut = have_committed_end_ && committing_[0].a() == committed_end_;
   have_committed_end_ = true;
-  committed_end_ = done[c - 1].b();
+  committed_end_ = committing_.back().b();
   pend_.erase(pend_.begin(), pend_.begin() + static_cast<std::ptrdiff_t>(c));
   pend_end_s_.erase(pend_end_s_.begin(), pend_end_s_.begin() + static_cast<std::ptrdiff_t>(c));
+  double x0 = committing_[0].x_min(), x1 = committing_[0].x_max(), y0 = committing_[0].y_min(),
+         y1 = committing_[0].y_max();
+  for (const stock::LineSweep& l : committing_) {
+    x0 = std::min(x0, l.x_min());
+    x1 = std::max(x1, l.x_max());
+    y0 = std::min(y0, l.y_min());
+    y1 = std::max(y1, l.y_max());
+  }
+  commit_box_ = tiles_of(x0, y0, x1, y1);
+  if (!commits_) commits_ = std::make_unique<tbb::task_group>();
+  commit_running_ = true;
+  in_arena(arena_.get(), [&] {
+    commits_->run([this, start_cut] {
+      const diag::AsyncScope background;
+      const double t0 = now_s();
+      commit_removed_ = stock::sweep_lines(z_, committing_, start_cut);
+      commit_s_ = now_s() - t0;
+    });
+  });
+  if (all || !o_.commit_beside) wait_commit();
 }
 
 void Simulator::flush() {
@@ -172,6 +239,7 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
   std::array<double, 2> feed = feed_;
   for (int c = 1; c <= k; ++c) cl = cl_sample(m, v, static_cast<std::size_t>(c), feed);
   cl.motion = motions_;
+  wait_commit_if(read_box(cl.point.tip_mm));
   const double t0 = now_s();
   const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), pend_.size()), &current};
   Metrics mt;

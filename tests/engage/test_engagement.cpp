@@ -250,7 +250,7 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
   CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * pi * 25).epsilon(2e-3));
 }
 
-TEST_CASE("batched parallel evaluation gives the same results on 1 thread and on all") {
+TEST_CASE("batched parallel evaluation and commits beside it give the same results on 1 thread and on all") {
   const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.05, 12);
   std::vector<interp::Motion> path;
   stock::Point3 p{-6, 3, -0.4};
@@ -268,26 +268,47 @@ TEST_CASE("batched parallel evaluation gives the same results on 1 thread and on
       p = q;
     }
   }
-  std::vector<Metrics> results[2];
-  for (int run_ = 0; run_ < 2; ++run_) {
+  // The reference: one thread, each commit done before anything goes on;
+  // then commits beside the evaluations on one thread (run when waited for)
+  // and on all, with the default and with a short keep (commits that the
+  // next batch's tiles meet, so it waits, and ones it does not).
+  struct Config {
+    int threads;
+    bool beside;
+    double keep_mm;
+  };
+  const Config configs[] = {{1, false, 0}, {1, true, 0}, {0, true, 0}, {0, true, 2}, {1, false, 2}};
+  std::vector<Metrics> results[5];
+  std::vector<float> cells[5];
+  for (int run_ = 0; run_ < 5; ++run_) {
     auto z = stock::zmap_from_box(stock::parse_box("box:0,0,-20,40,20,0"));
     SimOptions o;
-    o.threads = run_ == 0 ? 1 : 0;
+    o.threads = configs[run_].threads;
+    o.commit_beside = configs[run_].beside;
+    o.keep_mm = configs[run_].keep_mm;
     o.batch_mm = 3;
     Simulator sim(z, cs, {}, o, [&](const CLSample&, const Metrics& m, const force::Engagement&) {
       results[run_].push_back(m);
     });
     for (const auto& m : path) sim.run(m);
     sim.finish();
+    for (int j = 0; j < z.grid().ny; ++j)
+      for (int i = 0; i < z.grid().nx; ++i) cells[run_].push_back(z.at(i, j));
   }
-  REQUIRE(results[0].size() == results[1].size());
   int engaged = 0;
-  for (std::size_t i = 0; i < results[0].size(); ++i) {
-    CHECK(results[0][i].mrr_mm3_per_s == results[1][i].mrr_mm3_per_s);
-    CHECK(results[0][i].ae_mm == results[1][i].ae_mm);
-    engaged += !results[0][i].air_cut;
+  for (int run_ = 1; run_ < 5; ++run_) {
+    CAPTURE(run_);
+    const int ref = configs[run_].keep_mm > 0 ? 4 : 0;  // the sequential run with the same keep
+    REQUIRE(results[ref].size() == results[run_].size());
+    for (std::size_t i = 0; i < results[ref].size(); ++i) {
+      CHECK(results[ref][i].mrr_mm3_per_s == results[run_][i].mrr_mm3_per_s);
+      CHECK(results[ref][i].ae_mm == results[run_][i].ae_mm);
+      CHECK(results[ref][i].ap_mm == results[run_][i].ap_mm);
+      engaged += !results[ref][i].air_cut;
+    }
+    CHECK(cells[ref] == cells[run_]);  // the stock as cut, cell for cell
   }
-  CHECK(engaged > static_cast<int>(results[0].size()) / 2);
+  CHECK(engaged > 4 * static_cast<int>(results[0].size()) / 2);
 }
 
 TEST_CASE("CL samples: end points, spacing, arcs on the arc, plunge keeps the feed frame") {

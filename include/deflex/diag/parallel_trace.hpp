@@ -12,6 +12,13 @@
 // controlling thread; a run with a second (compensate's simulation of the
 // program as written) is not traced.
 //
+// Background jobs (the simulator's commits, which run beside the controlling
+// thread): their loops (AsyncScope) add their tasks to the work and their
+// longest task to the critical path, and the controlling thread's waits for
+// them (TracedWait) are not counted as serial time. So the critical path is
+// counted as if each background job ran alone: an upper bound, and the
+// parallelism a lower bound.
+//
 // Off by default: then a loop costs one relaxed load. Process-wide, so that the
 // command line can show it (-v) without every layer passing it on.
 #pragma once
@@ -22,8 +29,9 @@
 namespace deflex::diag {
 
 struct ParallelTotals {
-  double loop_wall_s = 0;   // sum of the loops' wall times
-  double task_sum_s = 0;    // sum of all their tasks' durations
+  double loop_wall_s = 0;   // sum of the controlling thread's loops' wall times
+  double wait_s = 0;        // its waits for background jobs
+  double task_sum_s = 0;    // sum of all the loops' tasks' durations
   double task_max_s = 0;    // sum over the loops of the longest task
   std::uint64_t loops = 0;
 };
@@ -32,12 +40,38 @@ void set_parallel_trace(bool on);
 bool parallel_trace_on();
 ParallelTotals parallel_totals();
 
+// Marks the current thread as running a background job while it lives.
+class AsyncScope {
+ public:
+  AsyncScope();
+  ~AsyncScope();
+  AsyncScope(const AsyncScope&) = delete;
+  AsyncScope& operator=(const AsyncScope&) = delete;
+
+ private:
+  bool was_;
+};
+
+void add_wait(double seconds);
+
+// The controlling thread waiting for a background job: f() timed when tracing.
+template <class F>
+void traced_wait(F&& f) {
+  if (!parallel_trace_on()) {
+    f();
+    return;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  add_wait(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+}
+
 // One parallel loop: made before it forks, told each task's duration (from
 // any thread), recorded when it goes out of scope.
 class TracedLoop {
  public:
   using Clock = std::chrono::steady_clock;
-  TracedLoop() : on_(parallel_trace_on()), start_(on_ ? Clock::now() : Clock::time_point{}) {}
+  TracedLoop();
   ~TracedLoop();
   TracedLoop(const TracedLoop&) = delete;
   TracedLoop& operator=(const TracedLoop&) = delete;
@@ -58,6 +92,7 @@ class TracedLoop {
  private:
   void add(double seconds);
   const bool on_;
+  const bool async_;  // in a background job
   const Clock::time_point start_;
   std::atomic<double> sum_{0}, max_{0};
 };

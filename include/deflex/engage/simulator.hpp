@@ -14,6 +14,7 @@
 #include <memory>
 
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 #include <array>
 #include <cstddef>
 #include <functional>
@@ -37,6 +38,7 @@ struct SimOptions {
   double batch_mm = 0;            // path length per batch; 0: D
   std::size_t max_batch = 256;    // CL samples per batch
   int threads = 0;                // 0: TBB's default (all cores); 1: sequential
+  bool commit_beside = true;      // false: each commit done before anything goes on (the tests' reference)
 };
 
 using PointSink = std::function<void(const CLSample&, const Metrics&, const force::Engagement&)>;
@@ -51,13 +53,19 @@ using SampleWork = std::function<void(std::size_t slot, const CLSample&, const M
 // samples of a batch (batch_mm of path) are evaluated in parallel against the
 // same Z-map, each seeing exactly the sweeps before it as pending volumes; then
 // the sink is called in program order and the batch's old sweeps are committed
-// (bands of tile rows in parallel). Results do not depend on the thread count.
+// (bands of tile rows in parallel). The commit runs beside what follows it (the
+// next motions, the next batch's evaluations, probes) for as long as they read
+// no tile it writes; whatever reads one waits for it, and the sinks always do.
+// Results do not depend on the thread count.
 class Simulator {
  public:
   // `z` is cut in place; it must outlive the simulator. The sink (may be empty)
   // receives every CL sample in program order, at the latest on finish().
   Simulator(stock::ZMap& z, const force::CutterSlices& cs, const Process& p, const SimOptions& o = {},
             PointSink sink = {});
+  ~Simulator();  // waits for a commit in flight (its result is then dropped)
+  Simulator(const Simulator&) = delete;
+  Simulator& operator=(const Simulator&) = delete;
 
   void run(const interp::Motion& m);
 
@@ -95,9 +103,18 @@ class Simulator {
     stock::LineSweep current;   // this motion up to just before the sample
     std::size_t pending = 0;    // sweeps of pend_ before it
   };
+  // The Z-map tiles [i0, i1] x [j0, j1] (inclusive).
+  struct TileBox {
+    int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+    bool meets(const TileBox& o) const { return i0 <= o.i1 && o.i0 <= i1 && j0 <= o.j1 && o.j0 <= j1; }
+  };
   void flush();
   void evaluate_batch();
   void commit_old(bool all);
+  TileBox tiles_of(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const;
+  TileBox read_box(const Point3& tip_mm) const;   // the tiles an evaluation at tip reads
+  void wait_commit();                             // the commit in flight done, its results taken
+  void wait_commit_if(const TileBox& reads);      // only if it writes one of these tiles
 
   stock::ZMap& z_;
   std::unique_ptr<tbb::task_arena> arena_;  // SimOptions::threads > 0
@@ -119,6 +136,13 @@ class Simulator {
   Point3 committed_end_{};
   double removed_ = 0;
   double t_engage_ = 0, t_sweep_ = 0;
+  // The commit in flight (at most one): its sweeps, the tiles they write, its
+  // results (taken by wait_commit).
+  std::unique_ptr<tbb::task_group> commits_;
+  std::vector<stock::LineSweep> committing_;
+  TileBox commit_box_;
+  bool commit_running_ = false;
+  double commit_removed_ = 0, commit_s_ = 0;
   std::size_t samples_ = 0;
   std::size_t motions_ = 0;
 };
