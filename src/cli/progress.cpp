@@ -27,17 +27,17 @@ std::string sweep_work_since(const stock::SweepWork& before, std::chrono::durati
   return buf;
 }
 
-// The stage's available parallelism from the trace of its parallel loops.
-std::string parallelism_since(const diag::ParallelTotals& before, std::chrono::duration<double> took) {
+// The stage's available parallelism from the trace of its task graph.
+std::string parallelism_since(const diag::ParallelTotals& before) {
   const diag::ParallelTotals now = diag::parallel_totals();
-  const double serial = took.count() - (now.loop_wall_s - before.loop_wall_s) - (now.wait_s - before.wait_s);
-  const double work = serial + now.task_sum_s - before.task_sum_s, path = serial + now.task_max_s - before.task_max_s;
+  const double work = now.work_s - before.work_s, path = now.path_s - before.path_s;
   if (now.loops == before.loops || !(path > 0)) return "";
   char buf[200];
   std::snprintf(buf, sizeof buf,
                 "deflex: parallelism: work %.1f s over a critical path of %.1f s: %.2f (%llu parallel loops; "
-                "%.1f s outside them)\n",
-                work, path, work / path, static_cast<unsigned long long>(now.loops - before.loops), serial);
+                "%.1f s serial)\n",
+                work, path, work / path, static_cast<unsigned long long>(now.loops - before.loops),
+                now.serial_s - before.serial_s);
   return buf;
 }
 
@@ -69,7 +69,7 @@ compensate::Progress progress_for(Io& io) {
                << "\n";
         // One thread of control only: compensate simulates the program as
         // written on a second one (diag/parallel_trace.hpp).
-        if (st->stage == "simulating") io.err << parallelism_since(st->loops, now - st->start);
+        if (st->stage == "simulating") io.err << parallelism_since(st->loops);
       }
       st->stage = stage;
       st->start = now;

@@ -80,7 +80,7 @@ Simulator::TileBox Simulator::read_box(const Point3& tip_mm) const {
 void Simulator::wait_commit() {
   if (!commit_running_) return;
   commit_running_ = false;
-  diag::traced_wait([&] { in_arena(arena_.get(), [&] { commits_->wait(); }); });
+  diag::traced_wait(commit_job_.get(), [&] { in_arena(arena_.get(), [&] { commits_->wait(); }); });
   removed_ += commit_removed_;
   t_sweep_ += commit_s_;
   committing_.clear();
@@ -166,9 +166,10 @@ void Simulator::commit_old(bool all) {
   commit_box_ = tiles_of(x0, y0, x1, y1);
   if (!commits_) commits_ = std::make_unique<tbb::task_group>();
   commit_running_ = true;
+  commit_job_ = diag::parallel_trace_on() ? std::make_unique<diag::BackgroundJob>() : nullptr;
   in_arena(arena_.get(), [&] {
     commits_->run([this, start_cut] {
-      const diag::AsyncScope background;
+      const diag::AsyncScope background(commit_job_.get());
       const double t0 = now_s();
       commit_removed_ = stock::sweep_lines(z_, committing_, start_cut);
       commit_s_ = now_s() - t0;

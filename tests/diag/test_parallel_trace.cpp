@@ -40,10 +40,29 @@ TEST_SUITE("diag") {
     diag::set_parallel_trace(false);
     const diag::ParallelTotals after = diag::parallel_totals();
     CHECK(after.loops == before.loops + 1);
-    const double sum = after.task_sum_s - before.task_sum_s, longest = after.task_max_s - before.task_max_s;
-    const double wall = after.loop_wall_s - before.loop_wall_s;
-    CHECK(longest > 0);
-    CHECK(sum > longest);   // three tasks, the longest one of them
-    CHECK(wall >= sum);     // run one after another on this thread
+    const double work = after.work_s - before.work_s, path = after.path_s - before.path_s;
+    CHECK(path > 0);
+    CHECK(work > path);  // the two short tasks are off the critical path
+    CHECK(after.serial_s >= before.serial_s);
+
+    // A background job of two loops, waited for at once: the path grows by
+    // at least its longest tasks, the work by all of its tasks.
+    diag::set_parallel_trace(true);
+    const diag::ParallelTotals b2 = diag::parallel_totals();
+    diag::BackgroundJob job;
+    {
+      diag::AsyncScope in_job(&job);
+      for (int k = 0; k < 2; ++k) {
+        diag::TracedLoop loop;
+        loop.task([&] { sink = sink + spin(100000); });
+      }
+    }
+    diag::traced_wait(&job, [] {});
+    const diag::ParallelTotals a2 = diag::parallel_totals();
+    diag::set_parallel_trace(false);
+    CHECK(a2.loops == b2.loops + 2);
+    CHECK(job.path_s.load() > 0);
+    CHECK(a2.path_s - b2.path_s >= job.path_s.load() - 1e-12);
+    CHECK(a2.work_s - b2.work_s >= job.path_s.load() - 1e-12);
   }
 }

@@ -1,23 +1,19 @@
-// The available parallelism of a run, from a trace of its parallel loops.
+// The available parallelism of a run, from a trace of its task graph.
 //
-// A run is one thread of control that now and then forks a parallel loop (TBB)
-// and waits for it. Each loop, while tracing is on, records its wall time, the
-// sum of its tasks' durations and its longest task. Over a stretch of wall time
-// T of the controlling thread:
-//   work          = T - sum(loop wall) + sum(task durations)
-//   critical path = T - sum(loop wall) + sum(longest task of each loop)
-// work / critical path is the speed-up that unlimited cores could give the run
-// as it is structured (the serial stretches in full, each loop as long as its
-// longest task): Amdahl's law measured rather than guessed. It holds for one
-// controlling thread; a run with a second (compensate's simulation of the
-// program as written) is not traced.
-//
-// Background jobs (the simulator's commits, which run beside the controlling
-// thread): their loops (AsyncScope) add their tasks to the work and their
-// longest task to the critical path, and the controlling thread's waits for
-// them (TracedWait) are not counted as serial time. So the critical path is
-// counted as if each background job ran alone: an upper bound, and the
-// parallelism a lower bound.
+// A run is one thread of control that forks parallel loops (TBB) and waits for
+// them, and launches background jobs (the simulator's commits) that it waits
+// for later. While tracing is on, every task's duration is recorded, and the
+// trace replays the run on unlimited cores: a virtual clock of the controlling
+// thread advances by its serial stretches as measured, by each loop's longest
+// task (not its wall time), and at a wait for a background job to the job's
+// own finish (its launch plus its loops' longest tasks), if that is later.
+//   work          = the serial stretches + every task's duration
+//   critical path = the virtual clock
+// work / critical path is the speed-up unlimited cores could give the run as
+// it is structured: Amdahl's law measured rather than guessed, with the
+// overlap the background jobs allow. It holds for one controlling thread; a
+// run with a second (compensate's simulation of the program as written) is
+// not reported.
 //
 // Off by default: then a loop costs one relaxed load. Process-wide, so that the
 // command line can show it (-v) without every layer passing it on.
@@ -25,45 +21,57 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <memory>
 
 namespace deflex::diag {
 
 struct ParallelTotals {
-  double loop_wall_s = 0;   // sum of the controlling thread's loops' wall times
-  double wait_s = 0;        // its waits for background jobs
-  double task_sum_s = 0;    // sum of all the loops' tasks' durations
-  double task_max_s = 0;    // sum over the loops of the longest task
+  double work_s = 0;  // serial stretches and tasks
+  double path_s = 0;  // the virtual clock: the critical path
+  double serial_s = 0;
   std::uint64_t loops = 0;
 };
 
 void set_parallel_trace(bool on);
 bool parallel_trace_on();
+// The totals up to now (the serial stretch since the last event included);
+// called on the controlling thread.
 ParallelTotals parallel_totals();
 
-// Marks the current thread as running a background job while it lives.
+// A background job: made on the controlling thread when it is launched, run
+// under its AsyncScope (the job's loops count towards it, not towards the
+// controlling thread), waited for with traced_wait.
+class BackgroundJob {
+ public:
+  BackgroundJob();  // at launch
+  double launch_s = 0;                 // the virtual clock at launch
+  std::atomic<double> path_s{0};       // its loops' longest tasks
+};
+
+// Marks the current thread as running the job while it lives.
 class AsyncScope {
  public:
-  AsyncScope();
+  explicit AsyncScope(BackgroundJob* job);
   ~AsyncScope();
   AsyncScope(const AsyncScope&) = delete;
   AsyncScope& operator=(const AsyncScope&) = delete;
 
  private:
-  bool was_;
+  BackgroundJob* was_;
 };
 
-void add_wait(double seconds);
+void waited(const BackgroundJob& job, double since_s);
 
-// The controlling thread waiting for a background job: f() timed when tracing.
+// The controlling thread waiting for a job (may be null: untraced): f() timed.
 template <class F>
-void traced_wait(F&& f) {
-  if (!parallel_trace_on()) {
+void traced_wait(const BackgroundJob* job, F&& f) {
+  if (!job || !parallel_trace_on()) {
     f();
     return;
   }
   const auto t0 = std::chrono::steady_clock::now();
   f();
-  add_wait(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  waited(*job, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 }
 
 // One parallel loop: made before it forks, told each task's duration (from
@@ -92,8 +100,7 @@ class TracedLoop {
  private:
   void add(double seconds);
   const bool on_;
-  const bool async_;  // in a background job
-  const Clock::time_point start_;
+  BackgroundJob* const job_;  // in a background job: its loops count there
   std::atomic<double> sum_{0}, max_{0};
 };
 

@@ -26,6 +26,10 @@
 #include "deflex/interp/motion.hpp"
 #include "deflex/stock/zmap.hpp"
 
+namespace deflex::diag {
+class BackgroundJob;  // diag/parallel_trace.hpp
+}
+
 namespace deflex::engage {
 
 struct SimOptions {
@@ -143,6 +147,7 @@ class Simulator {
   TileBox commit_box_;
   bool commit_running_ = false;
   double commit_removed_ = 0, commit_s_ = 0;
+  std::unique_ptr<diag::BackgroundJob> commit_job_;  // when tracing (diag/parallel_trace.hpp)
   std::size_t samples_ = 0;
   std::size_t motions_ = 0;
 };
