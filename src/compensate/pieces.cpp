@@ -2,16 +2,45 @@
 
 #include <algorithm>
 
+#include "deflex/diag/parallel_trace.hpp"
+
 namespace deflex::compensate {
 
 PieceCutter::PieceCutter(const std::string& path, std::uint32_t lines_per_read, const interp::Options& opt,
-                         std::size_t motions_per_piece, std::function<void(interp::Motion&)> fix)
+                         std::size_t motions_per_piece, std::function<void(interp::Motion&)> fix, bool read_ahead)
     : reader_(path, nullptr, lines_per_read), opt_(opt), it_(opt_, quiet_, sink_),
-      per_piece_(std::max<std::size_t>(motions_per_piece, 1)), fix_(std::move(fix)) {
+      per_piece_(std::max<std::size_t>(motions_per_piece, 1)), fix_(std::move(fix)), read_ahead_(read_ahead) {
   sink_.cut = this;
 }
 
-PieceCutter::~PieceCutter() = default;
+PieceCutter::~PieceCutter() {
+  if (!ahead_.valid()) return;
+  try {
+    ahead_.get();
+  } catch (...) {  // the caller stopped reading; a failure ahead is not its
+  }
+}
+
+std::unique_ptr<ProgramPiece> PieceCutter::next() {
+  std::unique_ptr<ProgramPiece> p;
+  if (ahead_.valid())
+    diag::traced_wait(ahead_job_.get(), [&] { p = ahead_.get(); });
+  else
+    p = make();
+  // The piece after it is read while the caller works on this one: reading
+  // and interpreting depend on nothing the caller does.
+  if (p && !done_ && read_ahead_) {
+    ahead_job_ = diag::parallel_trace_on() ? std::make_unique<diag::BackgroundJob>() : nullptr;
+    ahead_ = std::async(std::launch::async, [this] {
+      const diag::AsyncScope background(ahead_job_.get());
+      diag::TracedLoop loop;  // one task: its whole time is on the job's path
+      std::unique_ptr<ProgramPiece> r;
+      loop.task([&] { r = make(); });
+      return r;
+    });
+  }
+  return p;
+}
 
 void PieceCutter::Sink::motion(const interp::Motion& m) {
   cut->motions_.push_back(m);
@@ -57,7 +86,7 @@ std::string PieceCutter::bytes_of(std::uint32_t first, std::uint32_t last) const
   return out;
 }
 
-std::unique_ptr<ProgramPiece> PieceCutter::next() {
+std::unique_ptr<ProgramPiece> PieceCutter::make() {
   if (done_) return nullptr;
   std::size_t c = 0;
   for (;;) {

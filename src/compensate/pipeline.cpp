@@ -18,7 +18,7 @@ namespace {
 // window ahead of the pieces.
 struct AheadNormals {
   explicit AheadNormals(const PipelineInput& in)
-      : ahead(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix),
+      : ahead(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix, in.settings->threads != 1),
         normals(
             [this](std::vector<interp::Motion>& more) {
               std::unique_ptr<ProgramPiece> p = ahead.next();
@@ -39,7 +39,7 @@ struct AheadNormals {
 }  // namespace
 
 std::size_t simulate_in_pieces(const PipelineInput& in) {
-  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix, in.settings->threads != 1);
   AheadNormals an(in);
   std::unique_ptr<stock::ZMap> map;
   const Physics& ph = *in.physics;
@@ -72,7 +72,7 @@ struct FeedPlan {
 FeedPlan plan_feeds(const PipelineInput& in) {
   const Physics& ph = *in.physics;
   const Settings& s = *in.settings;
-  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix, in.settings->threads != 1);
   AheadNormals an(in);
   struct Open {  // a motion whose samples may still come
     std::size_t index;
@@ -129,7 +129,7 @@ PipelineResult compensate_in_pieces(const PipelineInput& in, std::ostream& out) 
   // With a plan the mirror pass runs alone, at the planned feeds.
   Settings s = *in.settings;
   s.feed_limit_N = 0;
-  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix);
+  PieceCutter cut(in.path, in.lines_per_read, in.interp, in.motions_per_piece, in.fix, in.settings->threads != 1);
   AheadNormals an(in);
   DesignNormals& normals = an.normals;
   Compensation comp(*in.physics, s, normals, in.sinks, in.progress, in.total_motions, !limit);

@@ -13,11 +13,13 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/diag/parallel_trace.hpp"
 #include "deflex/gcode/program.hpp"
 #include "deflex/gcode/reader.hpp"
 #include "deflex/interp/interpreter.hpp"
@@ -41,9 +43,12 @@ class PieceCutter {
   // Reads `path` (a file: two passes are made of it, the checks' and this
   // one) `lines_per_read` lines at a time; a piece ends after at least
   // `motions_per_piece` motions. `fix` (may be empty) is applied to each motion
-  // as interpreted (what the checks applied: --spindle and --feed defaults).
+  // as interpreted (what the checks applied: --spindle and --feed defaults;
+  // it may run on another thread). With `read_ahead` the piece after the one
+  // handed out is read and interpreted on a thread of its own meanwhile.
   PieceCutter(const std::string& path, std::uint32_t lines_per_read, const interp::Options& opt,
-              std::size_t motions_per_piece, std::function<void(interp::Motion&)> fix = {});
+              std::size_t motions_per_piece, std::function<void(interp::Motion&)> fix = {},
+              bool read_ahead = false);
   ~PieceCutter();
   // The next piece, null after the last.
   std::unique_ptr<ProgramPiece> next();
@@ -53,6 +58,7 @@ class PieceCutter {
     PieceCutter* cut = nullptr;
     void motion(const interp::Motion& m) override;
   };
+  std::unique_ptr<ProgramPiece> make();  // the next piece, read here
   bool read_more();
   std::size_t find_cut();
   std::string bytes_of(std::uint32_t first, std::uint32_t last) const;
@@ -71,6 +77,10 @@ class PieceCutter {
   std::uint32_t next_line_ = 1, read_to_ = 0;         // first line not handed out; last line read
   bool eof_ = false, done_ = false;
   gcode::Tape tape_;                                  // of the pieces handed out
+  bool read_ahead_ = false;
+  // The piece being read ahead (last: it ends before what make() uses).
+  std::unique_ptr<diag::BackgroundJob> ahead_job_;
+  std::future<std::unique_ptr<ProgramPiece>> ahead_;
 };
 
 }  // namespace deflex::compensate
