@@ -26,7 +26,10 @@ struct PathNormals::Impl {
 
   // The quadratic fit over the points within r; nothing when they do not span 2D.
   std::optional<Eigen::Vector3d> fit(const Eigen::Vector3d& q, double r) const {
-    std::vector<K::Point_3> near;
+    // Kept per thread: a fresh vector per fit cost its growth by doubling
+    // (several allocations) for every CL point and every radius tried.
+    thread_local std::vector<K::Point_3> near;
+    near.clear();
     tree.search(std::back_inserter(near), Sphere(K::Point_3(q.x(), q.y(), q.z()), r, 0.0));
     if (near.size() < 6) return std::nullopt;
     const std::size_t m = near.size();
