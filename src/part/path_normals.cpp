@@ -8,8 +8,13 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <Eigen/Dense>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <iterator>
+#include <mutex>
+#include <unordered_map>
 
 namespace deflex::part {
 namespace {
@@ -23,10 +28,26 @@ struct PathNormals::Impl {
   PathNormalOptions o;
   Tree tree;
   std::size_t n = 0;
+  // The normals already fitted, by the query's bits: a compensation asks at
+  // the same design tip again and again (the program as written, then each
+  // trial of the mirror pass at a point it leaves alone), and a fit is a
+  // pure function of the query, so the answer is the one a new fit gives.
+  struct Bits {
+    std::size_t operator()(const std::array<std::uint64_t, 3>& k) const {
+      std::size_t h = 0;
+      for (std::uint64_t v : k) h = (h ^ std::hash<std::uint64_t>{}(v)) * 0x100000001b3ull;
+      return h;
+    }
+  };
+  mutable std::mutex memo_mutex;
+  mutable std::unordered_map<std::array<std::uint64_t, 3>, std::optional<Eigen::Vector3d>, Bits> memo;
 
   // The quadratic fit over the points within r; nothing when they do not span 2D.
   std::optional<Eigen::Vector3d> fit(const Eigen::Vector3d& q, double r) const {
-    std::vector<K::Point_3> near;
+    // Kept per thread: a fresh vector per fit cost its growth by doubling
+    // (several allocations) for every CL point and every radius tried.
+    thread_local std::vector<K::Point_3> near;
+    near.clear();
     tree.search(std::back_inserter(near), Sphere(K::Point_3(q.x(), q.y(), q.z()), r, 0.0));
     if (near.size() < 6) return std::nullopt;
     const std::size_t m = near.size();
@@ -91,9 +112,18 @@ PathNormals::~PathNormals() = default;
 std::size_t PathNormals::points() const { return impl_->n; }
 
 std::optional<Eigen::Vector3d> PathNormals::normal_at(const Eigen::Vector3d& tip_mm) const {
-  for (double r = impl_->o.radius_mm; r <= impl_->o.max_radius_mm * (1 + 1e-9); r *= 2)
-    if (auto n = impl_->fit(tip_mm, r)) return n;
-  return std::nullopt;
+  const std::array<std::uint64_t, 3> key{std::bit_cast<std::uint64_t>(tip_mm.x()), std::bit_cast<std::uint64_t>(tip_mm.y()),
+                                         std::bit_cast<std::uint64_t>(tip_mm.z())};
+  {
+    std::lock_guard<std::mutex> lock(impl_->memo_mutex);
+    auto it = impl_->memo.find(key);
+    if (it != impl_->memo.end()) return it->second;
+  }
+  std::optional<Eigen::Vector3d> n;
+  for (double r = impl_->o.radius_mm; r <= impl_->o.max_radius_mm * (1 + 1e-9) && !n; r *= 2) n = impl_->fit(tip_mm, r);
+  std::lock_guard<std::mutex> lock(impl_->memo_mutex);
+  impl_->memo.emplace(key, n);
+  return n;
 }
 
 }  // namespace deflex::part

@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <memory>
+#include <span>
 #include <numbers>
 #include <stdexcept>
 
@@ -35,17 +37,17 @@ double cusp_height_mm(double effective_diameter_mm, double stepover_mm, double a
 namespace {
 
 using K = CGAL::Simple_cartesian<double>;
-// The kd-tree holds sample indices; their XY positions come through a property map.
+// The kd-tree holds a block's sample numbers; their XY positions come through
+// a property map. It hands out references to points stored once per block: a
+// map that returns points by value makes CGAL's adapter copy each point it
+// reads into a shared_ptr (an allocation per point visited in every search).
 struct XyMap {
   using key_type = std::size_t;
   using value_type = K::Point_2;
-  using reference = value_type;
-  using category = boost::readable_property_map_tag;
-  const std::vector<CuspSample>* s;
-  friend value_type get(const XyMap& m, std::size_t i) {
-    const Eigen::Vector3d& p = (*m.s)[i].tip_mm;
-    return {p.x(), p.y()};
-  }
+  using reference = const value_type&;
+  using category = boost::lvalue_property_map_tag;
+  const K::Point_2* xy;
+  friend reference get(const XyMap& m, std::size_t i) { return m.xy[i]; }
 };
 using Traits = CGAL::Search_traits_adapter<std::size_t, XyMap, CGAL::Search_traits_2<K>>;
 using Tree = CGAL::Kd_tree<Traits>;
@@ -67,56 +69,96 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() 
 // travelling sideways may be a neighbour; only samples in material get a cusp.
 bool sideways(const CuspSample& s) { return s.profile_diameter_mm > 0 && horizontal(s.feed_dir).norm() > 0; }
 
-// The nearest neighbouring pass on each side of sample i within radius r of
-// it: the distance across the feed (NaN where none).
-std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i, double r,
+}  // namespace
+
+// One block of samples and the kd-tree over those of them travelling
+// sideways, built once when the block is whole: a sample's window is its own
+// block's tree and the trees of the blocks beside it, so every sample is put
+// into one tree (it was three, one window's each).
+struct detail::CuspBlock {
+  std::size_t first = 0;  // the number of its first sample
+  std::vector<CuspSample> s;
+  std::vector<K::Point_2> xy;
+  std::vector<std::size_t> idx;  // sideways samples, indices into s
+  std::unique_ptr<Tree> tree;    // null until whole (and while it holds no sideways sample)
+  bool built = false;
+
+  void build() {
+    if (built) return;
+    built = true;
+    xy.reserve(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      xy.emplace_back(s[i].tip_mm.x(), s[i].tip_mm.y());
+      if (sideways(s[i])) idx.push_back(i);
+    }
+    if (idx.empty()) return;
+    tree = std::make_unique<Tree>(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{xy.data()}));
+    tree->build();
+  }
+};
+
+namespace {
+
+using Block = detail::CuspBlock;
+
+// The nearest neighbouring pass on one side so far: its distance across, the
+// distance to its sample and that sample's number. Equally near samples are
+// ordered by their number, so the result does not depend on the order the
+// trees hand the samples out (nor on which tree holds which).
+struct Side {
+  double across = CuspResult::none, dist = HUGE_VAL;
+  std::size_t number = 0;
+  void offer(double a, double d, std::size_t n) {
+    if (d < dist || (d == dist && n < number)) across = a, dist = d, number = n;
+  }
+};
+
+// The nearest neighbouring pass on each side of sample p within radius r of
+// it, among the samples of the window's blocks: the distance across the feed
+// (NaN where none).
+std::pair<double, double> stepovers(const CuspSample& p, std::span<const Block* const> window, double r,
                                     std::vector<std::size_t>& near) {
-  const CuspSample& p = s[i];
   const double de = p.profile_diameter_mm;
   const Eigen::Vector2d t = horizontal(p.feed_dir), xy = p.tip_mm.head<2>();
-  near.clear();
-  tree.search(std::back_inserter(near), Circle(K::Point_2(xy.x(), xy.y()), r, 0.0, Traits(XyMap{&s})));
-  double left = CuspResult::none, right = CuspResult::none;
-  double left_dist = HUGE_VAL, right_dist = HUGE_VAL;
   const double parallel = std::cos(30 * kRad);
-  for (std::size_t j : near) {
-    const CuspSample& q = s[j];
-    const Eigen::Vector2d tq = horizontal(q.feed_dir);
-    if (std::fabs(tq.dot(t)) < parallel) continue;
-    const Eigen::Vector2d d = q.tip_mm.head<2>() - xy;
-    const double across = std::fabs(cross(tq, d)), along = t.dot(d);  // to the line of q's travel
-    // Not another pass: q could lie on p's own path bent no tighter than the
-    // ball's radius (a closed contour coming round to its start), or retrace it.
-    if (across < 1e-3 + along * along / de || across > de) continue;
-    // Per side the neighbour's sample nearest to p, which lies closest to the
-    // foot of the perpendicular; the distance to its line of travel does not
-    // depend on how far along its pass the sample fell (exact on straight passes).
-    const bool on_left = cross(t, d) > 0;
-    double& dist = on_left ? left_dist : right_dist;
-    if (d.norm() < dist) {
-      dist = d.norm();
-      (on_left ? left : right) = across;
+  Side left, right;
+  for (const Block* b : window) {
+    if (!b->tree) continue;
+    near.clear();
+    b->tree->search(std::back_inserter(near), Circle(K::Point_2(xy.x(), xy.y()), r, 0.0, Traits(XyMap{b->xy.data()})));
+    for (std::size_t j : near) {
+      const CuspSample& q = b->s[j];
+      const Eigen::Vector2d tq = horizontal(q.feed_dir);
+      if (std::fabs(tq.dot(t)) < parallel) continue;
+      const Eigen::Vector2d d = q.tip_mm.head<2>() - xy;
+      const double across = std::fabs(cross(tq, d)), along = t.dot(d);  // to the line of q's travel
+      // Not another pass: q could lie on p's own path bent no tighter than the
+      // ball's radius (a closed contour coming round to its start), or retrace it.
+      if (across < 1e-3 + along * along / de || across > de) continue;
+      // Per side the neighbour's sample nearest to p, which lies closest to the
+      // foot of the perpendicular; the distance to its line of travel does not
+      // depend on how far along its pass the sample fell (exact on straight passes).
+      (cross(t, d) > 0 ? left : right).offer(across, d.norm(), b->first + j);
     }
   }
-  return {left, right};
+  return {left.across, right.across};
 }
 
 // As above within D_e, searched in circles growing from 1 mm: a side's nearest
 // neighbour found within r is the one a search over all of D_e finds (it is
 // the nearest), so only the cost changes: a finishing step-over is found in the
 // first circle instead of among the thousands of samples a 16 mm ball covers.
-std::pair<double, double> stepovers(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i,
+std::pair<double, double> stepovers(const CuspSample& p, std::span<const Block* const> window,
                                     std::vector<std::size_t>& near) {
-  const double de = s[i].profile_diameter_mm;
+  const double de = p.profile_diameter_mm;
   for (double r = std::min(de, 1.0);; r = std::min(de, 2 * r)) {
-    const auto lr = stepovers(s, tree, i, r, near);
+    const auto lr = stepovers(p, window, r, near);
     if ((!std::isnan(lr.first) && !std::isnan(lr.second)) || r >= de) return lr;
   }
 }
 
-// The cusp result of sample i (in material, travelling sideways).
-CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size_t i, std::vector<std::size_t>& near) {
-  const CuspSample& p = s[i];
+// The cusp result of sample p (in material, travelling sideways).
+CuspResult cusp_at(const CuspSample& p, std::span<const Block* const> window, std::vector<std::size_t>& near) {
   CuspResult r;
   if (!p.normal_known) return r;
   const Eigen::Vector3d n = p.normal.normalized();
@@ -128,7 +170,7 @@ CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size
   r.direction_deg = fall.norm() > 0 ? a / kRad : CuspResult::none;
   const double alpha3 = cusp_alpha3_rad(a, alpha1);
   r.alpha3_deg = alpha3 / kRad;
-  const auto [left, right] = stepovers(s, tree, i, near);
+  const auto [left, right] = stepovers(p, window, near);
   for (double ae : {left, right}) {
     if (std::isnan(ae)) continue;
     const double c = cusp_height_mm(p.profile_diameter_mm, ae, alpha3);
@@ -139,61 +181,59 @@ CuspResult cusp_at(const std::vector<CuspSample>& s, const Tree& tree, std::size
 
 }  // namespace
 
-namespace {
-
-// The results of samples [first, last) of `s`, their neighbours searched among
-// all of `s`.
-void cusp_over(const std::vector<CuspSample>& s, std::size_t first, std::size_t last, std::vector<CuspResult>& out) {
-  std::vector<std::size_t> idx;
-  for (std::size_t i = 0; i < s.size(); ++i)
-    if (sideways(s[i])) idx.push_back(i);
-  if (idx.empty()) return;
-  Tree tree(idx.begin(), idx.end(), Tree::Splitter(), Traits(XyMap{&s}));
-  tree.build();
-  // Each point reads the tree and writes its own result: in parallel, the
-  // same results whatever the threads. Isolated: a caller holding a lock (the
-  // report's recorder) must not be handed an outer task that takes it again.
-  tbb::this_task_arena::isolate([&] {
-    diag::TracedLoop loop;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
-      loop.task([&] {
-        std::vector<std::size_t> near;
-        for (std::size_t i = r.begin(); i != r.end(); ++i)
-          if (s[i].cutting && sideways(s[i])) out[i - first] = cusp_at(s, tree, i, near);
-      });
-    });
-  });
-}
-
-}  // namespace
-
 CuspStream::CuspStream(std::size_t block) : block_(std::max<std::size_t>(1, block)) {}
+CuspStream::~CuspStream() = default;
+CuspStream::CuspStream(CuspStream&&) noexcept = default;
 
 void CuspStream::add(const CuspSample& s) {
-  samples_.push_back(s);
+  if (blocks_.empty() || blocks_.back()->s.size() == block_) {
+    blocks_.push_back(std::make_unique<detail::CuspBlock>());
+    blocks_.back()->first = size_;
+  }
+  blocks_.back()->s.push_back(s);
   ++size_;
   // Block b is done once block b + 1 is whole.
-  if (size_ % block_ == 0 && size_ >= 2 * block_) solve(size_ / block_ - 2);
+  if (size_ % block_ == 0) {
+    blocks_.back()->build();
+    if (size_ >= 2 * block_) solve(size_ / block_ - 2);
+  }
 }
 
 void CuspStream::finish() {
+  if (!blocks_.empty()) blocks_.back()->build();
   // The blocks not solved yet (a second call finds none).
   for (std::size_t b = (ready_ + block_ - 1) / block_; b * block_ < size_; ++b) solve(b);
 }
 
 void CuspStream::solve(std::size_t b) {
-  const std::size_t first = b * block_, last = std::min(size_, first + block_);
-  const std::size_t w0 = b ? first - block_ : 0, w1 = std::min(size_, last + block_);
-  // The samples before the window are not needed again.
-  while (samples_base_ < w0) {
-    samples_.pop_front();
-    ++samples_base_;
+  // The blocks before the window are not needed again.
+  while (blocks_base_ + 1 < b) {
+    blocks_.pop_front();
+    ++blocks_base_;
   }
-  const std::vector<CuspSample> window(samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(w1 - w0));
-  std::vector<CuspResult> out(last - first);
-  cusp_over(window, first - w0, last - w0, out);
+  const Block& own = *blocks_[b - blocks_base_];
+  std::vector<const Block*> window;
+  for (std::size_t k = b ? b - 1 : 0; k <= b + 1 && k < blocks_base_ + blocks_.size(); ++k)
+    window.push_back(blocks_[k - blocks_base_].get());
+  const std::size_t n = own.s.size();
+  std::vector<CuspResult> out(n);
+  // Each point reads the trees and writes its own result: in parallel, the
+  // same results whatever the threads. Isolated: a caller holding a lock (the
+  // report's recorder) must not be handed an outer task that takes it again.
+  if (own.tree) {
+    tbb::this_task_arena::isolate([&] {
+      diag::TracedLoop loop;
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        loop.task([&] {
+          std::vector<std::size_t> near;
+          for (std::size_t i = r.begin(); i != r.end(); ++i)
+            if (own.s[i].cutting && sideways(own.s[i])) out[i] = cusp_at(own.s[i], window, near);
+        });
+      });
+    });
+  }
   results_.insert(results_.end(), out.begin(), out.end());
-  ready_ = last;
+  ready_ = own.first + n;
 }
 
 const CuspResult& CuspStream::result(std::size_t i) const {

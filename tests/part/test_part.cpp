@@ -8,7 +8,10 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
+#include <thread>
 #include <unistd.h>
+#include <vector>
 
 #include "../support.hpp"
 #include "deflex/compensate/apply.hpp"
@@ -262,6 +265,47 @@ TEST_CASE("path normals on the edge passes of a raster: determined by the points
       // slope puts the second one 8.5 mm away).
       if (step < 3) CHECK(none_edge == 0);
     }
+}
+
+TEST_CASE("path normals: a point asked again gets, bit for bit, what a new fit gives it, none included") {
+  // Edge passes of a wide raster: some points get no normal. Each answer is
+  // kept by its query; asked again (from two threads at once too), the kept
+  // answer must be the one a PathNormals that has never been asked gives.
+  const double R = 5, spacing = 0.5, step = 3.0;
+  const std::vector<Surface> surfaces = analytic();
+  const Surface& s = surfaces[2];  // the 45 deg plane: the second pass is 8.5 mm from the edge one
+  std::vector<V3> tips;
+  for (int k = 0; k < 6; ++k)
+    for (double x = -8; x <= 8 + 1e-9; x += spacing) tips.push_back(drop_tip(s, x, -8 + k * step, R).first);
+  std::vector<V3> queries;
+  for (int k : {0, 2, 5})
+    for (double x = -8; x <= 8 + 1e-9; x += 1.5) queries.push_back(drop_tip(s, x, -8 + k * step, R).first);
+  std::vector<std::optional<V3>> fresh;
+  for (const V3& q : queries) fresh.push_back(part::PathNormals(tips).normal_at(q));
+  const part::PathNormals pn(tips);
+  auto same = [](const std::optional<V3>& a, const std::optional<V3>& b) {
+    return a.has_value() == b.has_value() && (!a || (a->array() == b->array()).all());
+  };
+  int none = 0;
+  for (int round = 0; round < 2; ++round)
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      CAPTURE(round);
+      CAPTURE(i);
+      CHECK(same(pn.normal_at(queries[i]), fresh[i]));
+      none += round == 0 && !fresh[i];
+    }
+  CHECK(none > 0);
+  CHECK(none < static_cast<int>(queries.size()));
+  std::vector<std::optional<V3>> a(queries.size()), b(queries.size());
+  std::thread t([&] {
+    for (std::size_t i = 0; i < queries.size(); ++i) a[i] = pn.normal_at(queries[queries.size() - 1 - i]);
+  });
+  for (std::size_t i = 0; i < queries.size(); ++i) b[i] = pn.normal_at(queries[i]);
+  t.join();
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    CHECK(same(a[queries.size() - 1 - i], fresh[i]));
+    CHECK(same(b[i], fresh[i]));
+  }
 }
 
 TEST_CASE("a freeform raster without a part: no point moves on a normal off by more than 2 um of error") {

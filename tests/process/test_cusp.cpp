@@ -2,8 +2,11 @@
 // per-point analysis on rasters whose step-over, slope and direction are known.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "deflex/process/cusp.hpp"
 
@@ -40,6 +43,39 @@ std::vector<CuspSample> raster(double d_mm, double slope_deg, bool along_x, doub
     }
   }
   return v;
+}
+
+
+// The straightforward search the kd-trees stand for: every sample of the
+// blocks b - 1 .. b + 1 within D_e of a sample of block b, by the rules of
+// cusp.hpp, the nearest per side (equally near: the lower sample number):
+// per sample the step-over to the left and to the right.
+std::vector<std::pair<double, double>> stepovers_by_scan(const std::vector<CuspSample>& v, std::size_t block) {
+  auto flat = [](const Eigen::Vector3d& f) {
+    const Eigen::Vector2d h(f.x(), f.y());
+    return h.norm() > 1e-9 * std::max(1.0, f.norm()) ? Eigen::Vector2d(h / h.norm()) : Eigen::Vector2d::Zero();
+  };
+  std::vector<std::pair<double, double>> out(v.size(), {std::nan(""), std::nan("")});
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const CuspSample& p = v[i];
+    const Eigen::Vector2d t = flat(p.feed_dir), xy = p.tip_mm.head<2>();
+    if (!p.cutting || t.norm() == 0) continue;
+    const double de = p.profile_diameter_mm;
+    const std::size_t b = i / block, lo = b ? (b - 1) * block : 0, hi = std::min(v.size(), (b + 2) * block);
+    double across_of[2] = {std::nan(""), std::nan("")}, dist_of[2] = {HUGE_VAL, HUGE_VAL};
+    for (std::size_t j = lo; j < hi; ++j) {
+      const CuspSample& q = v[j];
+      const Eigen::Vector2d tq = flat(q.feed_dir), d = q.tip_mm.head<2>() - xy;
+      if (tq.norm() == 0 || d.squaredNorm() > de * de) continue;
+      if (std::fabs(tq.dot(t)) < std::cos(30 * kDeg)) continue;
+      const double across = std::fabs(tq.x() * d.y() - tq.y() * d.x()), along = t.dot(d);
+      if (across < 1e-3 + along * along / de || across > de) continue;
+      const int side = t.x() * d.y() - t.y() * d.x() > 0;
+      if (d.norm() < dist_of[side]) dist_of[side] = d.norm(), across_of[side] = across;  // j rises: ties keep the lower
+    }
+    out[i] = {across_of[1], across_of[0]};
+  }
+  return out;
 }
 
 }  // namespace
@@ -161,5 +197,49 @@ TEST_SUITE("process") {
     int missing = 0;
     for (std::size_t i = 0; i < v.size(); ++i) missing += std::isnan(tiny[i].height_mm) && !std::isnan(whole[i].height_mm);
     CHECK(missing > 0);
+  }
+  TEST_CASE("cusp in a window of blocks: the kd-trees of the blocks find what a scan of the window finds, ties too") {
+    // Passes along X whose samples line up across the passes, and passes
+    // with a turned raster on top: a sample's two neighbours on the next pass,
+    // either side of the foot of the perpendicular, lie equally far from it,
+    // one to each side of a block boundary at some block sizes, and passes of
+    // different step-over overlap at the pass ends.
+    std::vector<CuspSample> v = raster(10, 0, true, 0.5, 14, 6, 0.25);
+    for (CuspSample c : raster(10, 10, false, 0.3, 9, 7, 0.5)) {
+      c.tip_mm.x() += 0.125;  // half a sample of the first raster: equal distances to its samples
+      v.push_back(c);
+    }
+    // Equally near samples of two passes at different distances across: from
+    // a sample of the pass at y = 20, one of the pass at y = 21.25 straight
+    // across and two of the pass at y = 21 half a sample along lie 1.25 mm
+    // away (0.75^2 + 1^2 = 1.25^2, exactly), 1.25 and 1 across.
+    for (auto [y, x0] : {std::pair{20.0, 0.0}, std::pair{21.25, 0.0}, std::pair{21.0, 0.75}})
+      for (CuspSample c : raster(10, 0, true, 0, 1, 12, 1.5)) {
+        c.tip_mm += Eigen::Vector3d(x0, y, 0);
+        v.push_back(c);
+      }
+    for (std::size_t block : {5u, 17u, 24u, 25u, 64u, 1000u}) {
+      CAPTURE(block);
+      const auto got = process::cusp_heights(v, block);
+      const auto sides = stepovers_by_scan(v, block);
+      int found = 0;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        CAPTURE(i);
+        // The side whose cusp is the higher (the left where they are equal), as cusp_heights() picks it.
+        double want = std::nan(""), height = std::nan("");
+        for (double ae : {sides[i].first, sides[i].second}) {
+          if (std::isnan(ae)) continue;
+          const double c = process::cusp_height_mm(v[i].profile_diameter_mm, ae, got[i].alpha3_deg * kDeg);
+          if (std::isnan(height) || c > height) height = c, want = ae;
+        }
+        if (std::isnan(want)) {
+          CHECK(std::isnan(got[i].stepover_mm));
+        } else {
+          CHECK(got[i].stepover_mm == want);  // exactly: the same sample found
+          ++found;
+        }
+      }
+      CHECK(found > (block >= 64 ? static_cast<int>(v.size()) / 2 : 0));
+    }
   }
 }

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <vector>
 
 namespace deflex::process {
@@ -73,21 +74,31 @@ struct CuspResult {
 // where the two passes are a short link apart along the path. The distance across is
 // measured from the point to the line of travel of the neighbour's sample
 // nearest to it, so on straight passes it does not depend on where the samples
-// fall. Neighbours are found through CGAL's kd-tree; O(n log n).
+// fall. Of equally near samples the one earlier in the program counts (so the
+// result does not depend on how a search orders them). Neighbours are found
+// through CGAL's kd-tree; O(n log n).
 //
 // The neighbours of a sample are searched in a window of the program, not all
 // of it, so that a program of any length is read in constant memory: its
 // block of `block` samples and the blocks before and after (a pass is its
 // neighbour's neighbour in program order in every strategy but one returning
 // to a region much later). Programs of up to 2 blocks are searched whole.
+// Each block's kd-tree is built once, when the block is whole, and searched
+// for its own samples and those of the blocks beside it.
 constexpr std::size_t kCuspBlock = 32768;
 std::vector<CuspResult> cusp_heights(const std::vector<CuspSample>& samples, std::size_t block = kCuspBlock);
+
+namespace detail {
+struct CuspBlock;  // the samples of a block and their kd-tree (cusp.cpp)
+}
 
 // The same over samples given one at a time, in program order: the results of
 // a block are known once the block after it is whole (or after finish()).
 class CuspStream {
  public:
   explicit CuspStream(std::size_t block = kCuspBlock);
+  ~CuspStream();
+  CuspStream(CuspStream&&) noexcept;
   void add(const CuspSample& s);  // sample number size()
   void finish();
   std::size_t size() const { return size_; }
@@ -97,8 +108,8 @@ class CuspStream {
 
  private:
   void solve(std::size_t b);
-  std::size_t block_, size_ = 0, ready_ = 0, samples_base_ = 0, results_base_ = 0;
-  std::deque<CuspSample> samples_;
+  std::size_t block_, size_ = 0, ready_ = 0, blocks_base_ = 0, results_base_ = 0;
+  std::deque<std::unique_ptr<detail::CuspBlock>> blocks_;  // from block blocks_base_ on
   std::deque<CuspResult> results_;
 };
 
