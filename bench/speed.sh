@@ -70,10 +70,13 @@ row() {
   med=$(sed -n 's/.*"median": \([0-9.]*\).*/\1/p' "$json" | head -n 1)
   rm -f "$json"
   log=bench/out/speed_$$.log
-  /usr/bin/time -f "peak %M KiB" "$bin" "$@" -v > /dev/null 2> "$log" || true
-  # compensate: "... of N points outside"; simulate: "N CL points: ..."
-  pts=$(sed -n 's/.*predicted error[^:]*:.* of \([0-9]*\) points.*/\1/p; s/.*: \([0-9]*\) CL points: .*/\1/p' "$log" | head -n 1)
-  cells=$(sed -n 's/.*Z-map: \([0-9.e+]*\) cells updated.*/\1/p' "$log" | head -n 1)
+  /usr/bin/time -f "peak %M KiB" "$bin" "$@" -v > "$log.out" 2> "$log" || true
+  # compensate: "... of N points outside" (stderr); simulate: "N CL points: ..." (stdout)
+  pts=$(cat "$log" "$log.out" |
+    sed -n 's/.*predicted error[^:]*:.* of \([0-9]*\) points.*/\1/p; s/.*: \([0-9]*\) CL points: .*/\1/p' | head -n 1)
+  # The cells of the main stage (an earlier one may sweep a little).
+  cells=$(sed -n 's/.*\(compensating\|simulating\) done in .*Z-map: \([0-9.e+]*\) cells updated.*/\2/p' "$log" | head -n 1)
+  rm -f "$log.out"
   peak=$(sed -n 's/^peak \([0-9]*\) KiB/\1/p' "$log")
   rm -f "$log"
   rate=$(awk -v p="${pts:-0}" -v t="$med" 'BEGIN { if (p > 0) printf "%.0f", p / t; else printf "-" }')
@@ -83,6 +86,8 @@ row() {
   echo "$line" | tee -a "$table"
 }
 
+row "simulate six-surface sample" earlier "$prev" simulate $six
+row "simulate six-surface sample" this "$new" simulate $six
 row "compensate six-surface sample" earlier "$prev" compensate $six -o bench/out/speed_out.nc
 row "compensate six-surface sample" this "$new" compensate $six -o bench/out/speed_out.nc
 if [ -z "${QUICK:-}" ]; then

@@ -15,9 +15,12 @@ TEST_SUITE("compensate") {
     REQUIRE(whole.motions.size() > 100);
     interp::Options o;
     o.dialect = profile::load_dialect("fanuc");
+    // Read piece by piece as asked, and read ahead on a thread of its own.
+    for (const bool ahead : {false, true})
     for (std::size_t per : {1u, 13u, 200u}) {
+      CAPTURE(ahead);
       CAPTURE(per);
-      compensate::PieceCutter cut(path, 17, o, per);
+      compensate::PieceCutter cut(path, 17, o, per, {}, ahead);
       std::string joined;
       std::vector<interp::Motion> motions;
       std::uint32_t next = 1;
