@@ -11,9 +11,7 @@
 # run of each size with --report.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh --bench
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target deflex
+sh bench/build.sh
 mkdir -p bench/out
 echo "$(nproc) cores, $(uname -m)"
 run() {  # name, program, stock, extra options

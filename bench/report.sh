@@ -6,10 +6,8 @@
 # an empty page. Medians of $RUNS (default 3) by hyperfine; BLOCKS sets the size.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh --bench
+sh bench/build.sh
 command -v chromium >/dev/null || sh scripts/install-deps.sh --test
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target deflex
 mkdir -p bench/out
 echo "$(nproc) cores, $(uname -m)"
 n=${BLOCKS:-1000000}

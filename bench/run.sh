@@ -5,9 +5,7 @@
 # memory by GNU time. Run from anywhere; results in bench/out/.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh --bench
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target deflex
+sh bench/build.sh
 mkdir -p bench/out
 # SIZES="1000000 10000000" reads both (10M: 10 passes over the 1M area).
 for n in ${SIZES:-${BLOCKS:-1000000}}; do

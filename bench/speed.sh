@@ -21,9 +21,7 @@
 # bench/out/speed.md and standard output.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh --bench
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target deflex
+sh bench/build.sh
 mkdir -p bench/out
 runs=${RUNS:-3}
 n=${BLOCKS:-1000000}
@@ -39,8 +37,7 @@ else
     rm -rf "$src"
     mkdir -p "$src"
     git archive "$rev" | tar -x -C "$src"
-    cmake -S "$src" -B "bench/out/prev-$rev/build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-    cmake --build "bench/out/prev-$rev/build" -j2 --target deflex
+    sh bench/build.sh "$src" "bench/out/prev-$rev/build"
     cp "bench/out/prev-$rev/build/deflex" "$prev"
   fi
 fi

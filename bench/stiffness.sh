@@ -5,9 +5,7 @@
 # by hyperfine: they bound the model's own time from above.
 set -eu
 cd "$(dirname "$0")/.."
-sh scripts/install-deps.sh --bench
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
-cmake --build build -j2 --target deflex
+sh bench/build.sh
 mkdir -p bench/out
 cache=$(mktemp -d)
 echo "$(nproc) cores, $(uname -m)"

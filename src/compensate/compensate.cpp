@@ -223,7 +223,9 @@ struct Simulation::Impl {
             p, st, [this](const engage::CLSample& cl, const engage::Metrics&, const force::Engagement&) { emit(cl); },
             std::move(map),
             [this](std::size_t slot, const engage::CLSample& cl, const engage::Metrics& mt,
-                   const force::Engagement& eng) { prepare(slot, cl, mt, eng); }) {}
+                   const force::Engagement& eng) { prepare(slot, cl, mt, eng); }) {
+    slots.resize(run.options().max_batch);
+  }
 
   // A sample's point (its forces, deflection, normal, the stock around it)
   // depends on its engagement alone: computed for a whole batch at once on
@@ -236,7 +238,6 @@ struct Simulation::Impl {
   };
 
   void prepare(std::size_t slot, const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng) {
-    if (slot >= slots.size()) throw Error(ErrorKind::internal, "simulation: a batch larger than its slots");
     Prepared& r = slots[slot];
     r.failed = nullptr;
     if (cl.rapid) return;
@@ -306,8 +307,7 @@ struct Simulation::Impl {
   std::size_t changes = 0;
   V3 prev = V3::Zero();      // offset of the last motion added
   const ToolModel* tm = nullptr;
-  // The points of the batch in the simulator's work, by slot.
-  std::vector<Prepared> slots = std::vector<Prepared>(engage::SimOptions{}.max_batch);
+  std::vector<Prepared> slots;  // the points of the batch in the simulator's work, by slot (max_batch)
   Run run;
 };
 

@@ -99,6 +99,7 @@ class Run {
     return true;
   }
   engage::Simulator& sim() { return *sim_; }
+  const engage::SimOptions& options() const { return so_; }  // every simulator's
   const stock::ZMap& zmap() const { return *z_; }
   const ToolModel& tool() const { return *tm_; }
   std::size_t tool_changes() const { return tool_changes_; }

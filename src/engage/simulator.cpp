@@ -95,10 +95,7 @@ void Simulator::evaluate_batch() {
   if (n == 0) return;
   if (commit_running_) {
     TileBox reads = read_box(batch_[0].cl.point.tip_mm);
-    for (const Sample& s : batch_) {
-      const TileBox b = read_box(s.cl.point.tip_mm);
-      reads = {std::min(reads.i0, b.i0), std::max(reads.i1, b.i1), std::min(reads.j0, b.j0), std::max(reads.j1, b.j1)};
-    }
+    for (std::size_t i = 1; i < n; ++i) reads.join(read_box(batch_[i].cl.point.tip_mm));
     wait_commit_if(reads);
   }
   const double t0 = now_s();

@@ -73,8 +73,8 @@ bool sideways(const CuspSample& s) { return s.profile_diameter_mm > 0 && horizon
 
 // One block of samples and the kd-tree over those of them travelling
 // sideways, built once when the block is whole: a sample's window is its own
-// block's tree and the trees of the blocks beside it, so every sample is put
-// into one tree (it was three, one window's each).
+// block's tree and the trees of the blocks beside it, so every sample goes
+// into one tree, not into one per window that holds it.
 struct detail::CuspBlock {
   std::size_t first = 0;  // the number of its first sample
   std::vector<CuspSample> s;

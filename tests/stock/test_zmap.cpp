@@ -50,6 +50,30 @@ double brute_lower(const ToolProfile& tool, const Point3& a, const Point3& b, do
   return best;
 }
 
+// 40 random short moves (up to 2 mm across, rising or falling) for each of a
+// ball, a flat and a bull-nose end: the bounds of the skips are checked on them.
+std::vector<LineSweep> random_moves(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<LineSweep> moves;
+  for (const ToolProfile& t : {ToolProfile{EndShape::ball, 4, 4}, ToolProfile{EndShape::flat, 3, 0},
+                               ToolProfile{EndShape::bull, 5, 1.5}})
+    for (int k = 0; k < 40; ++k) {
+      const Point3 a{5 + 20 * u(rng), 5 + 20 * u(rng), -2 * u(rng)};
+      const Point3 b{a[0] + 4 * (u(rng) - 0.5), a[1] + 4 * (u(rng) - 0.5), a[2] + (u(rng) - 0.5)};
+      moves.emplace_back(t, a, b);
+    }
+  return moves;
+}
+
+// A 30 x 30 mm box at 0.1 mm with a ball's trench across it: cells at many
+// heights for the stock-side tests of the skips.
+ZMap trenched_box() {
+  ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
+  sweep_line_reference(z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  return z;
+}
+
 }  // namespace
 
 TEST_SUITE("stock") {
@@ -57,25 +81,16 @@ TEST_SUITE("stock") {
 TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above the stock from above") {
   // The two bounds sweep_rows uses to leave a row alone: checked
   // against lower_height at every cell of random rows and the cells themselves.
-  std::mt19937 rng(14);
-  std::uniform_real_distribution<double> u(0, 1);
-  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 5, 1.5}};
   int rows = 0;
-  for (const ToolProfile& t : tools)
-    for (int k = 0; k < 40; ++k) {
-      const Point3 a{5 + 20 * u(rng), 5 + 20 * u(rng), -2 * u(rng)};
-      const Point3 b{a[0] + 4 * (u(rng) - 0.5), a[1] + 4 * (u(rng) - 0.5), a[2] + (u(rng) - 0.5)};
-      const LineSweep s(t, a, b);
-      for (double y = s.y_min(); y <= s.y_max(); y += 0.37, ++rows) {
-        const double f = s.row_floor(y);
-        // Equal up to rounding where the row touches the footprint's rim (5e-8
-        // mm seen); sweep_rows keeps a margin of 1e-3 mm.
-        for (double x = s.x_min(); x <= s.x_max(); x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
-      }
+  for (const LineSweep& s : random_moves(14))
+    for (double y = s.y_min(); y <= s.y_max(); y += 0.37, ++rows) {
+      const double f = s.row_floor(y);
+      // Equal up to rounding where the row touches the footprint's rim (5e-8
+      // mm seen); sweep_rows keeps a margin of 1e-3 mm.
+      for (double x = s.x_min(); x <= s.x_max(); x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
     }
   CHECK(rows > 1000);
-  ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
-  sweep_line_reference(z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  const ZMap z = trenched_box();
   for (int j = 0; j < z.grid().ny; j += 7)
     for (int i0 = 0; i0 < z.grid().nx; i0 += 29) {
       const int i1 = std::min(z.grid().nx - 1, i0 + 90);
@@ -89,23 +104,16 @@ TEST_CASE("row skip: row_floor bounds the lower surface from below, row_above th
 TEST_CASE("span skip: span_floor bounds the lower surface over a span, cells_above is exact") {
   std::mt19937 rng(15);
   std::uniform_real_distribution<double> u(0, 1);
-  const ToolProfile tools[] = {{EndShape::ball, 4, 4}, {EndShape::flat, 3, 0}, {EndShape::bull, 5, 1.5}};
   int spans = 0;
-  for (const ToolProfile& t : tools)
-    for (int k = 0; k < 40; ++k) {
-      const Point3 a{5 + 20 * u(rng), 5 + 20 * u(rng), -2 * u(rng)};
-      const Point3 b{a[0] + 4 * (u(rng) - 0.5), a[1] + 4 * (u(rng) - 0.5), a[2] + (u(rng) - 0.5)};
-      const LineSweep s(t, a, b);
-      for (double y = s.y_min(); y <= s.y_max(); y += 0.37)
-        for (double x0 = s.x_min() - 1; x0 <= s.x_max(); x0 += 0.8, ++spans) {
-          const double x1 = x0 + 1.6 * u(rng), f = s.span_floor(y, x0, x1);
-          CHECK(f >= s.row_floor(y));  // never weaker than the row's bound
-          for (double x = x0; x <= x1; x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
-        }
-    }
+  for (const LineSweep& s : random_moves(15))
+    for (double y = s.y_min(); y <= s.y_max(); y += 0.37)
+      for (double x0 = s.x_min() - 1; x0 <= s.x_max(); x0 += 0.8, ++spans) {
+        const double x1 = x0 + 1.6 * u(rng), f = s.span_floor(y, x0, x1);
+        CHECK(f >= s.row_floor(y));  // never weaker than the row's bound
+        for (double x = x0; x <= x1; x += 0.05) CHECK(f <= s.lower_height(x, y) + 1e-6);
+      }
   CHECK(spans > 1000);
-  ZMap z = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
-  sweep_line_reference(z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+  const ZMap z = trenched_box();
   for (int j = 0; j < z.grid().ny; j += 3)
     for (int i0 = -5; i0 < z.grid().nx; i0 += 7) {
       const int i1 = i0 + static_cast<int>(u(rng) * 80);
@@ -408,10 +416,8 @@ TEST_CASE("chains of short moves with the fast paths equal straightforward sweep
       CAPTURE(static_cast<int>(t.kind));
       CAPTURE(t.corner_radius_mm);
       CAPTURE(mode);
-      ZMap fast = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
-      ZMap ref = zmap_from_box(parse_box("box:0,0,-20,30,30,0"), 0.1);
       // A pre-cut surface, so earlier "passes" leave cells below the new ones.
-      for (ZMap* z : {&fast, &ref}) sweep_line_reference(*z, LineSweep({EndShape::ball, 4, 4}, {0, 12, -0.6}, {30, 14, -0.9}));
+      ZMap fast = trenched_box(), ref = trenched_box();
       std::vector<Point3> pts{{6 + 4 * u01(rng), 6 + 4 * u01(rng), -0.5}};
       double heading = 2 * std::numbers::pi * u01(rng);
       for (int k = 0; k < 160; ++k) {

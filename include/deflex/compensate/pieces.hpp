@@ -19,10 +19,13 @@
 #include <vector>
 
 #include "deflex/diag/diagnostics.hpp"
-#include "deflex/diag/parallel_trace.hpp"
 #include "deflex/gcode/program.hpp"
 #include "deflex/gcode/reader.hpp"
 #include "deflex/interp/interpreter.hpp"
+
+namespace deflex::diag {
+class BackgroundJob;  // diag/parallel_trace.hpp
+}
 
 namespace deflex::compensate {
 

@@ -15,6 +15,7 @@
 
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <functional>
@@ -111,6 +112,9 @@ class Simulator {
   struct TileBox {
     int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
     bool meets(const TileBox& o) const { return i0 <= o.i1 && o.i0 <= i1 && j0 <= o.j1 && o.j0 <= j1; }
+    void join(const TileBox& o) {
+      i0 = std::min(i0, o.i0), i1 = std::max(i1, o.i1), j0 = std::min(j0, o.j0), j1 = std::max(j1, o.j1);
+    }
   };
   void flush();
   void evaluate_batch();
