@@ -48,6 +48,8 @@ const std::map<std::string, Get>& getters() {
       {"flank_z_max_mm", [](const R& r) { return r.flank_z_max_mm; }},
       {"stepover_mm", [](const R& r) { return r.stepover_mm; }},
       {"cusp_height_mm", [](const R& r) { return r.cusp_height_mm; }},
+      {"power_kW", [](const R& r) { return r.power_kW; }},
+      {"torque_Nm", [](const R& r) { return r.torque_Nm; }},
   };
   return g;
 }

@@ -135,7 +135,7 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
   d.add_options()("help,h", po::bool_switch(&help), "show this help");
   if (compensating)
     d.add_options()("output,o", po::value(&a.output), "write the compensated program here (atomically); default stdout")
-        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N")
+        ("feed-limit", po::value(&a.feed_limit_N), "also lower F where the peak cutting force would exceed this, N, or the cutting power or torque the machine profile's spindle S1 curve")
         ("expand-subprograms", po::bool_switch(&a.expand_subprograms),
          "write each subprogram call (M98) inline, with a comment naming it, so each pass gets its own compensation "
          "(messages then name lines of the expanded program); without it a subprogram that runs more than once stays as written");

@@ -116,12 +116,38 @@ void flank_profile(Point& p, const engage::CLSample& cl, const engage::Metrics& 
   if (keep_profile) p.flank_profile = prof.points;
 }
 
+// Point::feed_share: the peak force's share (force::peak_feed_share, from
+// the revolution's forces and the edge forces alone) and the torque's (the
+// torque's cutting part scales with f_z: s M_c + M_e <= the S1 curve's
+// allowance at this speed; P = M w at a fixed S is the same limit).
+double feed_share(const ToolModel& tm, const force::Coefficients& k, double fz, const force::Engagement& eng,
+                  std::span<const force::Vec3> rev, double peak_N, const force::MeanTorque& torque, double rpm,
+                  const FeedLimits& limits) {
+  double share = 1;
+  if (peak_N > limits.force_N) {
+    thread_local std::vector<force::Vec3> edge;
+    edge.resize(rev.size());
+    force::revolution_forces(tm.slices, tm.grid, k, 0.0, eng, edge);
+    share = force::peak_feed_share(rev, edge, limits.force_N);
+  }
+  if (limits.spindle && limits.spindle->set) {
+    const double allowed_Nm = limits.spindle->s1.allowed_torque_Nm(rpm);
+    if (torque.total_Nm() > allowed_Nm)
+      share = std::min(share, torque.cutting_Nm > 0 ? std::max(0.0, (allowed_Nm - torque.edge_Nm) / torque.cutting_Nm) : 0.0);
+  }
+  return share;
+}
+
 }  // namespace
+
+FeedLimits feed_limits(const Physics& ph, const Settings& s) {
+  return {s.feed_limit_N, ph.spindle.set ? &ph.spindle : nullptr};
+}
 
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
-               const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev,
-               bool keep_profile) {
+               const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
+               std::vector<force::Vec3>& rev, bool keep_profile) {
   Point p;
   p.line = cl.line;
   p.tool = design.tool;
@@ -156,6 +182,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   // Feed frame X' = feed, Y' = Z x X' -> machine axes.
   const double fx = cl.point.feed_x, fy = cl.point.feed_y;
   p.force_N = V3(f.x() * fx - f.y() * fy, f.x() * fy + f.y() * fx, f.z());
+  p.spindle_rpm = rpm;
+  const force::MeanTorque torque = force::mean_torque(tm.slices, k, fz, eng);
+  p.torque_Nm = torque.total_Nm();
+  p.power_kW = profile::power_from_torque_kW(p.torque_Nm, rpm);
+  if (limits.force_N > 0) p.feed_share = feed_share(tm, k, fz, eng, rev, p.peak_N, torque, rpm, limits);
   p.height_mm = resultant_height_mm(eng, tm);
   p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
   p.error_mm = p.delta_mm.dot(p.normal);
@@ -249,7 +280,8 @@ struct Simulation::Impl {
                                        [](const Held& h, std::size_t i) { return h.index < i; });
       if (it == held.end() || it->index != gi) throw Error(ErrorKind::internal, "simulation: a sample of an unknown motion");
       thread_local std::vector<force::Vec3> rev;
-      r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, rev, s.flank_profiles);
+      r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, feed_limits(ph, s), rev,
+                     s.flank_profiles);
       r.p.motion = static_cast<std::uint32_t>(gi);
       const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
       r.p.stock_depth_mm = std::max(0.0, above_mm);

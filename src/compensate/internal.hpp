@@ -46,10 +46,16 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
 // program's motion `index` (the normals' window).
 // a, b: the offsets of the run motion's start and end from the design's, so
 // that the design tip of the sample (the surface normal's) is known.
+// limits: what --feed-limit keeps the point within (Point::feed_share).
+struct FeedLimits {
+  double force_N = 0;                              // 0: no feed limit, feed_share stays 1
+  const profile::SpindleRating* spindle = nullptr;  // its S1 curve too (null: none)
+};
+FeedLimits feed_limits(const Physics& ph, const Settings& s);
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
-               const DesignNormals& normals, const force::Coefficients& k, std::vector<force::Vec3>& rev,
-               bool keep_profile = false);
+               const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
+               std::vector<force::Vec3>& rev, bool keep_profile = false);
 
 // Point::stock_depth_mm (see its definition).
 double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r);
@@ -57,12 +63,17 @@ double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r);
 // Motion m with its start moved by a and its end (and an arc's centre) by b.
 interp::Motion moved(interp::Motion m, const V3& a, const V3& b);
 
-// --feed-limit, what VERICUT Force does alone: the feed of a cutting block
-// whose peak force would exceed the limit. The cutting force grows with the
-// chip (f_z) while the edge force does not, so scaling F by limit / peak
-// brings the peak to the limit or below (0.1 mm/min, rounded down).
-inline double lowered_feed(double feed_mm_per_min, double limit_N, double peak_N) {
-  return std::max(std::floor(feed_mm_per_min * limit_N / peak_N * 10.0) / 10.0, 0.1);
+// --feed-limit: the feed of a cutting block whose points need a share of it
+// (the least Point::feed_share of its points) to keep their peak force under
+// the limit and their torque and power within the spindle's S1 curve, rounded
+// down to 0.1 mm/min. The share is exact for the model (the cutting forces
+// grow with f_z, the edge forces do not; scaling F by limit / peak alone would
+// leave the peak above the limit by up to the edge forces' part). A share is
+// never taken below min_feed_share: where the edge forces alone exceed the
+// limit no feed keeps it, and the plausibility checks say so (feed_limit).
+inline constexpr double min_feed_share = 0.1;
+inline double lowered_feed(double feed_mm_per_min, double share) {
+  return std::max(std::floor(feed_mm_per_min * std::max(share, min_feed_share) * 10.0) / 10.0, 0.1);
 }
 
 // The stock and the tool's simulator along one run through the program.

@@ -154,7 +154,7 @@ class Stream {
     engage::CLSample cl;
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, rev_);
+    return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, feed_limits(ph_, s_), rev_);
   }
 
   // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
@@ -391,10 +391,10 @@ struct Compensation::Impl {
   }
 
   // The as-written points go to the nominal sink; the feed limit needs their
-  // peak force per motion, and with gain 0 and no feed limit they are the
+  // least feed share per motion, and with gain 0 and no feed limit they are the
   // final points as well (the same program).
   void nominal_point(const Point& p) {
-    if (!peak.empty()) peak.at(p.motion) = std::max(peak.at(p.motion), p.peak_N);
+    if (!share.empty()) share.at(p.motion) = std::min(share.at(p.motion), p.feed_share);
     if (sinks.nominal) sinks.nominal(p);
     if (same && s.feed_limit_N <= 0 && sinks.final) sinks.final(p, V3::Zero(), p.motion);
   }
@@ -412,7 +412,7 @@ struct Compensation::Impl {
     r.feeds_mm_per_min.resize(n);
     for (std::size_t i = 0; i < n; ++i) r.feeds_mm_per_min[i] = motions[i].feed_mm_per_min;
     std::vector<double> feeds = r.feeds_mm_per_min;
-    if (s.feed_limit_N > 0) peak.assign(n, 0.0);
+    if (s.feed_limit_N > 0) share.assign(n, 1.0);
     std::exception_ptr failed;
     std::thread t;
     if (threaded) {
@@ -425,7 +425,7 @@ struct Compensation::Impl {
       });
     } else {
       nominal->add(motions);
-      if (s.feed_limit_N > 0) nominal->finish();  // every peak before the feeds
+      if (s.feed_limit_N > 0) nominal->finish();  // every share before the feeds
     }
     struct Join {
       std::thread& t;
@@ -468,12 +468,13 @@ struct Compensation::Impl {
     return r;
   }
 
-  // --feed-limit: the blocks whose peak force would exceed it run at lowered_feed().
+  // --feed-limit: the blocks whose peak force, torque or power would exceed
+  // the limits run at lowered_feed().
   void lower_feeds(const std::vector<interp::Motion>& motions, std::vector<double>& feeds, Result& r) const {
     for (std::size_t i = 0; i < motions.size(); ++i) {
       const interp::Motion& m = motions[i];
-      if (!m.plain || m.kind == interp::MotionKind::rapid || peak[i] <= s.feed_limit_N) continue;
-      feeds[i] = lowered_feed(m.feed_mm_per_min, s.feed_limit_N, peak[i]);
+      if (!m.plain || m.kind == interp::MotionKind::rapid || share[i] >= 1) continue;
+      feeds[i] = lowered_feed(m.feed_mm_per_min, share[i]);
       r.feed_lowered_lines.push_back(m.line);
     }
   }
@@ -525,7 +526,7 @@ struct Compensation::Impl {
   std::size_t total;
   bool same = false, threaded = false;
   std::size_t pieces = 0;
-  std::vector<double> peak;  // --feed-limit: the peak force per motion
+  std::vector<double> share;  // --feed-limit: the least Point::feed_share per motion
   std::unique_ptr<Simulation> nominal;
   std::unique_ptr<Stream> stream;
   Result totals = [] {

@@ -61,8 +61,8 @@ namespace {
 
 // --feed-limit in pieces: the program as written simulated first, on a copy
 // of the stock, its points to the nominal sink; a cutting block whose peak
-// force exceeds the limit gets its feed lowered as Compensation does on the
-// whole program (detail::lowered_feed). Returns the
+// force, torque or power exceeds its limit gets its feed lowered as
+// Compensation does on the whole program (detail::lowered_feed). Returns the
 // lowered feeds by motion index (few) and their lines in program order.
 struct FeedPlan {
   std::map<std::size_t, double> lowered;
@@ -79,15 +79,15 @@ FeedPlan plan_feeds(const PipelineInput& in) {
     double feed;
     bool can_lower;
     std::uint32_t line;
-    double peak = 0;
+    double share = 1;  // the least Point::feed_share of its points
   };
   std::deque<Open> open;
   FeedPlan plan;
   auto settle = [&](std::size_t below) {
     for (; !open.empty() && open.front().index < below; open.pop_front()) {
       const Open& o = open.front();
-      if (!o.can_lower || o.peak <= s.feed_limit_N) continue;
-      plan.lowered[o.index] = detail::lowered_feed(o.feed, s.feed_limit_N, o.peak);
+      if (!o.can_lower || o.share >= 1) continue;
+      plan.lowered[o.index] = detail::lowered_feed(o.feed, o.share);
       plan.lines.push_back(o.line);
     }
   };
@@ -99,7 +99,7 @@ FeedPlan plan_feeds(const PipelineInput& in) {
                    // one is the first still open.
                    settle(p.motion);
                    if (!open.empty() && open.front().index == p.motion)
-                     open.front().peak = std::max(open.front().peak, p.peak_N);
+                     open.front().share = std::min(open.front().share, p.feed_share);
                    if (in.sinks.nominal) in.sinks.nominal(p);
                  },
                  std::move(copy), in.progress, in.total_motions);

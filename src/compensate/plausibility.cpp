@@ -9,6 +9,7 @@
 #include <set>
 
 #include "deflex/diag/plural.hpp"
+#include "internal.hpp"
 
 namespace deflex::compensate {
 
@@ -124,10 +125,51 @@ struct AirRuns {
 
 }  // namespace
 
+namespace {
+
+// The spindle's load against its rating: the worst point by torque over the
+// S1 curve's allowance at its speed (power over the power curve is the same
+// ratio: P = M w), with its figures for the message; S above max_rpm; and,
+// with a feed limit, the points no feed keeps within it.
+struct SpindleChecks {
+  const profile::SpindleRating* rating = nullptr;  // null: none in the profile
+  double feed_limit_N = 0;
+  Acc load, speed, floor;
+  double power_kW = 0, torque_Nm = 0, rpm = 0;  // the worst load's point
+  double s6_worst = 0;                           // its load over the S6 curve
+  SpindleChecks(const profile::SpindleRating* r, double limit_N) : rating(r && r->set ? r : nullptr), feed_limit_N(limit_N) {
+    load.f.kind = "spindle_load";
+    speed.f.kind = "spindle_speed";
+    floor.f.kind = "feed_limit";
+  }
+  void add(const Point& p, const std::string& id);
+};
+
+void SpindleChecks::add(const Point& p, const std::string& id) {
+  if (feed_limit_N > 0 && p.feed_share < detail::min_feed_share) floor.add(p.line, p.feed_share, id);
+  if (!rating || !(p.spindle_rpm > 0)) return;
+  if (p.spindle_rpm > rating->max_rpm) {
+    speed.add(p.line, p.spindle_rpm, id);
+    speed.f.limit = rating->max_rpm;
+  }
+  const double ratio = p.torque_Nm / rating->s1.allowed_torque_Nm(p.spindle_rpm);
+  if (!(ratio > 1)) return;
+  const bool worse = !load.any || ratio > load.f.worst;
+  load.add(p.line, ratio, id);
+  if (!worse) return;
+  power_kW = p.power_kW;
+  torque_Nm = p.torque_Nm;
+  rpm = p.spindle_rpm;
+  s6_worst = rating->s6 ? p.torque_Nm / rating->s6->allowed_torque_Nm(p.spindle_rpm) : 0;
+}
+
+}  // namespace
+
 struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough, gouge;
+  SpindleChecks spindle;
   // A ball end's roughing points wait for the end of their motion, and those
   // of a steep drop (more than R down over less than R across) for the end of
   // the next one. A drop and a climb back of more than R each within 2R
@@ -176,7 +218,8 @@ struct PlausibilityScan::State {
     return static_cast<std::uint16_t>(tool_names.size() - 1);
   }
 
-  State(const stiffness::ToolLibrary& t, const Settings& st, bool e) : tools(t), s(st), earlier_stock(e) {
+  State(const stiffness::ToolLibrary& t, const Settings& st, bool e, const profile::SpindleRating* sp)
+      : tools(t), s(st), spindle(sp, st.feed_limit_N), earlier_stock(e) {
     flute.f.kind = "flute_length";
     force.f.kind = "peak_force";
     cap.f.kind = "offset_cap";
@@ -288,6 +331,7 @@ void PlausibilityScan::State::add(const Point& p) {
   }
   check_flutes(p, t, id);
   if (!p.air) check_force(p, t, id);
+  if (!p.air && !p.plunge) spindle.add(p, id);
   if (!p.air && !p.plunge) check_cap(p, id);
   // 4. A plunge into material with an end that does not cut at its centre.
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
@@ -391,8 +435,9 @@ void PlausibilityScan::State::check_slot(const Point& p, const stiffness::Tool& 
   }
 }
 
-PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock)
-    : st_(std::make_unique<State>(tools, s, earlier_stock)) {}
+PlausibilityScan::PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock,
+                                   const profile::SpindleRating* spindle)
+    : st_(std::make_unique<State>(tools, s, earlier_stock, spindle)) {}
 PlausibilityScan::~PlausibilityScan() = default;
 void PlausibilityScan::add(const Point& p) { st_->add(p); }
 void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
@@ -500,6 +545,38 @@ void no_material_finding(Plausibility& out, std::size_t air_points, std::uint32_
   out.findings.push_back(f);
 }
 
+// The spindle's findings: how much and how often the cut asks more than the
+// S1 rating gives, S above the spindle's top speed, and the points the feed
+// limit cannot bring within its limits.
+void spindle_findings(Plausibility& out, SpindleChecks& c) {
+  if (c.load.any) {
+    const profile::SpindleRating& r = *c.rating;
+    c.load.f.limit = 1;
+    std::string s6;
+    if (r.s6)
+      s6 = c.s6_worst > 1 ? "; above its S6 rating too (" + fixed_decimals(r.s6->allowed_power_kW(c.rpm), 1) + " kW)"
+                          : "; within its S6 rating (" + fixed_decimals(r.s6->allowed_power_kW(c.rpm), 1) +
+                                " kW), which it gives only for short spells";
+    const std::string remedy = c.feed_limit_N > 0 ? "{feed_limit_N} lowers the feed of these blocks to keep within it"
+                                                  : "lower the feed or the depth of cut ({feed_limit_N} keeps the feed within it)";
+    emit(out, c.load, "the cut asks the spindle for up to " + fixed_decimals(c.power_kW, 2) + " kW and " +
+                          fixed_decimals(c.torque_Nm, 1) + " N m at " + fixed_decimals(c.rpm, 0) + " rpm, " +
+                          fixed_decimals(100 * (c.load.f.worst - 1), 0) + " % over its continuous (S1) rating there, " +
+                          fixed_decimals(r.s1.allowed_power_kW(c.rpm), 2) + " kW and " +
+                          fixed_decimals(r.s1.allowed_torque_Nm(c.rpm), 1) + " N m" + (r.source.empty() ? "" : " (" + r.source + ")") +
+                          s6 + ": the spindle slows or overheats; " + remedy);
+  }
+  if (c.speed.any)
+    emit(out, c.speed, "S" + fixed_decimals(c.speed.f.worst, 0) + " is above the spindle's top speed, max_rpm " +
+                           fixed_decimals(c.speed.f.limit, 0) + ": the control clamps or refuses it, and the cut runs at another speed than simulated");
+  if (c.floor.any) {
+    c.floor.f.limit = detail::min_feed_share;
+    emit(out, c.floor, "even at a tenth of the feed the peak force or the torque stays above the limits of {feed_limit_N} (the edge forces, "
+                       "which do not shrink with the feed, reach them alone): the feed of these blocks is lowered tenfold, the most "
+                       "deflex lowers it, and the limit is still exceeded; take a smaller depth or width of cut");
+  }
+}
+
 }  // namespace
 
 Plausibility PlausibilityScan::finish(bool compensated) {
@@ -522,13 +599,15 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   if (z.rough.any) rough_finding(out, z.rough, z.tools);
   if (z.gouge.any) gouge_finding(out, z.gouge, z.gouge_dz_mm, z.gouge_xy_mm, z.gouge_line);
   if (z.earlier.points) earlier_finding(out, z.earlier, z.s);
+  spindle_findings(out, z.spindle);
   if (!z.material && z.air_points) no_material_finding(out, z.air_points, z.first_air_line, z.first_air_tool);
   return out;
 }
 
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines, bool earlier_stock) {
-  PlausibilityScan scan(tools, s, earlier_stock);
+                          const std::vector<std::uint32_t>* capped_lines, bool earlier_stock,
+                          const profile::SpindleRating* spindle) {
+  PlausibilityScan scan(tools, s, earlier_stock, spindle);
   for (const Point& p : points) scan.add(p);
   if (capped_lines) scan.capped(*capped_lines);
   return scan.finish(capped_lines != nullptr);

@@ -174,6 +174,54 @@ ForceSummary summarize(std::span<const Vec3> forces_N) {
   return s;
 }
 
+MeanTorque mean_torque(const CutterSlices& cs, const Coefficients& k, double fz_mm, const Engagement& eng) {
+  MeanTorque m;
+  const std::size_t n = std::min(cs.slices.size(), eng.slices.size());
+  // An interval's part where the chip is cut (h > 0: sin(phi) > 0), in [0, 4 pi):
+  // (0, pi) and (2 pi, 3 pi); sin and cos are periodic, so the integral needs
+  // no wrapping.
+  auto cut_part = [](double a, double b, double lo, double hi, double& from, double& to) {
+    from = std::max(a, lo);
+    to = std::min(b, hi);
+    return to > from;
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    const Slice& sl = cs.slices[i];
+    const SliceLoad L = slice_load(sl, k, fz_mm);
+    double cos_sum = 0, angle = 0;  // sum of (cos a - cos b) and of (b - a) over the cut parts
+    for (const AngleInterval& iv : eng.slices[i])
+      for (const double lo : {0.0, two_pi}) {
+        double a, b;
+        if (!cut_part(iv.start, iv.end, lo, lo + std::numbers::pi, a, b)) continue;
+        cos_sum += std::cos(a) - std::cos(b);
+        angle += b - a;
+      }
+    // N mm per tooth and revolution, over 2 pi.
+    const double w = cs.cutter.flutes * sl.r_mm / two_pi / 1000.0;
+    m.cutting_Nm += w * L.At * cos_sum;
+    m.edge_Nm += w * L.Bt * angle;
+  }
+  return m;
+}
+
+double peak_feed_share(std::span<const Vec3> total_N, std::span<const Vec3> edge_N, double limit_N) {
+  if (total_N.size() != edge_N.size()) throw Error(ErrorKind::internal, "peak_feed_share: grids differ");
+  double s = 1;
+  const double L2 = limit_N * limit_N;
+  for (std::size_t j = 0; j < total_N.size(); ++j) {
+    const Vec3 fc = total_N[j] - edge_N[j];
+    const double a = fc.squaredNorm(), b = 2 * fc.dot(edge_N[j]), c = edge_N[j].squaredNorm() - L2;
+    if (c > 0) return 0;
+    if (a == 0) continue;
+    // q(s) = a s^2 + b s + c with q(0) = c <= 0: q <= 0 up to its larger root,
+    // in the form without cancellation for either sign of b.
+    const double d = std::sqrt(b * b - 4 * a * c);
+    const double root = b >= 0 ? (b + d > 0 ? -2 * c / (b + d) : 0.0) : (-b + d) / (2 * a);
+    s = std::min(s, root);
+  }
+  return std::max(s, 0.0);
+}
+
 namespace {
 
 // The tables behind the surface-generating forces. Tooth 0's edge at z_i is at

@@ -79,6 +79,7 @@ report::Json summary_of(const Run& j, const CompensateResult& c) {
   js["cusp_height_mm"] = report::cusp_json(f.cusp);
   js["machining_time"] = {{"as_written", report::to_json(c.time_as_written)},
                           {"compensated", report::to_json(c.time_compensated)}};
+  js["spindle"] = detail::spindle_json(f, j.physics.spindle);
   js["warnings"] = detail::warnings_json(c.plausibility);
   js["left_alone"] = detail::left_alone_json(f);
   js["used"] = c.used.json;
@@ -126,7 +127,7 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
   detail::Recording rec(j, true, obs);
   // The figures, the plausibility scan and the report take the points as the
   // simulations produce them; nothing keeps them (a million points are 270 MB).
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty());
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty(), &j.physics.spindle);
   // Measured points are held against the program as written (the cut that was measured).
   if (!j.measured.empty()) j.settings.flank_profiles = true;
   const std::unique_ptr<fit::Nearest> nearest = detail::nearest_of(j);

@@ -101,6 +101,13 @@ void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io
     diags.report(Severity::warning, text.at(f.line), f.line, 1, f.message + " [" + f.kind + "]");
 }
 
+report::Json spindle_json(const report::RunFigures& f, const profile::SpindleRating& r) {
+  report::Json rating;
+  if (r.set) rating = {{"max_rpm", r.max_rpm}, {"source", r.source}, {"S6", r.s6.has_value()}};
+  return {{"peak_power_kW", report::fixed(f.peak_power_kW, 4)}, {"peak_torque_Nm", report::fixed(f.peak_torque_Nm, 3)},
+          {"rating", std::move(rating)}};
+}
+
 report::Json warnings_json(const compensate::Plausibility& pl) {
   report::Json a = report::Json::array();
   for (const compensate::Finding& f : pl.findings)

@@ -41,6 +41,9 @@ void end_progress(const compensate::Progress& p);
 // Plausibility warnings (compensate::PlausibilityScan), compiler style at the
 // line of the worst point, and their summary.json array.
 void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io);
+// summary.json's "spindle": the run's peak power and torque, and the rating
+// they are held against (null without one in the machine profile).
+report::Json spindle_json(const report::RunFigures& f, const profile::SpindleRating& r);
 report::Json warnings_json(const compensate::Plausibility& pl);
 
 // The cutting moves a compensation leaves as written, once per reason with

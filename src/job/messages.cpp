@@ -90,7 +90,8 @@ void print_compensation(const Run& j, const compensate::Result& r, const compens
       lines += (i ? ", " : "") + std::to_string(r.feed_lowered_lines[i]);
     if (r.feed_lowered_lines.size() > 12) lines += ", ...";
     io.info() << j.prog.source().name() << ": note: feed lowered on " << plural(r.feed_lowered_lines.size(), "block")
-           << " to keep the peak force under " << j.settings.feed_limit_N << " N ("
+           << " to keep the peak force under " << j.settings.feed_limit_N << " N"
+           << (j.physics.spindle.set ? " and the spindle's power and torque within its S1 rating" : "") << " ("
            << (r.feed_lowered_lines.size() == 1 ? "line " : "lines ") << lines << ")\n";
   }
   print_plausibility(j, pl, io);

@@ -114,6 +114,7 @@ void resolve_physics(Run& j) {
   j.physics.tools = stiffness::load_tool_library(tool_library_path(s.tool_file, cfg));
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = s.tool_only;
+  j.physics.spindle = j.setup.machine->spindle;
   MaterialSettings mat = s.material;
   // A material by name (given, or the config's): its library. Coefficients
   // given alone need none (and a material file beside them is an error).

@@ -14,6 +14,7 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
   o.tolerance_mm = j.settings.tolerance_mm;
   o.as_written = as_written;
   o.tool_of = tool_of(j);
+  o.spindle = &j.physics.spindle;
   // The summary's percentiles of |e| and its cusp heights always, report or
   // not: a summary is the same document whoever asks for it (the |e| go to a
   // spill file in the temporary folder, 8 bytes a point).

@@ -51,6 +51,7 @@ report::Json summary_of(const Run& j, const SimulateResult& s) {
                   {"reference_file", j.given.reference.empty() ? report::Json() : report::Json(j.given.reference)}};
   js["cusp_height_mm"] = report::cusp_json(s.figures.cusp);
   js["machining_time"] = report::to_json(s.time);
+  js["spindle"] = detail::spindle_json(s.figures, j.physics.spindle);
   js["warnings"] = detail::warnings_json(s.plausibility);
   js["used"] = s.used.json;
   return js;
@@ -73,7 +74,7 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   const std::unique_ptr<fit::Nearest> nearest = detail::nearest_of(j);
   // The points go to the recorder as they are produced; nothing keeps them.
   detail::Recording rec(j, false, obs);
-  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty());
+  compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty(), &j.physics.spindle);
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
     const V3 offset = report::offset_at(p, intent);

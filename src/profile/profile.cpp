@@ -183,7 +183,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
   // holder: and stiffness: are read (with their own key checks) by deflex::stiffness.
   const Map n(root, "machine profile", file, {"name", "dialect", "travel_mm", "work_offsets_mm",
                                               "reference_points_mm", "max_offset_mm", "axis_limits", "holder",
-                                              "stiffness", "tool_offsets", "force_scale"});
+                                              "stiffness", "tool_offsets", "force_scale", "spindle"});
   MachineProfile m;
   m.file = file;
   m.root = yaml::document(root);
@@ -196,6 +196,7 @@ MachineProfile load_machine(const std::string& name_or_path) {
   m.max_offset_mm = n.number("max_offset_mm", m.max_offset_mm, Range::positive());
   m.force_scale = n.number("force_scale", m.force_scale, Range::between(0.1, 10));
   if (n.has("axis_limits")) m.axis_limits = parse_axis_limits(n.get("axis_limits"), file);
+  if (n.has("spindle")) m.spindle = parse_spindle(n.get("spindle"), file);
   load_dialect(m.dialect);  // an unknown dialect is a profile error, found early
   return m;
 }

@@ -5,6 +5,7 @@
 
 #include "deflex/profile/axis_limits.hpp"
 #include "deflex/profile/profile.hpp"
+#include "deflex/profile/spindle.hpp"
 #include "deflex/profile/yaml.hpp"
 
 namespace deflex::profile {
@@ -13,6 +14,9 @@ namespace deflex::profile {
 // Error(ErrorKind::config, "file:line:col: error: ...") on an unknown key, a
 // missing axis, a value that is not a finite number > 0.
 AxisLimits parse_axis_limits(const YAML::Node& section, const std::string& file);
+
+// Reads the `spindle:` section (profile/spindle.hpp), the same way.
+SpindleRating parse_spindle(const YAML::Node& section, const std::string& file);
 
 Dialect parse_dialect(const YAML::Node& node, const std::string& file);
 

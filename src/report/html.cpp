@@ -43,6 +43,10 @@ Json plots_json(const std::vector<std::pair<std::string, std::string>>& maps) {
       plot("effective diameter (Bagci Eq. 2) and engaged area", "mm, mm²", {"D_eff, mm", "area, mm²"},
            {"deff", "area"}),
       plot("cusp height (Mikó Eq. 7)", "µm", {"cusp"}, {"cusp"}),
+      plot("spindle power (mean over a revolution) and the S1 rating at the point's speed", "kW", {"P", "S1"},
+           {"P", "P_S1"}),
+      plot("spindle torque (mean over a revolution) and the S1 rating at the point's speed", "N m", {"M", "S1"},
+           {"M", "M_S1"}),
   });
 }
 

@@ -12,7 +12,10 @@ namespace {
 Json num_or_null(double v, int decimals) { return std::isnan(v) ? Json() : Json(fixed(v, decimals)); }
 
 // The plots' series along the program, in the order of PageSink::Rec::series.
-const char* const kSeries[11] = {"F", "Fx", "Fy", "Fz", "delta", "ap", "ae", "mrr", "deff", "area", "cusp"};
+// P and M: the spindle's power and torque; P_S1 and M_S1 what its S1 curve
+// allows at the point's speed (NaN without a rating).
+const char* const kSeries[kSeriesCount] = {"F",    "Fx",   "Fy", "Fz", "delta", "ap",  "ae",
+                                           "mrr",  "deff", "area", "cusp", "P", "P_S1", "M", "M_S1"};
 
 // One pass of gap filling: an empty cell enclosed by filled ones - two on
 // opposite sides (across a row, a column or a diagonal), or five of its eight
@@ -127,8 +130,8 @@ Grid make_grid(const std::vector<Eigen::Vector3d>& xyz, const std::vector<const 
   return b.finish();
 }
 
-PageSink::PageSink(const std::string& spill_dir, int maps, double tolerance_mm)
-    : spill_(spill_dir), maps_(maps), tol_(tolerance_mm) {}
+PageSink::PageSink(const std::string& spill_dir, int maps, double tolerance_mm, const profile::SpindleRating* spindle)
+    : spill_(spill_dir), maps_(maps), tol_(tolerance_mm), spindle_(spindle) {}
 
 void PageSink::add(const compensate::Point& p, const V3& contact, double path_mm, double error, double as_written,
                    const process::CuspResult& c) {
@@ -137,9 +140,12 @@ void PageSink::add(const compensate::Point& p, const V3& contact, double path_mm
   r.e[1] = maps_ == 2 ? error : kNone;
   r.path_mm = path_mm;
   for (int k = 0; k < 3; ++k) r.contact_mm[k] = static_cast<float>(contact[k]);
-  const double s[11] = {p.force_N.norm(), p.force_N.x(), p.force_N.y(), p.force_N.z(), 1000 * p.delta_mm.norm(),
-                        p.ap_mm, p.ae_mm, p.mrr_mm3_per_s, p.d_eff_mm, p.cwe_area_mm2, 1000 * c.height_mm};
-  for (int k = 0; k < 11; ++k) r.series[k] = static_cast<float>(s[k]);
+  const bool rated = spindle_ && p.spindle_rpm > 0;
+  const double s[kSeriesCount] = {p.force_N.norm(), p.force_N.x(), p.force_N.y(), p.force_N.z(), 1000 * p.delta_mm.norm(),
+                                  p.ap_mm, p.ae_mm, p.mrr_mm3_per_s, p.d_eff_mm, p.cwe_area_mm2, 1000 * c.height_mm,
+                                  p.power_kW, rated ? spindle_->s1.allowed_power_kW(p.spindle_rpm) : kNone,
+                                  p.torque_Nm, rated ? spindle_->s1.allowed_torque_Nm(p.spindle_rpm) : kNone};
+  for (std::size_t k = 0; k < kSeriesCount; ++k) r.series[k] = static_cast<float>(s[k]);
   r.stepover_mm = static_cast<float>(c.stepover_mm);
   r.cusp_mm = static_cast<float>(c.height_mm);
   r.line = p.line;
@@ -195,7 +201,7 @@ struct Plots {
 
   Plots(std::size_t rows, int map_count)
       : maps(map_count), per(std::max<std::size_t>(1, (rows + kBuckets - 1) / kBuckets)),
-        cols(11 + static_cast<std::size_t>(map_count)), out(cols, Json::array()), best(cols, kNone) {}
+        cols(kSeriesCount + static_cast<std::size_t>(map_count)), out(cols, Json::array()), best(cols, kNone) {}
   // Keeps `val` in column c when of larger magnitude; true if kept.
   bool pick(std::size_t c, double val) {
     if (std::isnan(val) || !(std::isnan(best[c]) || std::fabs(val) > std::fabs(best[c]))) return false;
@@ -208,23 +214,23 @@ struct Plots {
       x.push_back(fixed(path_mm, 3));
       worst_line = line;
     }
-    for (std::size_t c = 0; c < 11; ++c) pick(c, series[c]);
+    for (std::size_t c = 0; c < kSeriesCount; ++c) pick(c, series[c]);
     for (int m = 0; m < maps; ++m) {
-      const bool worse = pick(11 + static_cast<std::size_t>(m), 1000 * e[m]);
+      const bool worse = pick(kSeriesCount + static_cast<std::size_t>(m), 1000 * e[m]);
       if (worse && m == maps - 1) worst_line = line;
     }
     if (++in_bucket == per) close();
   }
   void close() {
-    for (std::size_t c = 0; c < cols; ++c) out[c].push_back(num_or_null(best[c], c < 11 ? 4 : 3));
+    for (std::size_t c = 0; c < cols; ++c) out[c].push_back(num_or_null(best[c], c < kSeriesCount ? 4 : 3));
     lines.push_back(worst_line);
     std::fill(best.begin(), best.end(), kNone);
     in_bucket = 0;
   }
   Json json(std::size_t rows) {
     Json j = {{"points", rows}, {"per_bucket", per}, {"x", std::move(x)}, {"line", std::move(lines)}};
-    for (std::size_t c = 0; c < 11; ++c) j[kSeries[c]] = std::move(out[c]);
-    for (int m = 0; m < maps; ++m) j["e" + std::to_string(m)] = std::move(out[11 + static_cast<std::size_t>(m)]);
+    for (std::size_t c = 0; c < kSeriesCount; ++c) j[kSeries[c]] = std::move(out[c]);
+    for (int m = 0; m < maps; ++m) j["e" + std::to_string(m)] = std::move(out[kSeriesCount + static_cast<std::size_t>(m)]);
     return j;
   }
 };

@@ -14,10 +14,14 @@
 
 namespace deflex::report {
 
+// The values drawn along the program (kSeries in page.cpp).
+inline constexpr std::size_t kSeriesCount = 15;
+
 class PageSink {
  public:
   // `maps`: 2 (as written, then the rows') or 1 (the rows').
-  PageSink(const std::string& spill_dir, int maps, double tolerance_mm);
+  // spindle (may be null): the S1 allowance drawn beside the power and torque.
+  PageSink(const std::string& spill_dir, int maps, double tolerance_mm, const profile::SpindleRating* spindle = nullptr);
   // A row in material.
   void add(const compensate::Point& p, const V3& contact_mm, double path_mm, double error_mm,
            double as_written_mm, const process::CuspResult& c);
@@ -30,7 +34,7 @@ class PageSink {
     double e[2];
     double path_mm;
     float contact_mm[3];
-    float series[11];  // the order of kSeries in page.cpp
+    float series[kSeriesCount];  // the order of kSeries in page.cpp
     float stepover_mm, cusp_mm;
     std::uint32_t line;
   };
@@ -54,6 +58,7 @@ class PageSink {
   std::size_t steps_ = 0;
   double step_lo_ = HUGE_VAL, step_hi_ = -HUGE_VAL;
   std::vector<Worst> worst_;
+  const profile::SpindleRating* spindle_ = nullptr;
 };
 
 }  // namespace deflex::report

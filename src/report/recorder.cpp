@@ -39,7 +39,7 @@ bool continuous(std::uint32_t a, std::uint32_t b) { return b - a <= 1; }
 const char* const kPointsCsvHeader =
     "line,x_mm,y_mm,z_mm,path_mm,ap_mm,ae_mm,d_eff_mm,cwe_area_mm2,mrr_mm3_per_s,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,"
     "dz_mm,surface_error_mm,surface_error_as_written_mm,offset_mm,nx,ny,nz,normal_source,part_gap_mm,"
-    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm\n";
+    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm,power_kW,torque_Nm\n";
 
 struct Recorder::Impl {
   explicit Impl(RecorderOptions o)
@@ -47,7 +47,9 @@ struct Recorder::Impl {
         cusp(opt.cusp_block),
         err(opt.tolerance_mm, opt.percentiles, opt.spill_dir),
         err_as_written(opt.tolerance_mm, opt.percentiles && opt.as_written, opt.spill_dir) {
-    if (opt.page) page = std::make_unique<PageSink>(opt.spill_dir, opt.as_written ? 2 : 1, opt.tolerance_mm);
+    if (opt.page)
+      page = std::make_unique<PageSink>(opt.spill_dir, opt.as_written ? 2 : 1, opt.tolerance_mm,
+                                        opt.spindle && opt.spindle->set ? opt.spindle : nullptr);
     if (opt.points_csv) *opt.points_csv << kPointsCsvHeader;
     if (opt.flank_csv) *opt.flank_csv << "line,x_mm,y_mm,z_tip_mm,z_mm,error_mm\n";
   }
@@ -197,6 +199,8 @@ struct Recorder::Impl {
     force_sum += f;
     peak_deflection_mm = std::max(peak_deflection_mm, p.delta_mm.norm());
     peak_mrr = std::max(peak_mrr, p.mrr_mm3_per_s);
+    peak_power_kW = std::max(peak_power_kW, p.power_kW);
+    peak_torque_Nm = std::max(peak_torque_Nm, p.torque_Nm);
     d_eff_sum += p.d_eff_mm;
     area_sum += p.cwe_area_mm2;
     if (page) page->add(p, contact(p), path_mm, error, as_written, c);
@@ -219,6 +223,7 @@ struct Recorder::Impl {
       r.flank_z_min_mm = p.flank_z_min_mm, r.flank_z_max_mm = p.flank_z_max_mm;
     }
     r.stepover_mm = c.stepover_mm, r.cusp_height_mm = c.height_mm;
+    r.power_kW = p.power_kW, r.torque_Nm = p.torque_Nm;
     if (opt.rows) opt.rows(r);
     if (opt.points_csv) write_csv(r);
   }
@@ -244,6 +249,7 @@ struct Recorder::Impl {
     f(r.flank_min_mm, 6), f(r.flank_max_mm, 6);
     f(r.flank_z_min_mm, 4), f(r.flank_z_max_mm, 4);
     f(r.stepover_mm, 4), f(r.cusp_height_mm, 6);
+    f(r.power_kW, 4), f(r.torque_Nm, 3);
     o << '\n';
   }
 
@@ -282,6 +288,8 @@ struct Recorder::Impl {
     f.peak_force_N = peak_force_N;
     f.peak_deflection_mm = peak_deflection_mm;
     f.peak_mrr_mm3_per_s = peak_mrr;
+    f.peak_power_kW = peak_power_kW;
+    f.peak_torque_Nm = peak_torque_Nm;
     if (cutting) {
       const double n = static_cast<double>(cutting);
       f.mean_force_N = force_sum / n;
@@ -319,6 +327,7 @@ struct Recorder::Impl {
   ValueAccumulator cusp_stats;
   std::size_t cutting = 0;
   double peak_force_N = 0, force_sum = 0, peak_deflection_mm = 0, peak_mrr = 0, d_eff_sum = 0, area_sum = 0;
+  double peak_power_kW = 0, peak_torque_Nm = 0;
   bool any_flank = false;
   std::map<interp::Fixed, RunFigures::LeftAlone> left_alone;
   std::unique_ptr<PageSink> page;

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "../support.hpp"
+#include "edge_coefficients.hpp"
 #include "deflex/force/mechanistic.hpp"
 
 using namespace deflex::force;
@@ -30,16 +31,7 @@ Cutter ball(double D, int flutes, double helix_deg) {
   return c;
 }
 
-Coefficients al_like() {  // arbitrary but realistic, all six non-zero
-  Coefficients k;
-  k.Ktc_N_per_mm2 = 800;
-  k.Krc_N_per_mm2 = 300;
-  k.Kac_N_per_mm2 = 150;
-  k.Kte_N_per_mm = 25;
-  k.Kre_N_per_mm = 30;
-  k.Kae_N_per_mm = 2;
-  return k;
-}
+using deflex::test::al_like;
 
 // Altintas 2012 ch. 2, average forces per revolution of a flat end mill between
 // entry and exit angles (independent of the helix). Fz carries the sign of the

@@ -29,7 +29,8 @@ TEST_SUITE("job") {
       const job::CompensateResult r = job::compensate(run, streams.out, io);
       CAPTURE(streams.err.str());
       CHECK(r.result.feed_lowered_lines == std::vector<std::uint32_t>{16, 20});
-      CHECK(streams.err.str().find("feed lowered on 2 blocks to keep the peak force under 300 N (lines 16, 20)") !=
+      CHECK(streams.err.str().find("feed lowered on 2 blocks to keep the peak force under 300 N and the spindle's power and torque "
+                                  "within its S1 rating (lines 16, 20)") !=
             std::string::npos);
       // The two wall passes: programmed F2546.4, written lower (0.1 mm/min steps, down).
       const std::string text = streams.out.str();

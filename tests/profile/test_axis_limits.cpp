@@ -6,31 +6,15 @@
 #include <unistd.h>
 
 #include "../support.hpp"
+#include "section_file.hpp"
 
 using namespace deflex;
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Profile {
-  fs::path dir = fs::temp_directory_path() / ("deflex-axis-limits-" + std::to_string(::getpid()));
-  std::string file = (dir / "m.yaml").string();
-  Profile() { fs::create_directories(dir); }
-  ~Profile() { fs::remove_all(dir); }
-  // Loads "name: m\naxis_limits:\n" + `section` (so its first line is line 3).
-  profile::MachineProfile load(const std::string& section) const {
-    test::write_file(file, "name: m\naxis_limits:\n" + section);
-    return profile::load_machine(file);
-  }
-  std::string error(const std::string& section) const {
-    try {
-      load(section);
-    } catch (const Error& e) {
-      CHECK(e.kind() == ErrorKind::config);
-      return e.what();
-    }
-    return "no error";
-  }
+struct Profile : test::SectionProfile {
+  Profile() : SectionProfile("axis_limits") {}
 };
 
 }  // namespace

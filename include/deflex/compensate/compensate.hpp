@@ -47,6 +47,7 @@
 #include "deflex/force/coefficients.hpp"
 #include "deflex/force/flank.hpp"
 #include "deflex/interp/motion.hpp"
+#include "deflex/profile/spindle.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/zmap.hpp"
@@ -91,6 +92,9 @@ struct Physics {
   // simulation copies `stock`.
   stock::ZMap* consumable_stock = nullptr;
   const part::PartModel* part = nullptr;  // the design surface (may be null)
+  // The machine's spindle power and torque against speed (set: false, not
+  // checked); with a feed limit the feeds keep within its S1 curve too.
+  profile::SpindleRating spindle;
 };
 
 // One CL sample of one simulation.
@@ -109,6 +113,15 @@ struct Point {
   bool air = true, plunge = false;
   V3 force_N = V3::Zero();      // mean over a revolution, on the tool, machine axes
   double peak_N = 0;            // largest |F| over the revolution
+  // The spindle's load: the mean torque over a revolution (sum of r dF_t) and
+  // the cutting power P = M w at the motion's S (Altintas, Manufacturing
+  // Automation, ch. 2); 0 in air and plunges.
+  double torque_Nm = 0, power_kW = 0;
+  double spindle_rpm = 0;       // the motion's S
+  // With a feed limit: the largest share of the feed (0..1) at which this
+  // point's peak force stays within Settings::feed_limit_N and its torque within
+  // the spindle's S1 curve (Physics::spindle); 1 where they are met as written.
+  double feed_share = 1;
   double height_mm = 0;         // where along the flutes the force acts
   V3 delta_mm = V3::Zero();     // deflection of the tool at that height
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated

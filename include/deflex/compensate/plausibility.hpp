@@ -41,8 +41,9 @@ namespace deflex::compensate {
 
 struct Finding {
   std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut | gouge
+                                     // | spindle_load | spindle_speed | feed_limit
   std::size_t count = 0;             // CL points
-  double worst = 0, limit = 0;       // the worst value and what it is held against (mm or N)
+  double worst = 0, limit = 0;       // the worst value and what it is held against (mm, N, a ratio, rpm)
   std::uint32_t line = 0;            // line of the worst point
   std::string tool;                  // its tool
   std::vector<std::uint32_t> lines;  // distinct lines in program order, the first 12
@@ -72,8 +73,10 @@ ForceLimit force_limit(const stiffness::Tool& t);
 // capped_lines (compensate: Result::capped_lines, may be null): where the cap
 // did bite; offset_cap then counts those and takes the worst |e| of the points
 // on their lines, else it counts the points with gain |e| > max_offset_mm.
+// spindle: as PlausibilityScan's.
 Plausibility plausibility(const std::vector<Point>& points, const stiffness::ToolLibrary& tools, const Settings& s,
-                          const std::vector<std::uint32_t>* capped_lines = nullptr, bool earlier_stock = false);
+                          const std::vector<std::uint32_t>* capped_lines = nullptr, bool earlier_stock = false,
+                          const profile::SpindleRating* spindle = nullptr);
 
 // The same, point by point as a simulation produces them (program order), so
 // that the points need not be kept: memory is the findings, the distinct lines
@@ -82,7 +85,9 @@ Plausibility plausibility(const std::vector<Point>& points, const stiffness::Too
 class PlausibilityScan {
  public:
   // earlier_stock: the stock is what earlier programs left (--stock-from).
-  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock = false);
+  // spindle (may be null or not set): the points' power and torque are held against its S1 curve.
+  PlausibilityScan(const stiffness::ToolLibrary& tools, const Settings& s, bool earlier_stock = false,
+                   const profile::SpindleRating* spindle = nullptr);
   ~PlausibilityScan();
   void add(const Point& p);
   // compensate: the lines where the cap bit (Result::capped_lines, in program

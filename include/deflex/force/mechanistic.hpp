@@ -52,6 +52,27 @@ ForceSummary summarize(std::span<const Vec3> forces_N);
 std::vector<Vec3> revolution_forces(const CutterSlices& cs, const Coefficients& k, double fz_mm,
                                     const Engagement& eng, int steps);
 
+// The mean torque on the spindle over a revolution, N m: the tangential element
+// forces at their radius, sum r dF_t, averaged over the rotation. Each tooth
+// passes every immersion once per revolution, so the mean is the integral over
+// the engaged angles in closed form (per slice and tooth, with h > 0 where
+// sin(phi) > 0): (flutes / 2 pi) r [K_tc f_z sin(k) db (cos a - cos b) + K_te dS (b - a)].
+// Split into what grows with the chip (f_z) and the edge's part, which does
+// not: the feed that keeps the torque under a limit follows from it.
+struct MeanTorque {
+  double cutting_Nm = 0, edge_Nm = 0;
+  double total_Nm() const { return cutting_Nm + edge_Nm; }
+};
+MeanTorque mean_torque(const CutterSlices& cs, const Coefficients& k, double fz_mm, const Engagement& eng);
+
+// The largest s in [0, 1] with max over the revolution |edge + s (total - edge)|
+// <= limit_N: the share of the feed per tooth at which the peak force meets the
+// limit. total_N the forces at f_z (revolution_forces), edge_N at f_z = 0 (the
+// edge forces alone), on the same grid; the cutting part is linear in f_z, so
+// at every angle this is a quadratic in s. 0 when the edge forces alone exceed
+// the limit somewhere (no feed keeps it), 1 when the peak is within it.
+double peak_feed_share(std::span<const Vec3> total_N, std::span<const Vec3> edge_N, double limit_N);
+
 // Surface-generating force (Morelli 2021 §2.3): the machined surface at height z is
 // generated when an edge at z passes the surface-normal immersion angle phi_n (pi
 // for down-milling on a -Y wall, 0 for up-milling on a +Y wall). For each engaged

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "deflex/profile/axis_limits.hpp"
+#include "deflex/profile/spindle.hpp"
 #include "deflex/profile/document.hpp"
 
 namespace deflex::profile {
@@ -79,6 +80,7 @@ struct MachineProfile {
   struct ToolOffset { double radius_mm = 0, wear_mm = 0; };
   std::map<int, ToolOffset> tool_offsets;
   AxisLimits axis_limits;      // for the machining time (defaults when the section is absent)
+  SpindleRating spindle;       // power and torque against speed (set: false when the section is absent)
   yaml::Document root;         // the whole document (stiffness, holder ... sections)
 };
 

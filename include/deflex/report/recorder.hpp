@@ -64,6 +64,7 @@ struct PointRow {
   double part_gap_mm = kNone;
   double flank_min_mm = kNone, flank_max_mm = kNone, flank_z_min_mm = kNone, flank_z_max_mm = kNone;
   double stepover_mm = kNone, cusp_height_mm = kNone;
+  double power_kW = 0, torque_Nm = 0;  // the spindle's load (compensate::Point)
 };
 // The header of points.csv: its columns, in the order of PointRow's values.
 extern const char* const kPointsCsvHeader;
@@ -85,6 +86,9 @@ struct RecorderOptions {
   // The tool of a point's T number (null: unknown): cusp (ball ends) and contact points.
   std::function<const stiffness::Tool*(int t_number)> tool_of;
   std::size_t cusp_block = process::kCuspBlock;
+  // The machine's spindle rating (null or not set: none): report.html draws its
+  // S1 allowance beside the power and torque.
+  const profile::SpindleRating* spindle = nullptr;
 };
 
 // The figures of a run over its CL points in material (not in air, not plunging).
@@ -93,6 +97,7 @@ struct RunFigures {
   ErrorStats error_as_written;  // compensate: the program as written; else the rows'
   ValueStats cusp;              // the rows' cusp heights (ball ends with a neighbouring pass)
   double peak_force_N = 0, mean_force_N = 0, peak_deflection_mm = 0, peak_mrr_mm3_per_s = 0;
+  double peak_power_kW = 0, peak_torque_Nm = 0;  // the spindle's (mean over a revolution)
   double mean_d_eff_mm = 0, mean_area_mm2 = 0;
   bool flank_rows = false;      // flank_profile.csv got a row
   // The rows outside the tolerance on motions deflex never moves, per reason
