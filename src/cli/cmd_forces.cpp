@@ -10,6 +10,7 @@
 #include "common.hpp"
 #include "deflex/diag/plural.hpp"
 #include "deflex/job/physics.hpp"
+#include "deflex/profile/spindle.hpp"
 #include "deflex/report/json.hpp"
 
 namespace deflex::cli {
@@ -41,7 +42,9 @@ const char* kForcesHelp =
     "Output:\n"
     "  --format csv: one row per angular step, columns angle_deg,Fx_N,Fy_N,Fz_N;\n"
     "    each row is the mean over its angular step.\n"
-    "  --format json: {\"mean_N\": [x,y,z], \"peak_abs_N\": [x,y,z], \"shape_code\": ...}\n"
+    "  --format json: {\"mean_N\": [x,y,z], \"peak_abs_N\": [x,y,z], \"mean_torque_Nm\": M, \"shape_code\": ...}\n"
+    "    mean_torque_Nm: the torque on the spindle, sum of r dF_t, mean over the revolution;\n"
+    "    with --rpm N also \"power_kW\": the cutting power M 2 pi N / 60.\n"
     "    shape_code (flat end mills, --down only): the F_y force-shape code of\n"
     "    Morelli et al. 2021, e.g. IIML (type I/II/III of one flute, then the overlap\n"
     "    L/M/H/m/h of each following flute in the cut). Their classification is\n"
@@ -79,6 +82,7 @@ struct ForcesArgs {
   double ae = 0, ap = 0, fz = 0, dz = 0.05;
   bool up = false, down = false, help = false;
   int steps = 360;
+  double rpm = 0;
 };
 
 report::Json json_vec(const fo::Vec3& v) { return report::xyz(v.x(), v.y(), v.z(), 3); }
@@ -102,6 +106,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
       ("down", po::bool_switch(&a.down), "down-milling (cuts on the -Y side)")
       ("steps", po::value(&a.steps), "angular steps per revolution (default 360)")
       ("dz", po::value(&a.dz), "axial slice height, mm (default 0.05; at least 20 slices)")
+      ("rpm", po::value(&a.rpm), "spindle speed, rpm: the json gives the cutting power at it")
       ("format", po::value(&a.format), "csv (default) or json");
   const po::variables_map vm = parse(args, desc, po::positional_options_description());
   refuse_output_onto_input({a.tool_file, a.mat.material_file});
@@ -116,6 +121,7 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
   for (const char* req : {"tool-file", "tool", "ae", "ap", "fz"})
     if (!vm.count(req)) throw Error(ErrorKind::settings, std::string("forces: --") + req + " is required (see --help)");
   if (a.up == a.down) throw Error(ErrorKind::settings, "forces: give exactly one of --up and --down");
+  if (!(a.rpm >= 0) || !std::isfinite(a.rpm)) throw Error(ErrorKind::settings, "forces: --rpm must be a speed >= 0");
   if (a.format != "csv" && a.format != "json")
     throw Error(ErrorKind::settings, "forces: --format must be csv or json");
   job::ForceSettings fs;
@@ -134,7 +140,9 @@ int cmd_forces(const std::vector<std::string>& args, Io& io) {
              << "," << fixed(F[j].z(), 3) << "\n";
     return 0;
   }
-  report::Json j{{"mean_N", json_vec(r.summary.mean_N)}, {"peak_abs_N", json_vec(r.summary.peak_abs_N)}};
+  report::Json j{{"mean_N", json_vec(r.summary.mean_N)}, {"peak_abs_N", json_vec(r.summary.peak_abs_N)},
+                 {"mean_torque_Nm", report::fixed(r.mean_torque_Nm, 4)}};
+  if (a.rpm > 0) j["power_kW"] = report::fixed(profile::power_from_torque_kW(r.mean_torque_Nm, a.rpm), 4);
   if (r.shape_code) j["shape_code"] = *r.shape_code;
   io.out << report::line(j);
   return 0;

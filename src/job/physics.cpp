@@ -124,6 +124,7 @@ ForceResult forces(const ForceSettings& s) {
   ForceResult r;
   r.force_N = force::revolution_forces(slices, k, s.fz_mm, eng, s.steps);
   r.summary = force::summarize(r.force_N);
+  r.mean_torque_Nm = force::mean_torque(slices, k, s.fz_mm, eng).total_Nm();
   r.shape_code = shape_code(cutter, k, s.ae_mm, s.ap_mm, !s.up_milling);
   return r;
 }

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../support.hpp"
 #include "deflex/cli/command.hpp"
 #include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
@@ -108,6 +109,22 @@ TEST_CASE("deflex forces --format json: Morelli's three cases with Al 6082-T4") 
     for (int a = 0; a < 2; ++a) CHECK(peak[a] >= std::abs(mean[a]));
     CHECK(mean[2] == 0.0);  // Morelli gives no K_ac and no edge terms
   }
+}
+
+TEST_CASE("deflex forces --format json --rpm: the spindle's torque and power by hand") {
+  // Altintas 2012 ch. 2: the mean tangential force of N teeth between entry st
+  // and exit ex is N a / (2 pi) K_tc f (cos st - cos ex) (no edge terms given),
+  // acting at R; P = M 2 pi n / 60.
+  const Run r = forces({"--tool-file", tools, "--tool", "F12", "--kt", "700", "--kr", "200", "--ka", "0", "--ae",
+                        "2.5", "--ap", "12", "--fz", "0.1", "--down", "--rpm", "6000", "--format", "json"});
+  REQUIRE(r.code == 0);
+  const auto [st, ex] = deflex::test::textbook_immersion(12, 2.5, false);
+  const double Ft_N = 4 * 12 / (2 * std::numbers::pi) * 700 * 0.1 * (std::cos(st) - std::cos(ex));
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["mean_torque_Nm"].get<double>() == doctest::Approx(Ft_N * 6 / 1000).epsilon(1e-3));
+  CHECK(j["power_kW"].get<double>() == doctest::Approx(Ft_N * 6 / 1000 * 2 * std::numbers::pi * 6000 / 60 / 1000).epsilon(1e-3));
+  CHECK(usage_error({"--tool-file", tools, "--tool", "F12", "--kt", "700", "--kr", "200", "--ka", "0", "--ae", "2.5",
+                     "--ap", "12", "--fz", "0.1", "--down", "--rpm", "-1", "--format", "json"}) == Exit::usage);
 }
 
 TEST_CASE("deflex forces: no shape code for up-milling or a ball end") {

@@ -55,6 +55,7 @@ struct ForceSettings {
 struct ForceResult {
   std::vector<force::Vec3> force_N;   // on the tool, machine axes, one per step from angle 0
   force::ForceSummary summary;        // mean and peak |F| per axis
+  double mean_torque_Nm = 0;          // on the spindle, mean over the revolution (force::mean_torque)
   // Morelli's shape code of the force curve, where it applies (a flat end
   // mill down-milling with helical flutes and K_rc > 0).
   std::optional<std::string> shape_code;
