@@ -9,8 +9,8 @@
 // 2.3 ms, with OpenCASCADE 28.5 ms, with Ceres' dependencies too 31.1 ms.
 // Few runs read a STEP file or fit a machine: their code is in
 // libdeflex_occt.so and libdeflex_ceres.so, loaded here when first called,
-// and `deflex path` takes 7.1 ms (perf stat -r 20; docs/architecture.md,
-// 'Plugins').
+// and `deflex path` takes about 7 ms, 4 ms of CPU instead of 35 (perf stat
+// -r 20; docs/architecture.md, 'Plugins').
 #include "deflex_plugin.hpp"
 
 #include <dlfcn.h>
