@@ -87,6 +87,14 @@ TEST_SUITE("cli") {
                                                 "samples/stock/six_surfaces_stock.stl", "-o", (tmp / "here.nc").string()});
     REQUIRE(here.rc == 0);
     CHECK(test::read_file((work / "comp.nc").string()) == test::read_file((tmp / "here.nc").string()));
+    // Its plugins (src/plugin/load.cpp) installed beside it, <prefix>/lib/deflex,
+    // and found there: a STEP stock loads OpenCASCADE's.
+    for (const char* f : {"libdeflex_occt.so", "libdeflex_ceres.so"})
+      CHECK_MESSAGE(fs::is_regular_file(tmp / "usr/lib/deflex" / f), f);
+    const test::CliResult step =
+        run(work, "stock --stock " + std::string(DEFLEX_SOURCE_DIR) + "/tests/stock/data/sphere_r10.step -o s.zmap", data);
+    CAPTURE(step.err);
+    CHECK(step.rc == 0);
     // Without its data the installed deflex does not fall back on the source
     // tree: the machine is not found, and the message says where it looked.
     const test::CliResult lost = run(work, job, tmp / "nowhere");
