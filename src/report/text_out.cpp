@@ -3,6 +3,8 @@
 #include <charconv>
 #include <cmath>
 
+#include "deflex/report/held_text.hpp"
+
 namespace deflex::report {
 
 void TextOut::fixed(double v, int decimals) {
@@ -39,7 +41,12 @@ void TextOut::integer(unsigned long v) {
 }
 
 void TextOut::flush() {
-  o_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+  if (held_) {
+    held_->take(std::move(buf_));  // the chunk's storage goes with it: no copy
+    buf_.reserve(1 << 21);
+    return;
+  }
+  o_->write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
   buf_.clear();
 }
 

@@ -11,10 +11,15 @@
 
 namespace deflex::report {
 
-// Appends text to a buffer and hands it to the stream in chunks of ~1 MiB.
+class HeldText;
+
+// Appends text to a buffer and hands it to the stream (or holds it) in
+// chunks of ~1 MiB.
 class TextOut {
  public:
-  explicit TextOut(std::ostream& o) : o_(o) { buf_.reserve(1 << 21); }
+  explicit TextOut(std::ostream& o) : o_(&o) { buf_.reserve(1 << 21); }
+  // The text goes to `held`, whose caller decides later whether it goes out.
+  explicit TextOut(HeldText& held) : held_(&held) { buf_.reserve(1 << 21); }
   ~TextOut() { flush(); }
   TextOut(const TextOut&) = delete;
   TextOut& operator=(const TextOut&) = delete;
@@ -34,7 +39,8 @@ class TextOut {
   void flush();
 
  private:
-  std::ostream& o_;
+  std::ostream* o_ = nullptr;
+  HeldText* held_ = nullptr;
   std::string buf_;
 };
 
