@@ -1,6 +1,11 @@
 // deflex path | check | rewrite: read a program, interpret it, report
 // (job::path, job::check, job::rewrite); here the options and the printing.
 #include "common.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <string_view>
+
 #include "deflex/diag/plural.hpp"
 #include "deflex/job/check.hpp"
 #include "deflex/job/program.hpp"
@@ -21,10 +26,21 @@ class PathPrinter : public job::HoldingSink {
     // Under G41/G42 the motion is the tool centre's; the program's own point
     // is its contour end, and a corner piece has none.
     if (!centre_ && m.corner) return;
-    if (lines_) { out_.integer(m.line); out_ << ' '; }
-    out_ << interp::to_string(m.kind);
-    for (double v : centre_ || !m.comp ? m.end_mm : m.contour_end_mm) { out_ << ' '; out_.fixed(v, 6); }
-    out_ << '\n';
+    // The line made here and appended at once (TextOut::put_fixed).
+    char line[24 + 8 + 3 * (1 + report::TextOut::kFixedBytes) + 1];
+    char* p = line;
+    if (lines_) {
+      p = std::to_chars(p, p + 24, m.line).ptr;
+      *p++ = ' ';
+    }
+    const std::string_view kind = interp::to_string(m.kind);
+    p = std::copy(kind.begin(), kind.end(), p);  // G0 .. G3
+    for (double v : centre_ || !m.comp ? m.end_mm : m.contour_end_mm) {
+      *p++ = ' ';
+      p = report::TextOut::put_fixed(p, v, 6);
+    }
+    *p++ = '\n';
+    out_ << std::string_view(line, static_cast<std::size_t>(p - line));
   }
   void finish(bool no_error) override {
     out_.flush();

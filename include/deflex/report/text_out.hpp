@@ -25,6 +25,11 @@ class TextOut {
   TextOut& operator=(const TextOut&) = delete;
   // `v` with `decimals` (0..9) decimals, rounded half away from zero; never "-0.0".
   void fixed(double v, int decimals);
+  // The same written at `p` (at most kFixedBytes bytes); returns its end. For
+  // a caller that makes a line of several numbers and appends it at once
+  // (`deflex path`: one append a line, not one a number, took 10% off it).
+  static constexpr std::size_t kFixedBytes = 64;
+  static char* put_fixed(char* p, double v, int decimals);
   void integer(unsigned long v);
   TextOut& operator<<(std::string_view s) {
     buf_.append(s);
