@@ -1,9 +1,15 @@
 // deflex path | check | rewrite: read a program, interpret it, report
 // (job::path, job::check, job::rewrite); here the options and the printing.
 #include "common.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <string_view>
+
 #include "deflex/diag/plural.hpp"
 #include "deflex/job/check.hpp"
 #include "deflex/job/program.hpp"
+#include "deflex/report/held_text.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/report/text_out.hpp"
 #include "deflex/writer/temp_files.hpp"
@@ -11,28 +17,44 @@
 namespace deflex::cli {
 namespace {
 
-class PathPrinter : public interp::MotionSink {
+// Formats the motions as they come and holds the text until the run says
+// whether the program has an error (job::HoldingSink).
+class PathPrinter : public job::HoldingSink {
  public:
-  PathPrinter(std::ostream& o, bool lines, bool centre) : out_(o), lines_(lines), centre_(centre) {}
+  PathPrinter(std::ostream& o, bool lines, bool centre) : o_(o), lines_(lines), centre_(centre) {}
   void motion(const interp::Motion& m) override {
-    // Standard output is written from the first motion on: a signal from then
-    // cuts it short (the handler says so), before it leaves nothing.
-    if (!streaming_) {
-      writer::temp_files::streaming_stdout();
-      streaming_ = true;
-    }
     // Under G41/G42 the motion is the tool centre's; the program's own point
     // is its contour end, and a corner piece has none.
     if (!centre_ && m.corner) return;
-    if (lines_) { out_.integer(m.line); out_ << ' '; }
-    out_ << interp::to_string(m.kind);
-    for (double v : centre_ || !m.comp ? m.end_mm : m.contour_end_mm) { out_ << ' '; out_.fixed(v, 6); }
-    out_ << '\n';
+    // The line made here and appended at once (TextOut::put_fixed).
+    char line[24 + 8 + 3 * (1 + report::TextOut::kFixedBytes) + 1];
+    char* p = line;
+    if (lines_) {
+      p = std::to_chars(p, p + 24, m.line).ptr;
+      *p++ = ' ';
+    }
+    const std::string_view kind = interp::to_string(m.kind);
+    p = std::copy(kind.begin(), kind.end(), p);  // G0 .. G3
+    for (double v : centre_ || !m.comp ? m.end_mm : m.contour_end_mm) {
+      *p++ = ' ';
+      p = report::TextOut::put_fixed(p, v, 6);
+    }
+    *p++ = '\n';
+    out_ << std::string_view(line, static_cast<std::size_t>(p - line));
+  }
+  void finish(bool no_error) override {
+    out_.flush();
+    if (!no_error || !held_.size()) return;
+    // Standard output is written from here on: a signal from then cuts it
+    // short (the handler says so), before it leaves nothing.
+    writer::temp_files::streaming_stdout();
+    held_.write_to(o_);
   }
  private:
-  report::TextOut out_;
+  std::ostream& o_;
+  report::HeldText held_;
+  report::TextOut out_{held_};
   bool lines_, centre_;
-  bool streaming_ = false;
 };
 
 const char* kCheckHelp =

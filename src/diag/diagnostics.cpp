@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 #include <ostream>
+#include <utility>
 
 namespace deflex {
 
@@ -26,19 +27,6 @@ SourceText::SourceText(std::string name, std::string bytes)
     line_begin_.push_back(static_cast<std::uint32_t>(p - bytes_.data()));
   }
   if (bytes_.empty()) line_begin_.clear();
-}
-
-std::uint32_t SourceText::line_end_with_eol(std::uint32_t line) const {
-  const std::size_t k = line - first_line_ + 1;  // index of the next line's start
-  return k < line_begin_.size() ? line_begin_[k] : static_cast<std::uint32_t>(bytes_.size());
-}
-
-std::string_view SourceText::line_text(std::uint32_t line) const {
-  if (line < first_line_ || line - first_line_ >= line_begin_.size()) return {};
-  std::uint32_t b = line_begin_[line - first_line_], e = line_end_with_eol(line);
-  if (e > b && bytes_[e - 1] == '\n') --e;
-  if (e > b && bytes_[e - 1] == '\r') --e;
-  return std::string_view(bytes_).substr(b, e - b);
 }
 
 std::uint32_t SourceText::line_of(std::uint32_t offset) const {
@@ -94,10 +82,39 @@ void Diagnostics::emit(Diagnostic d) {
   if (d.severity == Severity::error) ++errors_;
   if (d.severity == Severity::warning) ++warnings_;
   d.message = name_settings(d.message, names_);
+  if (held_ == Held::dropping) return;
+  if (held_ == Held::holding) {
+    held_messages_.push_back(std::move(d));
+    if (held_messages_.size() >= hold_bound_ && hold_full_) std::exchange(hold_full_, nullptr)();
+    return;
+  }
+  put(std::move(d));
+}
+
+void Diagnostics::put(Diagnostic d) {
   if (out_) *out_ << format(d);
   // Errors are few (a run stops after max_errors): kept even when the rest
   // is not, for the Error that ends the run (with_errors_of).
   if (keep_ || d.severity == Severity::error) all_.push_back(std::move(d));
+}
+
+void Diagnostics::hold(std::size_t bound, std::function<void()> full) {
+  held_ = Held::holding;
+  hold_bound_ = bound;
+  hold_full_ = std::move(full);
+}
+
+void Diagnostics::release() {
+  held_ = Held::no;
+  hold_full_ = nullptr;
+  for (Diagnostic& d : held_messages_) put(std::move(d));
+  std::vector<Diagnostic>().swap(held_messages_);
+}
+
+void Diagnostics::drop_held() {
+  held_ = Held::dropping;
+  hold_full_ = nullptr;
+  std::vector<Diagnostic>().swap(held_messages_);
 }
 
 Error::Error(ErrorKind kind, const std::string& text)

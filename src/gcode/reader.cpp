@@ -10,7 +10,10 @@
 namespace deflex::gcode {
 namespace {
 
-constexpr std::size_t kReadBytes = 1u << 20;   // one read
+// One read. A piece is cut from the front of what was read and the rest moved
+// forward: 256 KiB (not 1 MiB) moves less than a piece of 16,384 CAM lines
+// (about 400 KB) each time; the moving was 4% of `deflex path`.
+constexpr std::size_t kReadBytes = 1u << 18;
 constexpr std::size_t kPieceBytes = 8u << 20;  // a piece ends at the first line end past this
 
 }  // namespace

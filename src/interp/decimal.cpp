@@ -45,34 +45,40 @@ DecimalFinding check_decimal_points(const gcode::Program& prog, const profile::D
 }
 
 void DecimalCheck::add(const gcode::Program& piece) {
-  name_ = piece.source().name();
   Diagnostics quiet(nullptr, 0);
   gcode::Block b;
   for (std::uint32_t l = piece.first_line(); l <= piece.last_line(); ++l) {
-    // A line that does not read is the lexer's to report (X11O.: a letter
-    // where a digit was expected, not a missing decimal point).
-    if (!piece.lex(l, b, quiet) || b.kind != gcode::LineKind::block || b.macro) continue;
-    for (const gcode::Word& w : b.words)
-      if (w.letter == 'G' && (w.value == 20 || w.value == 21)) inch_ = w.value == 20;
-    bool counted = false;
-    for (const gcode::Word& w : b.words) {
-      if (!axis_letter(w.letter)) continue;
-      if (w.has_point) {
-        ++f_.with_point;
-        continue;
-      }
-      if (w.value == 0) continue;
-      // The line's text goes with the word: the piece is gone when it is reported.
-      auto here = [&] {
-        return Word{w.letter, w.value, increment_mm(d_, inch_), l, w.begin - b.begin + 1,
-                    std::string(piece.source().line_text(l))};
-      };
-      if (!f_.without_point) first_ = here();
-      if (std::abs(w.value * increment_mm(d_, inch_)) > std::abs(largest_.value * largest_.lii_mm)) largest_ = here();
-      if (!tiny_.letter && std::abs(w.value * increment_mm(d_, inch_)) < 1e-3) tiny_ = here();
-      ++f_.without_point;
-      if (!counted) ++f_.lines, counted = true;
+    const bool ok = piece.lex(l, b, quiet);
+    line(piece, b, ok);
+  }
+}
+
+void DecimalCheck::line(const gcode::Program& piece, const gcode::Block& b, bool ok) {
+  // A line that does not read is the lexer's to report (X11O.: a letter
+  // where a digit was expected, not a missing decimal point).
+  if (!ok || b.kind != gcode::LineKind::block || b.macro) return;
+  for (const gcode::Word& w : b.words)
+    if (w.letter == 'G' && (w.value == 20 || w.value == 21)) inch_ = w.value == 20;
+  bool counted = false;
+  const std::uint32_t l = b.line;
+  for (const gcode::Word& w : b.words) {
+    if (!axis_letter(w.letter)) continue;
+    if (w.has_point) {
+      ++f_.with_point;
+      continue;
     }
+    if (w.value == 0) continue;
+    // The line's text goes with the word: the piece is gone when it is reported.
+    auto here = [&] {
+      name_ = piece.source().name();
+      return Word{w.letter, w.value, increment_mm(d_, inch_), l, w.begin - b.begin + 1,
+                  std::string(piece.source().line_text(l))};
+    };
+    if (!f_.without_point) first_ = here();
+    if (std::abs(w.value * increment_mm(d_, inch_)) > std::abs(largest_.value * largest_.lii_mm)) largest_ = here();
+    if (!tiny_.letter && std::abs(w.value * increment_mm(d_, inch_)) < 1e-3) tiny_ = here();
+    ++f_.without_point;
+    if (!counted) ++f_.lines, counted = true;
   }
 }
 

@@ -11,6 +11,17 @@ void check_program_shape(const gcode::Program& prog, Diagnostics& diags) {
 }
 
 void ShapeCheck::add(const gcode::Program& piece) {
+  begin(piece);
+  Diagnostics quiet(nullptr, 0);
+  gcode::Block b;
+  for (std::uint32_t l = piece.first_line(); l <= piece.last_line() && wants_lines(); ++l) {
+    piece.lex(l, b, quiet);
+    line(b);
+  }
+  end(piece);
+}
+
+void ShapeCheck::begin(const gcode::Program& piece) {
   const std::string& bytes = piece.source().bytes();
   if (!pieces_) {
     pieces_ = true;
@@ -22,20 +33,20 @@ void ShapeCheck::add(const gcode::Program& piece) {
     first_line_head_ = std::string(piece.source().line_text(1).substr(0, 241));
   }
   if (!text_) text_ = bytes.find_first_not_of(" \t\r\n%") != std::string::npos;
-  if (ended_) return;
-  Diagnostics quiet(nullptr, 0);
-  gcode::Block b;
-  std::uint32_t last = 0;
-  for (std::uint32_t l = piece.first_line(); l <= piece.last_line() && !ended_; ++l) {
-    piece.lex(l, b, quiet);
-    if (b.kind != gcode::LineKind::block) continue;
-    last = l;
-    for (const gcode::Word& w : b.words)
-      if (w.letter == 'M' && (w.code10() == 20 || w.code10() == 300 || w.code10() == 990)) ended_ = true;
-  }
-  if (last && !ended_) {
-    last_block_ = last;
-    last_block_text_ = std::string(piece.source().line_text(last));
+  piece_last_ = 0;
+}
+
+void ShapeCheck::line(const gcode::Block& b) {
+  if (b.kind != gcode::LineKind::block) return;
+  piece_last_ = b.line;
+  for (const gcode::Word& w : b.words)
+    if (w.letter == 'M' && (w.code10() == 20 || w.code10() == 300 || w.code10() == 990)) ended_ = true;
+}
+
+void ShapeCheck::end(const gcode::Program& piece) {
+  if (piece_last_ && !ended_) {
+    last_block_ = piece_last_;
+    last_block_text_ = std::string(piece.source().line_text(piece_last_));
   }
 }
 

@@ -72,17 +72,32 @@ void check_gouges(const CheckSettings& cs, const Setup& s, const std::string& pa
 
 }  // namespace
 
-void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
-                const std::function<void(const gcode::Program&)>& also) {
-  interp::ShapeCheck shape;
-  interp::DecimalCheck dec(s.dialect);
+void TextChecks::read(gcode::ProgramPasses& src, const std::function<void(const gcode::Program&)>& also) {
+  // Each line lexed once for both checks.
+  gcode::Block b;
   src.each([&](const gcode::Program& p, bool) {
-    shape.add(p);
-    dec.add(p);
+    Diagnostics quiet(nullptr, 0);
+    shape_.begin(p);
+    for (std::uint32_t l = p.first_line(); l <= p.last_line(); ++l) {
+      const bool ok = p.lex(l, b, quiet);
+      if (shape_.wants_lines()) shape_.line(b);
+      dec_.line(p, b, ok);
+    }
+    shape_.end(p);
     if (also) also(p);
   });
-  shape.finish(diags);
-  dec.finish(diags, s.strict);
+}
+
+void TextChecks::finish(Diagnostics& diags) {
+  shape_.finish(diags);
+  dec_.finish(diags, s_.strict);
+}
+
+void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
+                const std::function<void(const gcode::Program&)>& also) {
+  TextChecks t(s);
+  t.read(src, also);
+  t.finish(diags);
 }
 
 double part_gap_mm(const PartSettings& p, const profile::Config& cfg) {

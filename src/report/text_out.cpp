@@ -2,17 +2,20 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
+
+#include "deflex/report/held_text.hpp"
 
 namespace deflex::report {
 
-void TextOut::fixed(double v, int decimals) {
+char* TextOut::put_fixed(char* out, double v, int decimals) {
   static const double kScale[] = {1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-  char b[64];
+  char b[kFixedBytes];
   const double s = v * kScale[decimals];
   if (!(std::fabs(s) < 9e15)) {
     auto r = std::to_chars(b, b + sizeof b, v, std::chars_format::fixed, decimals);
-    buf_.append(b, r.ptr);
-    return;
+    std::memcpy(out, b, static_cast<std::size_t>(r.ptr - b));
+    return out + (r.ptr - b);
   }
   const long long u = static_cast<long long>(s < 0 ? s - 0.5 : s + 0.5);  // round half away from zero
   unsigned long long a = u < 0 ? 0ull - static_cast<unsigned long long>(u) : static_cast<unsigned long long>(u);
@@ -28,8 +31,13 @@ void TextOut::fixed(double v, int decimals) {
     a /= 10;
   } while (a);
   if (u < 0) *--p = '-';  // u == 0 never gets a sign: no "-0.000000"
-  buf_.append(p, e);
-  if (buf_.size() > (1 << 20)) flush();
+  std::memcpy(out, p, static_cast<std::size_t>(e - p));
+  return out + (e - p);
+}
+
+void TextOut::fixed(double v, int decimals) {
+  char b[kFixedBytes];
+  *this << std::string_view(b, static_cast<std::size_t>(put_fixed(b, v, decimals) - b));
 }
 
 void TextOut::integer(unsigned long v) {
@@ -39,7 +47,12 @@ void TextOut::integer(unsigned long v) {
 }
 
 void TextOut::flush() {
-  o_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
+  if (held_) {
+    held_->take(std::move(buf_));  // the chunk's storage goes with it: no copy
+    buf_.reserve(1 << 21);
+    return;
+  }
+  o_->write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
   buf_.clear();
 }
 

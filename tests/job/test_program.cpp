@@ -5,6 +5,7 @@
 // output that is the input is refused before it is read.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -65,9 +66,70 @@ void check_printed(const std::vector<interp::Motion>& motions, const std::string
 // every motion before it runs in the diagnostic pass.
 const char* kFailsAtLine5 = "G21 G90 G54\nG0 X0 Y0 Z5\nG1 Z-1 F300\nG1 X10\n#100=5.\nG1 Y10\nM30\n";
 
+// Holds the motions until finish() says whether they stand (job::HoldingSink).
+struct Held : job::HoldingSink {
+  std::vector<interp::Motion> held, motions;
+  int finished = 0;
+  void motion(const interp::Motion& m) override { held.push_back(m); }
+  void finish(bool no_error) override {
+    ++finished;
+    if (no_error) motions = held;
+  }
+};
+
 }  // namespace
 
 TEST_SUITE("job") {
+  TEST_CASE("job::path in one pass (a holding sink) hands over and reports what the two passes do") {
+    test::TempDir t;
+    // Warnings early (I without an arc, no G20/G21), an error in a late piece;
+    // the same without the error; an error in the text's own checks (strict).
+    const std::string late_error = t / "late_error.nc", fine = t / "fine.nc", strict = t / "strict.nc";
+    std::string body = "G90 G54\nT1 M6 S1000 M3\nG0 X0 Y0 Z5\nG1 Z-1 F300 I2\n";
+    for (int i = 0; i < 40; ++i)
+      body += "G1 X" + std::to_string(i) + ". Y" + std::to_string(i % 3) + (i % 4 ? ".\n" : ". J1.\n");
+    test::write_file(late_error, body + "G1 X1. Y2. Q\nG1 X3.\nM30\n");
+    test::write_file(fine, body + "M30\n");
+    test::write_file(strict, body + "G1 X3000\nM30\n");
+    for (const std::string& file : {late_error, fine, strict, std::string("samples/programs/pocket_finish.nc")})
+      for (const std::string piece : {"0", "7"}) {
+        CAPTURE(file);
+        CAPTURE(piece);
+        PieceLines pl(piece);
+        job::PathSettings ps{file, {}, ""};
+        ps.read.dialect = "fanuc";
+        ps.read.strict = file == strict;
+        Streams two;
+        Keep keep;
+        const job::PathResult a = job::path(ps, keep, two.io);
+        // The text checks before the interpretation, beside it, and beside it
+        // with its messages held 3 at most (it then waits for the checks).
+        for (const std::pair<int, int>& mode : {std::pair{1, 4096}, std::pair{0, 4096}, std::pair{0, 3}}) {
+          const int threads = mode.first, held_messages = mode.second;
+          CAPTURE(threads);
+          CAPTURE(held_messages);
+          ps.threads = threads;
+          ps.held_messages = static_cast<std::size_t>(held_messages);
+          Streams one;
+          Held held;
+          const job::PathResult b = job::path(ps, held, one.io);
+          CHECK(held.finished == 1);
+          CHECK(a.handed == b.handed);
+          CHECK(a.handed == (file == fine || file.find("pocket") != std::string::npos));
+          CHECK(a.errors == b.errors);
+          CHECK(a.warnings == b.warnings);
+          CHECK(a.stats.motions == b.stats.motions);
+          CHECK(a.stats.stopped_line == b.stats.stopped_line);
+          CHECK(two.err.str() == one.err.str());
+          CHECK(keep.motions.size() == held.motions.size());
+          for (std::size_t i = 0; i < std::min(keep.motions.size(), held.motions.size()); ++i) {
+            CHECK(keep.motions[i].line == held.motions[i].line);
+            CHECK(keep.motions[i].end_mm == held.motions[i].end_mm);
+          }
+        }
+      }
+  }
+
   TEST_CASE("job::path hands over the motions `deflex path` prints, read whole or in pieces") {
     const std::string program = "samples/programs/pocket_finish.nc";
     const auto cli = test::run_cli({"path", "--lines", program});

@@ -1,6 +1,7 @@
 // Compiler-style diagnostics and the error type of each failure class.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
@@ -38,11 +39,21 @@ class SourceText {
   std::size_t line_count() const { return line_begin_.size(); }
   std::uint32_t first_line() const { return first_line_; }
   std::uint32_t last_line() const { return first_line_ + static_cast<std::uint32_t>(line_begin_.size()) - 1; }
-  // Byte range of line `line` (1-based) without its line end.
-  std::string_view line_text(std::uint32_t line) const;
+  // Byte range of line `line` (1-based) without its line end. (Inline, as
+  // line_end_with_eol(): the lexer asks for them once per line.)
+  std::string_view line_text(std::uint32_t line) const {
+    if (line < first_line_ || line - first_line_ >= line_begin_.size()) return {};
+    std::uint32_t b = line_begin_[line - first_line_], e = line_end_with_eol(line);
+    if (e > b && bytes_[e - 1] == '\n') --e;
+    if (e > b && bytes_[e - 1] == '\r') --e;
+    return std::string_view(bytes_).substr(b, e - b);
+  }
   std::uint32_t line_begin(std::uint32_t line) const { return line_begin_[line - first_line_]; }
   // Byte offset just past line `line` including its line end.
-  std::uint32_t line_end_with_eol(std::uint32_t line) const;
+  std::uint32_t line_end_with_eol(std::uint32_t line) const {
+    const std::size_t k = line - first_line_ + 1;  // index of the next line's start
+    return k < line_begin_.size() ? line_begin_[k] : static_cast<std::uint32_t>(bytes_.size());
+  }
   std::uint32_t line_of(std::uint32_t offset) const;  // 1-based
 
  private:
@@ -81,9 +92,20 @@ class Diagnostics {
   void set_keep(bool keep) { keep_ = keep; }
   // How the messages name settings (diag/settings.hpp); default: by keyword.
   void set_names(SettingNames names) { names_ = std::move(names); }
+  // Messages kept back, for a pass whose messages must follow others not
+  // known yet (deflex path interprets while the text checks run beside it):
+  // counted as they come, printed and kept only at release(), in order. Once
+  // `bound` are held, `full` is called (it should release() or drop_held()):
+  // holding never takes more memory than that.
+  void hold(std::size_t bound, std::function<void()> full);
+  // Prints and keeps what is held, and every later message as it comes.
+  void release();
+  // Forgets what is held and every later message (still counted).
+  void drop_held();
 
  private:
   void emit(Diagnostic d);
+  void put(Diagnostic d);  // print and keep
   std::ostream* out_;
   int max_errors_;
   int errors_ = 0;
@@ -91,6 +113,10 @@ class Diagnostics {
   bool keep_ = true;
   SettingNames names_;
   std::vector<Diagnostic> all_;
+  enum class Held { no, holding, dropping } held_ = Held::no;
+  std::vector<Diagnostic> held_messages_;
+  std::size_t hold_bound_ = 0;
+  std::function<void()> hold_full_;
 };
 
 // A failure that ends the run, of one kind. Its text may name settings as

@@ -40,6 +40,9 @@ class DecimalCheck {
  public:
   explicit DecimalCheck(const profile::Dialect& d) : d_(d) {}
   void add(const gcode::Program& piece);
+  // add() with the lines lexed by the caller: line() for each line of the
+  // piece in order, `ok` what Program::lex returned.
+  void line(const gcode::Program& piece, const gcode::Block& b, bool ok);
   DecimalFinding finish(Diagnostics& diags, bool strict);
 
  private:

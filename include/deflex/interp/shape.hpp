@@ -18,6 +18,13 @@ void check_program_shape(const gcode::Program& prog, Diagnostics& diags);
 class ShapeCheck {
  public:
   void add(const gcode::Program& piece);
+  // add() with the lines lexed by the caller (who lexes them once for more
+  // than one check): begin(piece), line() for its lines in order while
+  // wants_lines(), end(piece).
+  void begin(const gcode::Program& piece);
+  bool wants_lines() const { return !ended_; }
+  void line(const gcode::Block& b);
+  void end(const gcode::Program& piece);
   void finish(Diagnostics& diags);
 
  private:
@@ -25,6 +32,7 @@ class ShapeCheck {
   bool pieces_ = false, text_ = false, ended_ = false;
   bool cr_only_ = false;          // no LF at all (one piece) and a CR before the last byte
   std::string first_line_head_;   // the start of line 1 (the CR-only warning's excerpt)
+  std::uint32_t piece_last_ = 0;  // the last block line of the piece being read
   std::uint32_t last_block_ = 0;  // the last block line so far, and its text
   std::string last_block_text_;
 };

@@ -9,7 +9,9 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/gcode/reader.hpp"
+#include "deflex/interp/decimal.hpp"
 #include "deflex/interp/interpreter.hpp"
+#include "deflex/interp/shape.hpp"
 #include "deflex/job/io.hpp"
 #include "deflex/job/settings.hpp"
 #include "deflex/job/setup.hpp"
@@ -41,6 +43,20 @@ CheckResult check(const CheckSettings& s, Io& io);
 // file; `also` (may be null) sees each piece in the same pass.
 void check_text(gcode::ProgramPasses& src, const Setup& s, Diagnostics& diags,
                 const std::function<void(const gcode::Program&)>& also = {});
+
+// check_text() in two steps: read() the pieces (no message yet; it may run
+// on a thread of its own), then finish() reports what the checks found.
+class TextChecks {
+ public:
+  explicit TextChecks(const Setup& s) : s_(s), dec_(s.dialect) {}
+  void read(gcode::ProgramPasses& src, const std::function<void(const gcode::Program&)>& also = {});
+  void finish(Diagnostics& diags);
+
+ private:
+  const Setup& s_;
+  interp::ShapeCheck shape_;
+  interp::DecimalCheck dec_;
+};
 
 // The gouge check's gap: the one given, else config part_gap_mm, else 0.02 mm;
 // a settings Error when it is not > 0.
