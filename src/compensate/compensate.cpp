@@ -49,6 +49,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   const force::Cutter c = force::cutter_of(m.tool);
   m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
   m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
+  m.assembly = assembly_of(m.tool, ph.machine.holder);
   if (m.tool.type != stock::EndShape::ball) {
     // 150 slices (30 mm of flute at 0.2 mm): 22500 interpolations, a few ms.
     const stiffness::CrossComplianceTable full = stiffness::beam_cross_compliance(m.tool, ph.machine, ph.tool_only);
@@ -286,6 +287,9 @@ struct Simulation::Impl {
       const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
       r.p.stock_depth_mm = std::max(0.0, above_mm);
       r.p.stock_gap_mm = std::max(0.0, -above_mm);
+      const Interference hit = interference(run.zmap(), r.p.tip_mm, tm->assembly);
+      r.p.collision_mm = hit.depth_mm;
+      r.p.collision_part = hit.part;
     } catch (...) {
       r.failed = std::current_exception();
     }

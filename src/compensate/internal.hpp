@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "deflex/compensate/collision.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/engage/simulator.hpp"
@@ -35,6 +36,7 @@ struct ToolModel {
   // point in the feed frame.
   force::SliceCompliance flank_c;
   stiffness::Compliance structure = stiffness::Compliance::Zero();
+  Assembly assembly;  // its neck, shank and the machine's holder (collision.hpp)
 };
 
 const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::string& id, const Physics& ph,

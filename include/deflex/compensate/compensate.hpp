@@ -97,6 +97,9 @@ struct Physics {
   profile::SpindleRating spindle;
 };
 
+// The non-cutting parts of the tool assembly (collision.hpp).
+enum class AssemblyPart : std::uint8_t { neck, shank, holder };
+
 // One CL sample of one simulation.
 struct Point {
   std::uint32_t line = 0;
@@ -137,6 +140,11 @@ struct Point {
   // far below the programmed surface an earlier operation left the stock
   // under a point in air.
   double stock_gap_mm = 0;
+  // simulate(): how deep a non-cutting part of the assembly (neck, shank,
+  // holder) stands in the stock at this point (the Z-map as stock_depth_mm
+  // reads it), 0 where it is clear (collision.hpp).
+  double collision_mm = 0;
+  AssemblyPart collision_part = AssemblyPart::shank;
   // Flank cuts: e(z) over the engaged flank at the commanded position (the
   // offset not included), its extremes and their heights above the tip.
   bool flank = false;

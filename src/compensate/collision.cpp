@@ -1,0 +1,82 @@
+#include "deflex/compensate/collision.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace deflex::compensate {
+
+const char* to_string(AssemblyPart p) {
+  switch (p) {
+    case AssemblyPart::neck: return "neck";
+    case AssemblyPart::shank: return "shank";
+    case AssemblyPart::holder: return "holder";
+  }
+  return "?";
+}
+
+Assembly assembly_of(const stiffness::Tool& t, const std::optional<stiffness::Holder>& holder) {
+  Assembly a;
+  a.stickout_mm = t.stickout_mm;
+  double z = t.flute_length_mm;
+  if (t.neck && t.neck->length_mm > 0) {
+    const double r = t.neck->diameter_mm / 2;
+    a.frusta.push_back({AssemblyPart::neck, z, z + t.neck->length_mm, r, r});
+    z += t.neck->length_mm;
+  }
+  const double rs = (t.shank_diameter_mm > 0 ? t.shank_diameter_mm : t.diameter_mm) / 2;
+  if (t.stickout_mm > z) a.frusta.push_back({AssemblyPart::shank, z, t.stickout_mm, rs, rs});
+  if (holder && holder->length_mm > 0)
+    a.frusta.push_back({AssemblyPart::holder, t.stickout_mm, t.stickout_mm + holder->length_mm,
+                        holder->nose_diameter_mm / 2, holder->base_diameter_mm / 2});
+  return a;
+}
+
+namespace {
+
+// The lowest height of frustum f at distance d from the axis (where its radius
+// reaches d), or NaN where it never does.
+double lowest_at(const Frustum& f, double d) {
+  if (d <= f.r0_mm) return f.z0_mm;
+  if (f.r1_mm <= f.r0_mm || d > f.r1_mm) return std::nan("");
+  return f.z0_mm + (d - f.r0_mm) / (f.r1_mm - f.r0_mm) * (f.z1_mm - f.z0_mm);
+}
+
+// The deepest cell of frustum f: the rows of its disc the tile and row maxima
+// do not clear, cell by cell.
+double deepest(const stock::ZMap& z, const V3& tip, const Frustum& f) {
+  const double rmax = std::max(f.r0_mm, f.r1_mm);
+  const float low = static_cast<float>(tip.z() + f.z0_mm);
+  // Most points: no material anywhere over the part's square stands above its
+  // lowest point (the tiles' maxima say so without reading a cell).
+  if (z.none_above(tip.x() - rmax, tip.y() - rmax, tip.x() + rmax, tip.y() + rmax, low)) return 0;
+  const stock::GridSpec& g = z.grid();
+  double worst = 0;
+  const int j0 = std::max(0, z.iy(tip.y() - rmax)), j1 = std::min(g.ny - 1, z.iy(tip.y() + rmax));
+  for (int j = j0; j <= j1; ++j) {
+    const double dy = z.cy(j) - tip.y();
+    if (std::fabs(dy) > rmax) continue;
+    const double half = std::sqrt(rmax * rmax - dy * dy);
+    const int i0 = std::max(0, z.ix(tip.x() - half)), i1 = std::min(g.nx - 1, z.ix(tip.x() + half));
+    if (i1 < i0 || !z.row_above(j, i0, i1, low)) continue;
+    for (int i = i0; i <= i1; ++i) {
+      const float h = z.at(i, j);
+      if (h <= low) continue;
+      const double zl = lowest_at(f, std::hypot(z.cx(i) - tip.x(), dy));
+      if (!std::isnan(zl)) worst = std::max(worst, h - (tip.z() + zl));
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+Interference interference(const stock::ZMap& z, const V3& tip_mm, const Assembly& a) {
+  Interference r;
+  for (const Frustum& f : a.frusta) {
+    const double d = deepest(z, tip_mm, f);
+    if (d > r.depth_mm) r = {d, f.part};
+  }
+  return r;
+}
+
+}  // namespace deflex::compensate
