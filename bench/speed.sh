@@ -6,7 +6,8 @@
 #   sh bench/speed.sh                 this build against PREV (default: the
 #                                     revision in bench/prev-revision)
 #   PREV=<git revision>               built once into bench/out/prev-<rev>/
-#   PREV_BIN=/path/to/deflex          an earlier binary instead
+#   PREV_BIN=/path/to/deflex          an earlier binary instead (of PREV, whose
+#                                     machine profile it reads)
 #   RUNS=3                            runs per median (hyperfine)
 #   BLOCKS=1000000                    the raster's size (bench/gen_program.sh)
 #   QUICK=1                           the six-surface sample and path only
@@ -42,6 +43,11 @@ else
   fi
 fi
 new=build/deflex
+# The earlier build reads the machine profile of its own revision: a key added
+# since (a newer section) would be an unknown key to it.
+prev_rev=$(git rev-parse --short "${PREV:-$(cat bench/prev-revision)}")
+git show "$prev_rev:samples/machines/mill3.yaml" > bench/out/prev-mill3.yaml
+old_machine="--machine bench/out/prev-mill3.yaml"
 echo "machine: $(nproc) cores, $(uname -m), $(sed -n 's/^model name[^:]*: //p' /proc/cpuinfo | head -n 1)"
 echo "this build: $($new --version 2>&1 | head -n 1); earlier: $($prev --version 2>&1 | head -n 1)"
 
@@ -83,14 +89,14 @@ row() {
   echo "$line" | tee -a "$table"
 }
 
-row "simulate six-surface sample" earlier "$prev" simulate $six
+row "simulate six-surface sample" earlier "$prev" simulate $six $old_machine
 row "simulate six-surface sample" this "$new" simulate $six
-row "compensate six-surface sample" earlier "$prev" compensate $six -o bench/out/speed_out.nc
+row "compensate six-surface sample" earlier "$prev" compensate $six $old_machine -o bench/out/speed_out.nc
 row "compensate six-surface sample" this "$new" compensate $six -o bench/out/speed_out.nc
 if [ -z "${QUICK:-}" ]; then
-  row "compensate raster $n" earlier "$prev" compensate $raster -o bench/out/speed_out.nc
+  row "compensate raster $n" earlier "$prev" compensate $raster $old_machine -o bench/out/speed_out.nc
   row "compensate raster $n" this "$new" compensate $raster -o bench/out/speed_out.nc
-  row "simulate raster $n" earlier "$prev" simulate $raster
+  row "simulate raster $n" earlier "$prev" simulate $raster $old_machine
   row "simulate raster $n" this "$new" simulate $raster
   row "compensate raster $n, --threads 1" this "$new" compensate $raster --threads 1 -o bench/out/speed_out.nc
   row "compensate raster $n, --threads 2" this "$new" compensate $raster --threads 2 -o bench/out/speed_out.nc
@@ -98,7 +104,7 @@ fi
 # path against rs274: the medians only.
 hyperfine --runs "$runs" --export-json bench/out/speed_path.json \
   -n "deflex path (this)" "$new path --dialect linuxcnc $f > /dev/null" \
-  -n "deflex path (earlier)" "$prev path --dialect linuxcnc $f > /dev/null" \
+  -n "deflex path (earlier)" "$prev path --dialect linuxcnc $old_machine $f > /dev/null" \
   -n "rs274 (LinuxCNC)" "rs274 -g -t bench/rs274.tbl $f bench/out/rs274.txt < /dev/null > /dev/null 2>&1" > /dev/null
 sed -n 's/.*"command": "\(.*\)",/\1/p; s/.*"median": \([0-9.]*\).*/\1/p' bench/out/speed_path.json | paste - - |
   awk -F'\t' '{ printf "| %s | | %.2f s | | | |\n", $1, $2 }' | tee -a "$table"
