@@ -1,5 +1,5 @@
-// STL stock import: OpenCASCADE's reader through a file, then the Z-map of the
-// triangles. Huge but legal extents are skipped: their cost is time, not a bug
+// STL stock import: deflex's own STL reader (src/stock/stl.cpp) through a file,
+// then the Z-map of the triangles. Huge but legal extents are skipped: their cost is time, not a bug
 // (the cell limit itself is tested in tests/stock).
 #include <algorithm>
 #include <cmath>

@@ -63,10 +63,9 @@ Simulator::~Simulator() {
 }
 
 Simulator::TileBox Simulator::tiles_of(double x0_mm, double y0_mm, double x1_mm, double y1_mm) const {
-  const int T = stock::ZMap::tile_cells;
   // Floor division: cells left of or below the grid fall in tile -1, which no
   // tile of the grid meets.
-  auto tile = [T](int cell) { return cell >= 0 ? cell / T : -1; };
+  auto tile = [](int cell) { return cell >= 0 ? cell / stock::ZMap::tile_cells : -1; };
   return {tile(z_.ix(x0_mm)), tile(z_.ix(x1_mm)), tile(z_.iy(y0_mm)), tile(z_.iy(y1_mm))};
 }
 
