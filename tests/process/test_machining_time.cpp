@@ -4,7 +4,6 @@
 // cruise v (ramps fitting) takes L/v + v/a.
 #include <doctest/doctest.h>
 
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -258,20 +257,18 @@ TEST_CASE("from G-code: per tool and the default limits") {
   CHECK(r.program.total_s == Approx(r.per_tool.at(1).total_s + r.per_tool.at(2).total_s).epsilon(1e-12));
 }
 
-TEST_CASE("one million motions in one pass, well under a second") {
+TEST_CASE("one million motions in one pass: the look-ahead carries the speed through all of them") {
   // Collinear 0.1 mm moves: the look-ahead must carry the speed through all of
-  // them, so the whole is one 100 km move at 50 mm/s.
+  // them, so the whole is one 100 km move at 50 mm/s. (Its speed is a
+  // benchmark's to show, not a test's: bench/.)
   const std::size_t n = 1000000;
   std::vector<interp::Motion> ms(n, g1({0, 0, 0}, {0, 0, 0}, 3000));
   for (std::size_t i = 0; i < n; ++i) {
     ms[i].start_mm[0] = 0.1 * static_cast<double>(i);
     ms[i].end_mm[0] = 0.1 * static_cast<double>(i + 1);
   }
-  const auto t0 = std::chrono::steady_clock::now();
   const auto r = machining_time(ms, hand());
-  const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   CHECK(r.program.total_s == Approx(rest_to_rest_s(100000, 50, 1000)).epsilon(1e-9));
-  CHECK(took_s < 1.0);  // about 0.06 s in a Release build here
 }
 
 TEST_CASE("a ramp over many look-ahead batches: the clock settles only what no later stop can slow") {
