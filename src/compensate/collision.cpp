@@ -16,7 +16,6 @@ const char* to_string(AssemblyPart p) {
 
 Assembly assembly_of(const stiffness::Tool& t, const std::optional<stiffness::Holder>& holder) {
   Assembly a;
-  a.stickout_mm = t.stickout_mm;
   double z = t.flute_length_mm;
   if (t.neck && t.neck->length_mm > 0) {
     const double r = t.neck->diameter_mm / 2;

@@ -287,9 +287,6 @@ struct Simulation::Impl {
       const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
       r.p.stock_depth_mm = std::max(0.0, above_mm);
       r.p.stock_gap_mm = std::max(0.0, -above_mm);
-      const Interference hit = interference(run.zmap(), r.p.tip_mm, tm->assembly);
-      r.p.collision_mm = hit.depth_mm;
-      r.p.collision_part = hit.part;
     } catch (...) {
       r.failed = std::current_exception();
     }
@@ -301,6 +298,13 @@ struct Simulation::Impl {
     if (r.failed) std::rethrow_exception(r.failed);
     // The motions before are done with.
     while (!held.empty() && held.front().index < r.p.motion) held.pop_front();
+    // The assembly reads the stock as far as the holder's radius, beyond the
+    // tiles an evaluation waits for (Simulator::read_box): here, in the sink,
+    // the commit beside it has ended, so the stock read is the same whatever
+    // the threads, and no tile is being written.
+    const Interference hit = interference(run.zmap(), r.p.tip_mm, tm->assembly);
+    r.p.collision_mm = hit.depth_mm;
+    r.p.collision_part = hit.part;
     out(r.p);
   }
 

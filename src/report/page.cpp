@@ -140,11 +140,11 @@ void PageSink::add(const compensate::Point& p, const V3& contact, double path_mm
   r.e[1] = maps_ == 2 ? error : kNone;
   r.path_mm = path_mm;
   for (int k = 0; k < 3; ++k) r.contact_mm[k] = static_cast<float>(contact[k]);
-  const bool rated = spindle_ && p.spindle_rpm > 0;
+  const double allowed_Nm = spindle_ && p.spindle_rpm > 0 ? spindle_->s1.allowed_torque_Nm(p.spindle_rpm) : kNone;
   const double s[kSeriesCount] = {p.force_N.norm(), p.force_N.x(), p.force_N.y(), p.force_N.z(), 1000 * p.delta_mm.norm(),
                                   p.ap_mm, p.ae_mm, p.mrr_mm3_per_s, p.d_eff_mm, p.cwe_area_mm2, 1000 * c.height_mm,
-                                  p.power_kW, rated ? spindle_->s1.allowed_power_kW(p.spindle_rpm) : kNone,
-                                  p.torque_Nm, rated ? spindle_->s1.allowed_torque_Nm(p.spindle_rpm) : kNone};
+                                  p.power_kW, profile::power_from_torque_kW(allowed_Nm, p.spindle_rpm),
+                                  p.torque_Nm, allowed_Nm};
   for (std::size_t k = 0; k < kSeriesCount; ++k) r.series[k] = static_cast<float>(s[k]);
   r.stepover_mm = static_cast<float>(c.stepover_mm);
   r.cusp_mm = static_cast<float>(c.height_mm);

@@ -29,7 +29,6 @@ struct Frustum {
 
 struct Assembly {
   std::vector<Frustum> frusta;  // bottom up
-  double stickout_mm = 0;
 };
 // The tool's non-cutting parts and the holder (none: the tool's alone).
 Assembly assembly_of(const stiffness::Tool& t, const std::optional<stiffness::Holder>& holder);

@@ -141,8 +141,9 @@ struct Point {
   // under a point in air.
   double stock_gap_mm = 0;
   // simulate(): how deep a non-cutting part of the assembly (neck, shank,
-  // holder) stands in the stock at this point (the Z-map as stock_depth_mm
-  // reads it), 0 where it is clear (collision.hpp).
+  // holder) stands in the stock at this point (the Z-map as committed when the
+  // point is handed on, which may lag the last few moves by a batch), 0 where
+  // it is clear (collision.hpp).
   double collision_mm = 0;
   AssemblyPart collision_part = AssemblyPart::shank;
   // Flank cuts: e(z) over the engaged flank at the commanded position (the
