@@ -180,10 +180,11 @@ MachineProfile load_machine(const std::string& name_or_path) {
     }
   }
   const YAML::Node root = yaml::load_file(file);
-  // holder: and stiffness: are read (with their own key checks) by deflex::stiffness.
+  // holder:, stiffness: and dynamics: are read (with their own key checks) by deflex::stiffness.
   const Map n(root, "machine profile", file, {"name", "dialect", "travel_mm", "work_offsets_mm",
                                               "reference_points_mm", "max_offset_mm", "axis_limits", "holder",
-                                              "stiffness", "tool_offsets", "force_scale", "spindle"});
+                                              "stiffness", "dynamics", "tool_offsets", "force_scale",
+                                              "spindle"});
   MachineProfile m;
   m.file = file;
   m.root = yaml::document(root);

@@ -71,6 +71,16 @@ static Eigen::Matrix3d parse_structure(const Map& n) {
   n.fail(n.node(), "structure needs compliance_mm_per_N or stiffness_N_per_um");
 }
 
+static Dynamics parse_dynamics(const Map& n) {
+  Dynamics d;
+  if (!n.has("damping_ratio")) return d;
+  // Underdamped modes only: zeta >= 1 has no resonance, zeta = 0 an infinite one.
+  d.damping_ratio = n.number("damping_ratio");
+  if (!(d.damping_ratio > 0 && d.damping_ratio < 1)) n.fail("damping_ratio", "damping_ratio must be in (0, 1)");
+  d.damping_given = true;
+  return d;
+}
+
 MachineStiffness parse_machine_stiffness(const yaml::Document& doc, const std::string& file) {
   const YAML::Node root = yaml::node(doc);
   MachineStiffness m;
@@ -80,6 +90,7 @@ MachineStiffness parse_machine_stiffness(const yaml::Document& doc, const std::s
   if (root["holder"])
     m.holder = parse_holder(Map(root["holder"], "holder", file,
                                 {"length_mm", "nose_diameter_mm", "base_diameter_mm", "material", "name"}));
+  if (root["dynamics"]) m.dynamics = parse_dynamics(Map(root["dynamics"], "dynamics", file, {"damping_ratio"}));
   if (!root["stiffness"]) return m;
   const Map s(root["stiffness"], "stiffness", file, {"tool_clamp", "spindle", "structure"});
   const std::initializer_list<const char*> springs = {"radial_N_per_um", "rotational_Nm_per_rad", "axial_N_per_um"};

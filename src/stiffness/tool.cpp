@@ -11,9 +11,9 @@
 namespace deflex::stiffness {
 
 std::optional<Material> material_preset(const std::string& name) {
-  if (name == "carbide") return Material{"carbide", 600000.0, 0.22, 1000.0};
-  if (name == "hss") return Material{"hss", 220000.0, 0.28, 1500.0};
-  if (name == "steel") return Material{"steel", 210000.0, 0.30, 800.0};
+  if (name == "carbide") return Material{"carbide", 600000.0, 0.22, 1000.0, 14500.0};
+  if (name == "hss") return Material{"hss", 220000.0, 0.28, 1500.0, 8150.0};
+  if (name == "steel") return Material{"steel", 210000.0, 0.30, 800.0, 7850.0};
   return std::nullopt;
 }
 
@@ -24,10 +24,10 @@ Material parse_material(const YAML::Node& node, const std::string& file) {
   if (node.IsScalar()) {
     if (auto m = material_preset(node.Scalar())) return *m;
     yaml::fail(file, node.Mark(),
-               "unknown material '" + node.Scalar() + "' (presets: carbide, hss, steel; or {E_MPa, poisson})");
+               "unknown material '" + node.Scalar() + "' (presets: carbide, hss, steel; or {E_MPa, poisson, density_kg_per_m3})");
   }
-  if (!node.IsMap()) yaml::fail(file, node.Mark(), "material must be a preset name or {E_MPa, poisson}");
-  const Map n(node, "material", file, {"E_MPa", "poisson"});
+  if (!node.IsMap()) yaml::fail(file, node.Mark(), "material must be a preset name or {E_MPa, poisson[, density_kg_per_m3]}");
+  const Map n(node, "material", file, {"E_MPa", "poisson", "density_kg_per_m3"});
   Material m;
   m.name = "custom";
   m.E_MPa = n.number("E_MPa", Range::positive());
@@ -35,6 +35,10 @@ Material parse_material(const YAML::Node& node, const std::string& file) {
   // Isotropic elasticity needs -1 < nu < 0.5 for a positive-definite material.
   if (!(nu > -1.0 && nu < 0.5)) n.fail("poisson", "poisson must be in (-1, 0.5)");
   m.poisson = nu;
+  // From 500 kg/m^3 (below any metal or ceramic a tool or holder is made of)
+  // to 25,000 (past osmium, 22,590, the densest element): outside it the
+  // number is a unit slip, such as g/cm^3 (7.85 for steel) written as kg/m^3.
+  if (n.has("density_kg_per_m3")) m.density_kg_per_m3 = n.number("density_kg_per_m3", Range::between(500, 25000));
   return m;
 }
 

@@ -8,7 +8,8 @@
 
 namespace deflex::stiffness {
 
-// `material:` as a preset name or {E_MPa, poisson} (tools and holders).
+// `material:` as a preset name or {E_MPa, poisson[, density_kg_per_m3]} (tools
+// and holders).
 Material parse_material(const YAML::Node& node, const std::string& file);
 // One tool entry (a YAML map).
 Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string& file);

@@ -125,6 +125,44 @@ TEST_SUITE("stiffness") {
     CHECK(machine_error("name: x\nholder: {length_mm: 50, nose_diameter_mm: 30}\n").empty());
   }
 
+  TEST_CASE("materials: densities of the presets and of a custom material") {
+    CHECK(material_preset("carbide")->density_kg_per_m3 == 14500);
+    CHECK(material_preset("hss")->density_kg_per_m3 == 8150);
+    CHECK(material_preset("steel")->density_kg_per_m3 == 7850);
+    std::string custom = kGood;
+    custom.replace(custom.find("carbide"), 7, "{E_MPa: 2e5, poisson: 0.3, density_kg_per_m3: 7800}");
+    CHECK(find_tool(parse_tool_library(custom, "lib.yaml"), "A").material.density_kg_per_m3 == 7800);
+    custom = kGood;
+    custom.replace(custom.find("carbide"), 7, "{E_MPa: 2e5, poisson: 0.3}");
+    CHECK(find_tool(parse_tool_library(custom, "lib.yaml"), "A").material.density_kg_per_m3 == 0);  // unknown
+    // g/cm^3 written as kg/m^3: located at the number.
+    custom = kGood;
+    custom.replace(custom.find("carbide"), 7, "{E_MPa: 2e5, poisson: 0.3, density_kg_per_m3: 7.85}");
+    CHECK(tool_error(custom).find("lib.yaml:8:61: error: density_kg_per_m3 must be in [500, 25000]") == 0);
+    // A holder's material is read by the same reader.
+    const MachineStiffness m = parse_machine_stiffness(
+        yaml::document(YAML::Load("holder: {length_mm: 50, nose_diameter_mm: 30,\n"
+                                  "  material: {E_MPa: 2e5, poisson: 0.3, density_kg_per_m3: 7900}}\n")),
+        "m.yaml");
+    CHECK(m.holder->material.density_kg_per_m3 == 7900);
+    CHECK(machine_error("holder: {length_mm: 50, nose_diameter_mm: 30,\n"
+                        "  material: {E_MPa: 2e5, poisson: 0.3, density_kg_per_m3: -1}}\n")
+              .find("m.yaml:2:59: error: density_kg_per_m3 must be in [500, 25000]") == 0);
+  }
+
+  TEST_CASE("machine: dynamics: damping_ratio, its default and its errors") {
+    const MachineStiffness sample = load_machine_stiffness(sample_path("samples/machines/mill3.yaml"));
+    CHECK(sample.dynamics.damping_given);
+    CHECK(sample.dynamics.damping_ratio == 0.03);
+    const MachineStiffness none = parse_machine_stiffness(yaml::document(YAML::Load("name: x\n")), "m.yaml");
+    CHECK_FALSE(none.dynamics.damping_given);
+    CHECK(none.dynamics.damping_ratio == 0.03);
+    CHECK(machine_error("dynamics:\n  damping_ratio: 0\n").find("m.yaml:2:18: error: damping_ratio must be in (0, 1)") == 0);
+    CHECK(machine_error("dynamics:\n  damping_ratio: 1.5\n").find("m.yaml:2:18: error: damping_ratio must be in (0, 1)") == 0);
+    CHECK(machine_error("dynamics:\n  damping_ratio: .nan\n").find("m.yaml:2:18: error: damping_ratio must be finite") == 0);
+    CHECK(machine_error("dynamics:\n  damping: 0.1\n").find("m.yaml:2:3: error: unknown key 'damping'") == 0);
+  }
+
   TEST_CASE("shape: equivalent profile of a fluted ball end") {
     Tool t = cylinder(16, 80);
     t.type = stock::EndShape::ball;

@@ -17,6 +17,10 @@ struct Material {
   // Allowable bending stress for the plausibility check of the peak force
   // (compensate/plausibility.hpp), MPa. See material_preset().
   double allowable_bending_MPa = 1000;
+  // Mass density, kg/m^3, for the modal model (stiffness/modes.hpp); 0 =
+  // unknown (a custom material without `density_kg_per_m3:`), which the static
+  // models never need.
+  double density_kg_per_m3 = 0;
 };
 
 // Presets for `material: carbide|hss|steel`. Typical handbook values: cemented
@@ -26,6 +30,12 @@ struct Material {
 // MPa, ISO 3327; the low end taken), M2 HSS at 63-65 HRC 1500 MPa (bend
 // strength ~3000-4000 MPa), tool steel 800 MPa (tensile ~1600 MPa hardened);
 // a custom {E_MPa, poisson} material: 1000 MPa.
+// Density: WC-10%Co 14,500 kg/m^3 (ASM Handbook vol. 2, "Cemented carbides":
+// 14.3-14.6 g/cm^3 at 10 % Co), M2 HSS 8,150 kg/m^3 (ASM Handbook vol. 1,
+// "Wrought tool steels": M2 8.16 g/cm^3), steel 7,850 kg/m^3 (the usual
+// carbon and low-alloy steel figure, e.g. Roark's Formulas for Stress and
+// Strain, table of material properties). A custom material gives
+// `density_kg_per_m3:` beside E_MPa and poisson, or has none (0).
 std::optional<Material> material_preset(const std::string& name);
 
 // A reduced-diameter neck between the flutes and the shank (long-reach tools).
