@@ -1,20 +1,17 @@
 // Timoshenko beam finite elements of the chain tip -> tool -> [tool clamp] ->
-// [holder] -> [spindle springs] -> ground. The chain is axisymmetric, so one
-// bending plane (dofs w, theta) serves x and y, and bar elements (dof u) give
-// the axial compliance.
+// [holder] -> [spindle springs] -> ground (beam_chain.hpp), solved for loads at
+// the stations.
 #include "deflex/stiffness/beam.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numbers>
-#include <optional>
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 
+#include "beam_chain.hpp"
 #include "deflex/diag/diagnostics.hpp"
-#include "deflex/stiffness/shape.hpp"
 
 namespace deflex::stiffness {
 
@@ -41,148 +38,7 @@ Eigen::Matrix4d timoshenko_element(double L, const BeamSection& s) {
 
 namespace {
 
-enum Comp { W = 0, THETA = 1, U = 2 };
-
-// Link between chain node i and i+1: a beam element or a zero-length joint.
-struct Link {
-  double length_mm = 0;
-  BeamSection section;
-  std::optional<Springs> joint;  // set: zero-length spring joint
-};
-
-struct Chain {
-  std::vector<double> node_z_mm;  // the tip side first
-  std::vector<Link> links;        // links[i] joins node i and i+1
-  std::optional<Springs> base;    // springs to ground at the last node; nullopt: clamped
-};
-
-// Node heights of [z0, z1] with elements no longer than max_mm, plus `extra` inside.
-std::vector<double> grid(double z0, double z1, double max_mm) {
-  // Range-checked before the cast: the readers bound every length, this is the
-  // last line of defence for a caller that does not.
-  const double count = std::ceil((z1 - z0) / max_mm - 1e-9);
-  if (!(count <= 1e6)) throw Error(ErrorKind::config, "beam model: a section of " + std::to_string(z1 - z0) +
-                                                     " mm needs more than 10^6 elements");
-  const int n = std::max(1, static_cast<int>(count));
-  std::vector<double> z;
-  for (int i = 0; i <= n; ++i) z.push_back(z0 + (z1 - z0) * i / n);
-  return z;
-}
-
-void sort_unique(std::vector<double>& z) {
-  std::sort(z.begin(), z.end());
-  z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return b - a < 1e-9; }),
-          z.end());
-}
-
-void append_beam(Chain& c, const std::vector<double>& z, auto section_at_mm) {
-  if (c.node_z_mm.empty()) c.node_z_mm.push_back(z.front());
-  for (std::size_t i = 1; i < z.size(); ++i) {
-    c.links.push_back({z[i] - z[i - 1], section_at_mm(0.5 * (z[i] + z[i - 1])), std::nullopt});
-    c.node_z_mm.push_back(z[i]);
-  }
-}
-
-void append_joint(Chain& c, const Springs& s) {
-  c.links.push_back({0, {}, s});
-  c.node_z_mm.push_back(c.node_z_mm.back());
-}
-
-// Tool nodes: stations, section changes, and a fine grid in the cap where the
-// section varies (element sections are taken at the element midpoint).
-std::vector<double> tool_nodes(const ToolShape& s, const std::vector<double>& stations,
-                               double max_mm) {
-  std::vector<double> z = stations;
-  if (s.cap_height_mm > 0)
-    for (double v : grid(0, s.cap_height_mm, std::min(max_mm, s.cap_height_mm / 16))) z.push_back(v);
-  for (const auto& c : s.cylinders)
-    for (double v : grid(c.z0_mm, c.z1_mm, max_mm)) z.push_back(v);
-  z.push_back(0);
-  sort_unique(z);
-  return z;
-}
-
-Chain build_chain(const Tool& t, const MachineStiffness& m, bool tool_only,
-                  const std::vector<double>& stations, double max_mm) {
-  const ToolShape shape = tool_shape(t);
-  Chain c;
-  append_beam(c, tool_nodes(shape, stations, max_mm),
-              [&](double z) { return circular_section(2 * radius_at(shape, z), t.material); });
-  if (tool_only) return c;
-  if (m.tool_clamp) append_joint(c, *m.tool_clamp);
-  if (m.holder) {
-    const Holder& h = *m.holder;
-    const double L = t.stickout_mm, d_shank = t.shank_diameter_mm;
-    if (h.nose_diameter_mm <= d_shank || h.base_diameter_mm <= d_shank)
-      throw Error(ErrorKind::config, "holder diameter must exceed the shank diameter of " + t.id);
-    // Shank and holder body bend together inside the holder: stiffnesses add.
-    append_beam(c, grid(L, L + h.length_mm, max_mm), [&](double z) {
-      const double d = h.nose_diameter_mm +
-                       (h.base_diameter_mm - h.nose_diameter_mm) * (z - L) / h.length_mm;
-      const BeamSection a = circular_section(d, h.material, d_shank);
-      const BeamSection b = circular_section(d_shank, t.material);
-      return BeamSection{a.EI_Nmm2 + b.EI_Nmm2, a.EA_N + b.EA_N, a.kGA_N + b.kGA_N};
-    });
-  }
-  c.base = m.spindle;
-  return c;
-}
-
-std::optional<double> spring_of(const Springs& s, int comp) {
-  return comp == W ? s.radial_N_per_mm : comp == THETA ? s.rotational_Nmm_per_rad : s.axial_N_per_mm;
-}
-
-// Dof index of each node's (w, theta, u); -1 = fixed. Numbered from the base
-// down so a rigid joint component shares its dof across the joint.
-std::vector<std::array<int, 3>> number_dofs(const Chain& c, int& ndof) {
-  const std::size_t n = c.node_z_mm.size();
-  std::vector<std::array<int, 3>> d(n);
-  ndof = 0;
-  for (int k = 0; k < 3; ++k) d[n - 1][k] = (c.base && spring_of(*c.base, k)) ? ndof++ : -1;
-  for (std::size_t i = n - 1; i-- > 0;) {
-    const Link& l = c.links[i];
-    for (int k = 0; k < 3; ++k)
-      d[i][k] = (l.joint && !spring_of(*l.joint, k)) ? d[i + 1][k] : ndof++;
-  }
-  return d;
-}
-
-Eigen::SparseMatrix<double> assemble(const Chain& c, const std::vector<std::array<int, 3>>& d,
-                                     int ndof) {
-  std::vector<Eigen::Triplet<double>> trip;
-  auto add = [&](int a, int b, double v) {
-    if (a >= 0 && b >= 0) trip.emplace_back(a, b, v);
-  };
-  auto add_spring = [&](int a, int b, double k) {  // b = -1: to ground
-    add(a, a, k);
-    add(b, b, k);
-    add(a, b, -k);
-    add(b, a, -k);
-  };
-  for (std::size_t i = 0; i < c.links.size(); ++i) {
-    const Link& l = c.links[i];
-    if (l.joint) {
-      for (int k = 0; k < 3; ++k)
-        if (auto s = spring_of(*l.joint, k)) add_spring(d[i][k], d[i + 1][k], *s);
-      continue;
-    }
-    const Eigen::Matrix4d kb = timoshenko_element(l.length_mm, l.section);
-    const std::array<int, 4> dofs{d[i][W], d[i][THETA], d[i + 1][W], d[i + 1][THETA]};
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) add(dofs[a], dofs[b], kb(a, b));
-    add_spring(d[i][U], d[i + 1][U], l.section.EA_N / l.length_mm);
-  }
-  if (c.base)
-    for (int k = 0; k < 3; ++k)
-      if (auto s = spring_of(*c.base, k)) add_spring(d.back()[k], -1, *s);
-  Eigen::SparseMatrix<double> K(ndof, ndof);
-  K.setFromTriplets(trip.begin(), trip.end());
-  return K;
-}
-
-}  // namespace
-
-namespace {
+using namespace chain;
 
 // The chain solved for unit lateral (column 2 s) and axial (column 2 s + 1) loads
 // at each station node; x holds the displacements of every dof.
@@ -194,11 +50,8 @@ struct StationSolve {
 
 StationSolve solve_stations(const Tool& t, const MachineStiffness& m, bool tool_only,
                             const BeamOptions& opt) {
-  const double top = std::min(t.flute_length_mm, t.stickout_mm);
-  const int steps = opt.station_steps > 0 ? opt.station_steps
-                                          : std::max(2, static_cast<int>(std::ceil(top / 0.5)));
   StationSolve r;
-  r.stations_mm = station_heights_mm(top, steps);
+  r.stations_mm = station_heights(t, opt);
   const std::vector<double>& stations = r.stations_mm;
   const Chain chain = build_chain(t, m, tool_only, stations, opt.max_element_mm);
   int ndof = 0;
