@@ -8,7 +8,7 @@
 #include "deflex/measure/measured.hpp"
 #include "deflex/profile/yaml.hpp"
 #include "deflex/stock/build.hpp"
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "deflex/diag/plural.hpp"
 #include "deflex/measure/probe.hpp"
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure {
 namespace {

@@ -9,7 +9,7 @@
 #include "deflex/diag/plural.hpp"
 #include "deflex/measure/samples.hpp"
 #include "ply_header.hpp"
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <charconv>
 
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure::ply {
 namespace {

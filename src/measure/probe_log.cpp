@@ -28,7 +28,7 @@
 #include <map>
 
 #include "deflex/measure/samples.hpp"
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "deflex/measure/probe.hpp"
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 namespace deflex::measure {
 namespace {

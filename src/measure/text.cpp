@@ -1,4 +1,4 @@
-#include "text.hpp"
+#include "deflex/measure/text.hpp"
 
 #include <charconv>
 #include <cmath>

@@ -1,5 +1,7 @@
-// What the text readers of src/measure share: located errors through the
-// project's Diagnostics (source line and caret), fields of a line, numbers.
+// What the text readers of src/measure share (and the FRF reader of
+// src/stability): located errors through the project's Diagnostics (source
+// line and caret), fields of a line, numbers. A header of this build only,
+// never installed (cmake/modules.cmake: src/<module>/internal/).
 #pragma once
 #include <cstdint>
 #include <optional>
