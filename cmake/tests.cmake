@@ -2,7 +2,7 @@
 # module. Every test case belongs to one of these suites: `suites` below fails
 # on a case outside them, and a suite that runs no case fails (it would pass
 # without testing anything).
-set(DEFLEX_SUITES gcode interp writer profile job cli diag plugin stiffness force stock engage compensate part samples process report plan measure fit)
+set(DEFLEX_SUITES gcode interp writer profile job cli diag plugin stiffness force stock engage compensate part samples process report plan measure fit stability)
 # Cases that need a program the machine may lack (scripts/install-deps.sh
 # --test installs it) are suites of their own, <module>_<what>: where the
 # program is missing the case carries doctest::skip(), the entry runs nothing

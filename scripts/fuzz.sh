@@ -11,7 +11,7 @@
 set -eu
 cd "$(dirname "$0")/.."
 secs=${1:-300}
-targets="gcode machine tools tool_import material stl zmap points_csv probe_log dprnt ply"
+targets="gcode machine tools tool_import material stl zmap points_csv probe_log dprnt ply frf"
 sh scripts/install-deps.sh --fuzz
 CXX=clang++-14 cmake -S . -B build-sanitize -G Ninja -DCMAKE_BUILD_TYPE=Release -DDEFLEX_FUZZ=ON >/dev/null
 # shellcheck disable=SC2046

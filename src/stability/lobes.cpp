@@ -1,0 +1,179 @@
+// Zero-order stability lobes (lobes.hpp; Altintas & Budak 1995).
+#include "deflex/stability/lobes.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+
+#include "deflex/diag/diagnostics.hpp"
+
+namespace deflex::stability {
+namespace {
+
+using cd = std::complex<double>;
+constexpr double kPi = std::numbers::pi;
+
+// One root of det[I + Lambda alpha Phi] = 0 at one chatter frequency.
+struct Root {
+  double ap_mm = 0;    // a_lim; valid only when ok
+  double eps_rad = 0;  // phase between inner and outer modulation, (0, 2 pi)
+  bool ok = false;     // a_lim > 0 and finite
+};
+
+struct Sample {
+  double f_Hz = 0;
+  std::array<cd, 2> lambda;  // the eigenvalues of alpha Phi, one per branch
+  std::array<Root, 2> root;
+};
+
+void check_cut(const Cut& c) {
+  if (c.flutes < 1) throw Error(ErrorKind::settings, "a cut needs at least one tooth");
+  if (!(c.Kt_N_per_mm2 > 0) || !std::isfinite(c.Kt_N_per_mm2))
+    throw Error(ErrorKind::settings, "a cut needs a cutting coefficient K_t > 0");
+  if (!std::isfinite(c.Kr_ratio)) throw Error(ErrorKind::settings, "a cut needs a finite K_r");
+  if (!(c.phi_start_rad >= 0 && c.phi_start_rad < c.phi_exit_rad && c.phi_exit_rad <= kPi + 1e-9))
+    throw Error(ErrorKind::settings, "a cut's immersion must be 0 <= start < exit <= pi rad");
+}
+
+// The root of one eigenvalue lambda of alpha Phi: Lambda = -1 / lambda, then
+// a_lim, kappa, psi, eps (lobes.hpp).
+Root root_of(cd lambda, const Cut& c) {
+  if (std::abs(lambda) == 0) return {};
+  const cd L = -1.0 / lambda;
+  if (L.real() == 0) return {};
+  const double kappa = L.imag() / L.real();
+  Root r;
+  r.ap_mm = -2 * kPi * L.real() * (1 + kappa * kappa) / (c.flutes * c.Kt_N_per_mm2);
+  r.eps_rad = kPi - 2 * std::atan(kappa);
+  r.ok = r.ap_mm > 0 && std::isfinite(r.ap_mm);
+  return r;
+}
+
+// Eigenvalues of alpha Phi in closed form: lambda^2 - tr lambda + det = 0
+// (Altintas & Budak's a0 Lambda^2 + a1 Lambda + 1 = 0 for Lambda = -1/lambda,
+// the cross terms of Phi included).
+Sample sample_at(const Eigen::Matrix2d& alpha, const Frf2& phi, double f_Hz, const Cut& c) {
+  const Eigen::Matrix2cd m = alpha.cast<cd>() * phi;
+  const cd tr = m.trace(), det = m.determinant(), disc = std::sqrt(tr * tr - 4.0 * det);
+  Sample s;
+  s.f_Hz = f_Hz;
+  s.lambda = {0.5 * (tr + disc), 0.5 * (tr - disc)};
+  for (int b = 0; b < 2; ++b) s.root[b] = root_of(s.lambda[b], c);
+  return s;
+}
+
+// Keeps each branch continuous: the square root's sign may flip between samples.
+void follow(const Sample& prev, Sample& s) {
+  const double same = std::abs(s.lambda[0] - prev.lambda[0]) + std::abs(s.lambda[1] - prev.lambda[1]);
+  const double swapped = std::abs(s.lambda[0] - prev.lambda[1]) + std::abs(s.lambda[1] - prev.lambda[0]);
+  if (swapped < same) std::swap(s.lambda[0], s.lambda[1]), std::swap(s.root[0], s.root[1]);
+}
+
+// How many pieces the interval between two samples needs so that a_lim moves
+// by under 1 % and eps by under 0.02 rad from one to the next (eps sets the
+// speed: lobe 0's n varies as 1 / eps); a change of validity: 16, to find the edge.
+int pieces(const Sample& a, const Sample& b) {
+  double n = 1;
+  for (int k = 0; k < 2; ++k) {
+    const Root &ra = a.root[k], &rb = b.root[k];
+    if (ra.ok != rb.ok) n = std::max(n, 16.0);
+    if (!ra.ok || !rb.ok) continue;
+    n = std::max(n, std::abs(rb.ap_mm - ra.ap_mm) / (0.01 * std::min(ra.ap_mm, rb.ap_mm)));
+    n = std::max(n, std::abs(rb.eps_rad - ra.eps_rad) / 0.02);
+  }
+  return static_cast<int>(std::min(64.0, std::ceil(n)));
+}
+
+// Every chatter frequency: the FRF's samples, refined by pieces().
+std::vector<Sample> sweep(const Frf& frf, const Cut& c) {
+  const Eigen::Matrix2d alpha = directional_coefficients(c);
+  std::vector<Sample> out;
+  for (std::size_t i = 0; i < frf.frequency_Hz.size(); ++i) {
+    Sample s = sample_at(alpha, frf.h_mm_per_N[i], frf.frequency_Hz[i], c);
+    if (!out.empty()) {
+      follow(out.back(), s);
+      const Sample a = out.back();
+      const int n = pieces(a, s);
+      for (int j = 1; j < n; ++j) {
+        const double f = a.f_Hz + (s.f_Hz - a.f_Hz) * j / n;
+        out.push_back(sample_at(alpha, frf.at(f), f, c));
+        follow(out[out.size() - 2], out.back());
+      }
+      follow(out.back(), s);
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+double rpm_of(const Sample& s, int b, int k, int flutes) {
+  return 60 * 2 * kPi * s.f_Hz / (flutes * (s.root[b].eps_rad + 2 * kPi * k));
+}
+
+// The curves of lobe k: each branch split where it has no root.
+void add_lobe_curves(const std::vector<Sample>& sw, int k, const Cut& c, double rpm_min, double rpm_max,
+                     std::vector<Lobe>& out) {
+  for (int b = 0; b < 2; ++b) {
+    Lobe cur{k, {}};
+    bool inside = false;
+    auto close = [&] {
+      if (inside && cur.points.size() > 1) out.push_back(cur);
+      cur.points.clear();
+      inside = false;
+    };
+    for (const Sample& s : sw) {
+      if (!s.root[b].ok) {
+        close();
+        continue;
+      }
+      const double rpm = rpm_of(s, b, k, c.flutes);
+      cur.points.push_back({rpm, s.root[b].ap_mm, s.f_Hz});
+      inside |= rpm >= rpm_min && rpm <= rpm_max;
+    }
+    close();
+  }
+}
+
+}  // namespace
+
+Cut cut_of(const force::Coefficients& k, int flutes, force::AngleInterval immersion) {
+  const double Kr = k.Ktc_N_per_mm2 != 0 ? k.Krc_N_per_mm2 / k.Ktc_N_per_mm2 : 0;
+  return {flutes, k.Ktc_N_per_mm2, Kr, immersion.start, immersion.end};
+}
+
+Eigen::Matrix2d directional_coefficients(const Cut& c) {
+  const double Kr = c.Kr_ratio;
+  // The antiderivatives of Altintas & Budak's averaged terms, at phi.
+  auto at = [Kr](double p) {
+    const double s = std::sin(2 * p), co = std::cos(2 * p);
+    Eigen::Matrix2d m;
+    m << co - 2 * Kr * p + Kr * s, -s - 2 * p + Kr * co,  //
+        -s + 2 * p + Kr * co, -co - 2 * Kr * p - Kr * s;
+    return m;
+  };
+  return 0.5 * (at(c.phi_exit_rad) - at(c.phi_start_rad));
+}
+
+Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes) {
+  check_cut(cut);
+  if (!(rpm_min > 0 && rpm_max > rpm_min) || !std::isfinite(rpm_max))
+    throw Error(ErrorKind::settings, "the speed range must be 0 < rpm_min < rpm_max");
+  if (frf.frequency_Hz.size() < 2) throw Error(ErrorKind::settings, "an FRF needs at least 2 frequencies");
+  const std::vector<Sample> sw = sweep(frf, cut);
+  Lobes out;
+  out.ap_min_mm = std::numeric_limits<double>::infinity();
+  for (const Sample& s : sw)
+    for (const Root& r : s.root)
+      if (r.ok && r.ap_mm < out.ap_min_mm) out.ap_min_mm = r.ap_mm, out.ap_min_chatter_Hz = s.f_Hz;
+  for (int k = 0; k < max_lobes; ++k) {
+    // eps > 0: lobe k lies below 60 f / (N k); past rpm_min it and every later one are out of range.
+    if (k > 0 && 60 * frf.frequency_Hz.back() / (cut.flutes * k) < rpm_min) break;
+    add_lobe_curves(sw, k, cut, rpm_min, rpm_max, out.lobes);
+  }
+  return out;
+}
+
+}  // namespace deflex::stability
