@@ -40,6 +40,27 @@ stock::ZMap clone(const stock::ZMap& z) {
   return c;
 }
 
+namespace {
+
+// The speed a stability table reaches when the profile gives no spindle: the
+// top speed of the fastest common milling spindles.
+constexpr double kDefaultMaxRpm = 30000;
+
+// ToolModel::stability: the tool tip's modes on the machine (or clamped at
+// the holder face with tool_only), over the spindle's speed range.
+void stability_model(ToolModel& m, const Physics& ph) {
+  try {
+    const stability::TipModel tip = stability::tip_model(m.tool, ph.machine, ph.tool_only);
+    const double max_rpm = ph.spindle.set ? ph.spindle.max_rpm : kDefaultMaxRpm;
+    m.stability = std::make_shared<const stability::LimitCache>(tip.modes, ph.k, m.tool.flutes, max_rpm);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::config) throw;
+    m.stability_unchecked = e.what();
+  }
+}
+
+}  // namespace
+
 const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::string& id, const Physics& ph,
                            const Settings& s) {
   auto it = cache.find(id);
@@ -63,6 +84,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   // tooth pitch and repeats it.
   int steps = std::max(s.force_steps / c.flutes, 4) * c.flutes;
   m.grid = force::make_angle_grid(steps);
+  stability_model(m, ph);
   return cache.emplace(id, std::move(m)).first->second;
 }
 
@@ -139,6 +161,13 @@ double feed_share(const ToolModel& tm, const force::Coefficients& k, double fz, 
   return share;
 }
 
+// Point::ap_limit_mm: 0 where nothing is engaged on the cutting side.
+double stability_limit(const stability::LimitCache& c, const force::CutterSlices& cs, const force::Engagement& eng,
+                       const force::Coefficients& k, double ap_mm, double rpm) {
+  const double a = c.ap_limit_mm(stability::directional_matrix_mm(cs, eng, k), ap_mm, rpm);
+  return std::isfinite(a) ? a : 0.0;
+}
+
 }  // namespace
 
 FeedLimits feed_limits(const Physics& ph, const Settings& s) {
@@ -188,6 +217,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.torque_Nm = torque.total_Nm();
   p.power_kW = profile::power_from_torque_kW(p.torque_Nm, rpm);
   if (limits.force_N > 0) p.feed_share = feed_share(tm, k, fz, eng, rev, p.peak_N, torque, rpm, limits);
+  p.ap_limit_mm = !tm.stability ? -1.0 : stability_limit(*tm.stability, tm.slices, eng, k, p.ap_mm, rpm);
   p.height_mm = resultant_height_mm(eng, tm);
   p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
   p.error_mm = p.delta_mm.dot(p.normal);

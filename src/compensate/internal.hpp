@@ -16,6 +16,7 @@
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/flank.hpp"
 #include "deflex/force/mechanistic.hpp"
+#include "deflex/stability/model.hpp"
 #include "deflex/stiffness/beam.hpp"
 
 namespace deflex::compensate::detail {
@@ -37,6 +38,10 @@ struct ToolModel {
   force::SliceCompliance flank_c;
   stiffness::Compliance structure = stiffness::Compliance::Zero();
   Assembly assembly;  // its neck, shank and the machine's holder (collision.hpp)
+  // The stability limit at each immersion (Point::ap_limit_mm); null where
+  // the tool has no dynamic model, stability_unchecked saying why.
+  std::shared_ptr<const stability::LimitCache> stability;
+  std::string stability_unchecked;
 };
 
 const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::string& id, const Physics& ph,

@@ -163,6 +163,26 @@ void SpindleChecks::add(const Point& p, const std::string& id) {
   s6_worst = rating->s6 ? p.torque_Nm / rating->s6->allowed_torque_Nm(p.spindle_rpm) : 0;
 }
 
+// Chatter: the axial depth of cut over the zero-order stability limit at the
+// point's immersion and speed (Point::ap_limit_mm), the worst by that ratio
+// with its figures; and the tools whose limit is not known.
+struct StabilityChecks {
+  Acc chatter;
+  double ap_mm = 0, limit_mm = 0, rpm = 0, ae_mm = 0;  // the worst point's
+  std::map<std::string, std::uint32_t> unmodelled;  // tool -> its first cutting line
+  StabilityChecks() { chatter.f.kind = "chatter"; }
+  void add(const Point& p, const std::string& id) {
+    if (p.ap_limit_mm < 0) unmodelled.try_emplace(id, p.line);
+    if (!(p.ap_limit_mm > 0)) return;
+    const double ratio = p.ap_mm / p.ap_limit_mm;
+    if (!(ratio > 1)) return;
+    const bool worse = !chatter.any || ratio > chatter.f.worst;
+    chatter.add(p.line, ratio, id);
+    if (!worse) return;
+    ap_mm = p.ap_mm, limit_mm = p.ap_limit_mm, rpm = p.spindle_rpm, ae_mm = p.ae_mm;
+  }
+};
+
 }  // namespace
 
 namespace {
@@ -196,6 +216,7 @@ struct PlausibilityScan::State {
   const Settings& s;
   Acc flute, force, cap, centre, rough, gouge;
   SpindleChecks spindle;
+  StabilityChecks stability;
   CollisionChecks collision;
   // A ball end's roughing points wait for the end of their motion, and those
   // of a steep drop (more than R down over less than R across) for the end of
@@ -359,6 +380,7 @@ void PlausibilityScan::State::add(const Point& p) {
   check_flutes(p, t, id);
   if (!p.air) check_force(p, t, id);
   if (!p.air && !p.plunge) spindle.add(p, id);
+  if (!p.air && !p.plunge) stability.add(p, id);
   collision.add(p, id);
   if (!p.air && !p.plunge) check_cap(p, id);
   // 4. A plunge into material with an end that does not cut at its centre.
@@ -601,6 +623,31 @@ void collision_findings(Plausibility& out, CollisionChecks& c, const stiffness::
   }
 }
 
+// Chatter: how far over the limit, where, and how to find a stable speed.
+void stability_findings(Plausibility& out, StabilityChecks& c) {
+  if (c.chatter.any) {
+    c.chatter.f.limit = 1;
+    emit(out, c.chatter, "the cut is " + fixed_decimals(c.ap_mm, 2) + " mm deep (a_p) at " + fixed_decimals(c.rpm, 0) +
+                             " rpm where the stability limit of " + c.chatter.f.tool + " is " +
+                             fixed_decimals(c.limit_mm, 2) + " mm (zero-order lobes of its tip's modes): it chatters, "
+                             "and a chattering cut leaves marks no compensation removes; take a smaller depth or move S "
+                             "to a stable pocket (`deflex stability --tool " + c.chatter.f.tool + " --ae " +
+                             fixed_decimals(c.ae_mm, 2) + "` draws the lobes)");
+  }
+  for (const auto& [id, line] : c.unmodelled) {
+    Finding f;
+    f.kind = "stability_unchecked";
+    f.tool = id;
+    f.line = line;
+    f.lines = {line};
+    f.line_count = 1;
+    f.message = "the stability limit (chatter) of " + id + " is not checked: its material or its holder's has no "
+                "density_kg_per_m3, which the tip's modes need (add it to the {E_MPa, poisson} material of the tool library or "
+                "of the machine profile's holder)";
+    out.findings.push_back(f);
+  }
+}
+
 // The spindle's findings: how much and how often the cut asks more than the
 // S1 rating gives, S above the spindle's top speed, and the points the feed
 // limit cannot bring within its limits.
@@ -656,6 +703,7 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   if (z.gouge.any) gouge_finding(out, z.gouge, z.gouge_dz_mm, z.gouge_xy_mm, z.gouge_line);
   if (z.earlier.points) earlier_finding(out, z.earlier, z.s);
   spindle_findings(out, z.spindle);
+  stability_findings(out, z.stability);
   collision_findings(out, z.collision, z.tools);
   if (!z.material && z.air_points) no_material_finding(out, z.air_points, z.first_air_line, z.first_air_tool);
   return out;

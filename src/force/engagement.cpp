@@ -51,24 +51,16 @@ void simple_engagement(const CutterSlices& cs, double ae_mm, double ap_mm, Milli
   }
 }
 
-AngleInterval immersion_hull(const Engagement& e) {
+AngleInterval cutting_side(const AngleInterval& iv) {
   const double pi = std::numbers::pi, two_pi = 2 * pi;
-  double lo = pi, hi = 0;
-  for (const auto& slice : e.slices)
-    for (const AngleInterval& iv : slice) {
-      // start is in [0, 2 pi): an interval reaching past 2 pi continues from 0
-      // (one across the entry at phi = 0), the rest lies on the back half.
-      double s = iv.start, t = iv.end;
-      if (t > two_pi) s = 0;  // it wraps: [0, t - 2 pi] is engaged too
-      if (iv.start > pi) {
-        if (t <= two_pi) continue;
-        t -= two_pi;
-      }
-      t = std::min(t, pi);
-      if (t <= s) continue;
-      lo = std::min(lo, s), hi = std::max(hi, t);
-    }
-  return hi > lo ? AngleInterval{lo, hi} : AngleInterval{0, 0};
+  double s = iv.start, t = iv.end;
+  if (t > two_pi) s = 0;  // it wraps: [0, t - 2 pi] is engaged too
+  if (iv.start > pi) {
+    if (t <= two_pi) return {0, 0};
+    t -= two_pi;
+  }
+  t = std::min(t, pi);
+  return t > s ? AngleInterval{s, t} : AngleInterval{0, 0};
 }
 
 }  // namespace deflex::force

@@ -38,9 +38,15 @@ void check_cut(const Cut& c) {
     throw Error(ErrorKind::settings, "a cut's immersion must be 0 <= start < exit <= pi rad");
 }
 
+// The teeth and K_t of a cut: what turns an eigenvalue into a depth.
+struct Teeth {
+  int flutes;
+  double Kt_N_per_mm2;
+};
+
 // The root of one eigenvalue lambda of alpha Phi: Lambda = -1 / lambda, then
 // a_lim, kappa, psi, eps (lobes.hpp).
-Root root_of(cd lambda, const Cut& c) {
+Root root_of(cd lambda, const Teeth& c) {
   if (std::abs(lambda) == 0) return {};
   const cd L = -1.0 / lambda;
   if (L.real() == 0) return {};
@@ -55,8 +61,8 @@ Root root_of(cd lambda, const Cut& c) {
 // Eigenvalues of alpha Phi in closed form: lambda^2 - tr lambda + det = 0
 // (Altintas & Budak's a0 Lambda^2 + a1 Lambda + 1 = 0 for Lambda = -1/lambda,
 // the cross terms of Phi included).
-Sample sample_at(const Eigen::Matrix2d& alpha, const Frf2& phi, double f_Hz, const Cut& c) {
-  const Eigen::Matrix2cd m = alpha.cast<cd>() * phi;
+Sample sample_at(const Eigen::Matrix2cd& alpha, const Frf2& phi, double f_Hz, const Teeth& c) {
+  const Eigen::Matrix2cd m = alpha * phi;
   const cd tr = m.trace(), det = m.determinant(), disc = std::sqrt(tr * tr - 4.0 * det);
   Sample s;
   s.f_Hz = f_Hz;
@@ -88,8 +94,7 @@ int pieces(const Sample& a, const Sample& b) {
 }
 
 // Every chatter frequency: the FRF's samples, refined by pieces().
-std::vector<Sample> sweep(const Frf& frf, const Cut& c) {
-  const Eigen::Matrix2d alpha = directional_coefficients(c);
+std::vector<Sample> sweep(const Frf& frf, const Eigen::Matrix2cd& alpha, const Teeth& c) {
   std::vector<Sample> out;
   for (std::size_t i = 0; i < frf.frequency_Hz.size(); ++i) {
     Sample s = sample_at(alpha, frf.h_mm_per_N[i], frf.frequency_Hz[i], c);
@@ -114,7 +119,7 @@ double rpm_of(const Sample& s, int b, int k, int flutes) {
 }
 
 // The curves of lobe k: each branch split where it has no root.
-void add_lobe_curves(const std::vector<Sample>& sw, int k, const Cut& c, double rpm_min, double rpm_max,
+void add_lobe_curves(const std::vector<Sample>& sw, int k, const Teeth& c, double rpm_min, double rpm_max,
                      std::vector<Lobe>& out) {
   for (int b = 0; b < 2; ++b) {
     Lobe cur{k, {}};
@@ -159,10 +164,19 @@ Eigen::Matrix2d directional_coefficients(const Cut& c) {
 
 Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes) {
   check_cut(cut);
+  return zero_order_lobes(frf, directional_coefficients(cut).cast<cd>(), cut.flutes, cut.Kt_N_per_mm2, rpm_min, rpm_max,
+                          max_lobes);
+}
+
+Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2, double rpm_min,
+                       double rpm_max, int max_lobes) {
+  if (flutes < 1 || !(Kt_N_per_mm2 > 0) || !std::isfinite(Kt_N_per_mm2))
+    throw Error(ErrorKind::settings, "a cut needs at least one tooth and a cutting coefficient K_t > 0");
   if (!(rpm_min > 0 && rpm_max > rpm_min) || !std::isfinite(rpm_max))
     throw Error(ErrorKind::settings, "the speed range must be 0 < rpm_min < rpm_max");
   if (frf.frequency_Hz.size() < 2) throw Error(ErrorKind::settings, "an FRF needs at least 2 frequencies");
-  const std::vector<Sample> sw = sweep(frf, cut);
+  const Teeth cut{flutes, Kt_N_per_mm2};
+  const std::vector<Sample> sw = sweep(frf, alpha, cut);
   Lobes out;
   out.ap_min_mm = std::numeric_limits<double>::infinity();
   for (const Sample& s : sw)

@@ -135,37 +135,18 @@ TEST_CASE("immersion of a flat end: Altintas's entry and exit angles, and Morell
   CHECK(immersion_interval(6, 6, 6, MillingMode::up).end == doctest::Approx(pi / 2));
 }
 
-TEST_CASE("immersion hull: the widest slice's interval on the cutting side, wrap-around and back half handled") {
-  // A flat end in the textbook cut: every slice has Altintas's interval, so the hull is it.
-  const CutterSlices fs = make_slices(flat(12, 3, 30), 0.5, 10);
-  Engagement e;
-  for (const MillingMode mode : {MillingMode::up, MillingMode::down}) {
-    simple_engagement(fs, 2.5, 6, mode, e);
-    const AngleInterval want = immersion_interval(6, 6, 2.5, mode);
-    const AngleInterval got = immersion_hull(e);
-    CHECK(got.start == doctest::Approx(want.start));
-    CHECK(got.end == doctest::Approx(want.end));
-  }
-  // A ball end, down-milling 2 mm off a wall of radius 5: the slices near the
-  // tip have a smaller radius, so they are engaged over less; the hull is the
-  // full-radius slices' interval.
-  const CutterSlices bs = make_slices(ball(10, 2, 30), 0.25, 10);
-  simple_engagement(bs, 2, 8, MillingMode::down, e);
-  CHECK(immersion_hull(e).start == doctest::Approx(immersion_interval(5, 5, 2, MillingMode::down).start).epsilon(1e-3));
-  CHECK(immersion_hull(e).end == doctest::Approx(pi));
-  // By hand: across the entry (start near 2 pi, end past it) counts from 0;
-  // wholly on the back half it is left out; past pi it stops at pi.
-  e.clear(3);
-  e.add(0, 2 * pi - 0.1, 2 * pi + 0.3);
-  e.add(1, 4.0, 5.0);
-  CHECK(immersion_hull(e).start == doctest::Approx(0));
-  CHECK(immersion_hull(e).end == doctest::Approx(0.3));
-  e.add(2, 2.0, 3.5);
-  CHECK(immersion_hull(e).end == doctest::Approx(pi));
-  e.clear(1);
-  e.add(0, 4.0, 5.0);
-  CHECK(immersion_hull(e).end == 0);
-  CHECK(immersion_hull(e).start == 0);
+TEST_CASE("cutting side of an engaged interval: across the entry from 0, past pi up to pi, the back half none") {
+  auto check = [](AngleInterval iv, double start, double end) {
+    const AngleInterval c = cutting_side(iv);
+    CHECK(c.start == doctest::Approx(start));
+    CHECK(c.end == doctest::Approx(end));
+  };
+  check({0.2, 1.0}, 0.2, 1.0);
+  check({2 * pi - 0.1, 2 * pi + 0.3}, 0, 0.3);  // across the entry at phi = 0
+  check({2.0, 3.5}, 2.0, pi);                   // past the exit at pi
+  check({4.0, 5.0}, 0, 0);                      // the back half: none
+  check({0.1, 2 * pi + 0.2}, 0, pi);            // nearly the whole circle (a plunge)
+  check({2 * pi - 0.5, 2 * pi}, 0, 0);          // up to the entry, not past it
 }
 
 TEST_CASE("instantaneous helical flat end mill force matches direct quadrature") {

@@ -125,6 +125,12 @@ struct Point {
   // point's peak force stays within Settings::feed_limit_N and its torque within
   // the spindle's S1 curve (Physics::spindle); 1 where they are met as written.
   double feed_share = 1;
+  // The zero-order stability limit (chatter, stability/lobes.hpp) at this
+  // point's immersion (force::immersion_hull) and speed, from the tool tip's
+  // modes on the machine: a_p above it chatters. 0 where not checked (air,
+  // plunges, nothing engaged in front); -1 where the tool has no dynamic
+  // model (a material without density: stability/model.hpp).
+  double ap_limit_mm = 0;
   double height_mm = 0;         // where along the flutes the force acts
   V3 delta_mm = V3::Zero();     // deflection of the tool at that height
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated

@@ -41,7 +41,7 @@ namespace deflex::compensate {
 
 struct Finding {
   std::string kind;                  // flute_length | peak_force | offset_cap | centre_cutting | roughing | no_material | earlier_cut | gouge
-                                     // | spindle_load | spindle_speed | feed_limit
+                                     // | spindle_load | spindle_speed | feed_limit | chatter | stability_unchecked
   std::size_t count = 0;             // CL points
   double worst = 0, limit = 0;       // the worst value and what it is held against (mm, N, a ratio, rpm)
   std::uint32_t line = 0;            // line of the worst point

@@ -48,13 +48,11 @@ void simple_engagement(const CutterSlices& cs, double ae_mm, double ap_mm, Milli
 // (Altintas 2012 ch. 2): up [0, acos(1 - a_e/r')], down [pi - acos(...), pi].
 AngleInterval immersion_interval(double r_mm, double R0_mm, double ae_mm, MillingMode mode);
 
-// The engaged immersion of a whole cut as one interval [start, exit] within
-// [0, pi]: the hull over every slice of the engaged angles on the cutting side
-// (an interval across phi = 0 counts from 0, one beyond pi up to pi; the back
-// half, where the chip law gives no chip, is left out). What the zero-order
-// stability limit (stability/lobes.hpp) takes as the cut's radial immersion:
-// on a straight flat-end cut every slice has the same interval; on a ball or a
-// corner the widest one bounds the others. {0, 0}: nothing engaged in front.
-AngleInterval immersion_hull(const Engagement& e);
+// The part of an engaged interval on the cutting side, phi in [0, pi], where
+// the chip law gives a chip: an interval across phi = 0 (start near 2 pi, end
+// past it) counts from 0, one beyond pi stops at pi, one wholly on the back
+// half is none ({0, 0}). What the stability limit (stability/model.hpp) reads
+// of an engagement.
+AngleInterval cutting_side(const AngleInterval& iv);
 
 }  // namespace deflex::force

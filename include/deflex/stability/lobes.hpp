@@ -70,6 +70,10 @@ struct Lobes {
 // with a_lim <= 0 or not finite are no chatter. Throws Error(ErrorKind::settings)
 // for a cut without teeth, K_t or immersion, or a speed range that is empty.
 Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes = 60);
+// The same for a directional matrix given whole (real for a cut, complex where
+// it stands for one eigenvalue of a cut's: stability/model.hpp), N teeth and K_t.
+Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2, double rpm_min,
+                       double rpm_max, int max_lobes = 60);
 
 // The stability limit against speed for fast repeated look-ups: the lower
 // envelope of every lobe, tabulated at `steps` + 1 speeds over [rpm_min,

@@ -1,0 +1,82 @@
+// The stability limit of a library tool on its machine: the tool tip's FRF
+// from the beam model's modes (stiffness/modes.hpp), and, along a program,
+// the limit at each cut's immersion and speed, computed once per immersion
+// and kept (LimitCache).
+#pragma once
+#include <map>
+#include <memory>
+#include <shared_mutex>
+#include <utility>
+#include <vector>
+
+#include "deflex/force/coefficients.hpp"
+#include "deflex/force/engagement.hpp"
+#include "deflex/stability/frf.hpp"
+#include "deflex/stability/lobes.hpp"
+#include "deflex/stiffness/machine.hpp"
+#include "deflex/stiffness/tool.hpp"
+
+namespace deflex::stability {
+
+// The lowest lateral modes the tip FRF is built from. The chatter of a
+// tool-holder-spindle chain is set by its first two or three bending modes;
+// each higher one is several times stiffer at the tip (the cantilever's k_r
+// grows as f_r^2), so four keep every mode that can bound the limit.
+inline constexpr int kModelModes = 4;
+
+struct TipModel {
+  std::vector<stiffness::Mode> modes;  // x and y alike (the chain is axisymmetric)
+  Frf frf;
+};
+
+// The FRF of the tool's lowest modes on the machine (tool_only: clamped
+// rigidly at the holder face), up to 1.5 times the highest mode kept.
+// Throws what stiffness::tip_modes throws (a material without density).
+TipModel tip_model(const stiffness::Tool& t, const stiffness::MachineStiffness& m, bool tool_only,
+                   int modes = kModelModes);
+
+// The speed range a limit is tabulated over for a spindle that turns up to
+// max_rpm: from a 50th of it (below, the lobes crowd together and the limit
+// is near the absolute minimum, which StabilityLimit gives outside its range).
+std::pair<double, double> rpm_range(double max_rpm);
+
+// The directional matrix of a cut as the engagement gives it, mm: over every
+// slice the averaged directional coefficients of its engaged intervals on the
+// cutting side (directional_coefficients), with the slice's in-plane radial
+// coefficient K_r = (K_rc sin kappa + K_ac cos kappa) / K_tc, weighted by the
+// slice's height dz. A flat end in a straight cut gives a_p times the
+// coefficients of its immersion; a ball or a bull nose the sum over its
+// slices, each at its own immersion and kappa (Altintas, Shamoto, Lee & Budak
+// 1999, J. Manuf. Sci. Eng. 121: the ball end's zero-order limit).
+Eigen::Matrix2d directional_matrix_mm(const force::CutterSlices& cs, const force::Engagement& e,
+                                      const force::Coefficients& k);
+
+// The limit at many cuts of one tool. The modal model's FRF is the same in x
+// and y with no cross terms, Phi = G I, so the eigenvalues of B Phi (B a
+// cut's directional matrix) are mu G, mu an eigenvalue of B: each of the two
+// is a lobe problem of its own, whose limit scales as 1 / |mu| and whose
+// lobes depend on the phase of mu alone. One StabilityLimit per phase
+// (rounded to a whole degree), made on first use, serves every cut.
+// Thread-safe: the simulator's threads share one.
+class LimitCache {
+ public:
+  // modes: the tip's, in x and y alike (tip_model).
+  LimitCache(const std::vector<stiffness::Mode>& modes, const force::Coefficients& k, int flutes, double max_rpm);
+  // The depth at which a cut with directional matrix B_mm (directional_matrix_mm)
+  // and axial depth ap_mm, its engagement scaled along the axis, chatters at
+  // `rpm`: ap_mm times the scale at which the first branch goes unstable.
+  // +infinity for a cut with no directional matrix (nothing engaged).
+  double ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double rpm) const;
+  const Frf& frf() const { return frf_; }
+
+ private:
+  const StabilityLimit& limit_at_degree(int degree) const;
+  Frf frf_;
+  double Kt_N_per_mm2_;
+  int flutes_;
+  double rpm_min_, rpm_max_;
+  mutable std::shared_mutex mutex_;
+  mutable std::map<int, std::unique_ptr<StabilityLimit>> limits_;
+};
+
+}  // namespace deflex::stability

@@ -1,0 +1,80 @@
+// The tool tip's FRF from the beam model, and the limit along a program
+// (model.hpp).
+#include "deflex/stability/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <mutex>
+#include <numbers>
+
+#include <Eigen/Eigenvalues>
+
+#include "deflex/diag/diagnostics.hpp"
+#include "deflex/stiffness/modes.hpp"
+
+namespace deflex::stability {
+
+TipModel tip_model(const stiffness::Tool& t, const stiffness::MachineStiffness& m, bool tool_only, int modes) {
+  TipModel r;
+  r.modes = stiffness::tip_modes(t, m, tool_only, modes);
+  if (r.modes.empty()) throw Error(ErrorKind::config, "tool " + t.id + ": the beam model has no mode that moves the tip");
+  r.frf = frf_from_modes(r.modes, r.modes, 1.5 * r.modes.back().frequency_Hz);
+  r.frf.source = "the beam model of " + t.id + (tool_only ? " clamped at the holder face" : " on the machine");
+  return r;
+}
+
+std::pair<double, double> rpm_range(double max_rpm) { return {max_rpm / 50, max_rpm}; }
+
+Eigen::Matrix2d directional_matrix_mm(const force::CutterSlices& cs, const force::Engagement& e,
+                                      const force::Coefficients& k) {
+  Eigen::Matrix2d B = Eigen::Matrix2d::Zero();
+  if (!(k.Ktc_N_per_mm2 > 0)) return B;
+  for (std::size_t i = 0; i < e.slices.size() && i < cs.slices.size(); ++i) {
+    const force::Slice& sl = cs.slices[i];
+    const double Kr = (k.Krc_N_per_mm2 * sl.sin_kappa + k.Kac_N_per_mm2 * sl.cos_kappa) / k.Ktc_N_per_mm2;
+    for (const force::AngleInterval& iv : e.slices[i]) {
+      const force::AngleInterval c = force::cutting_side(iv);
+      if (c.end > c.start)
+        B += cs.dz_mm * directional_coefficients({cs.cutter.flutes, k.Ktc_N_per_mm2, Kr, c.start, c.end});
+    }
+  }
+  return B;
+}
+
+LimitCache::LimitCache(const std::vector<stiffness::Mode>& modes, const force::Coefficients& k, int flutes,
+                       double max_rpm)
+    : frf_(frf_from_modes(modes, modes, 1.5 * modes.back().frequency_Hz)),
+      Kt_N_per_mm2_(k.Ktc_N_per_mm2),
+      flutes_(flutes) {
+  std::tie(rpm_min_, rpm_max_) = rpm_range(max_rpm);
+}
+
+const StabilityLimit& LimitCache::limit_at_degree(int degree) const {
+  {
+    std::shared_lock lock(mutex_);
+    if (auto it = limits_.find(degree); it != limits_.end()) return *it->second;
+  }
+  // Made outside the lock: two threads may make the same one, the first kept.
+  const double th = degree * std::numbers::pi / 180;
+  const Eigen::Matrix2cd alpha = std::polar(1.0, th) * Eigen::Matrix2cd::Identity();
+  auto made = std::make_unique<StabilityLimit>(
+      zero_order_lobes(frf_, alpha, flutes_, Kt_N_per_mm2_, rpm_min_, rpm_max_), rpm_min_, rpm_max_);
+  std::unique_lock lock(mutex_);
+  return *limits_.try_emplace(degree, std::move(made)).first->second;
+}
+
+double LimitCache::ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double rpm) const {
+  const Eigen::Vector2cd mu = B_mm.eigenvalues();
+  double scale = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < 2; ++b) {
+    const double r = std::abs(mu[b]);
+    if (!(r > 1e-12)) continue;
+    const int degree = static_cast<int>(std::lround(std::arg(mu[b]) * 180 / std::numbers::pi));
+    scale = std::min(scale, limit_at_degree(degree == -180 ? 180 : degree).ap_limit_mm(rpm) / r);
+  }
+  return ap_mm * scale;
+}
+
+}  // namespace deflex::stability
