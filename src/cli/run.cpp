@@ -39,6 +39,7 @@ const Command kCommands[] = {
   {"stiffness", cmd_stiffness, "compliance C(h) of tool + holder + spindle (beam or solid FEM)"},
   {"forces", cmd_forces, "cutting forces over one revolution for one engagement"},
   {"calibrate", cmd_calibrate, "fit cutting/edge coefficients from slot-test forces"},
+  {"stability", cmd_stability, "stability lobes (chatter): the largest stable depth of cut against speed"},
 };
 
 void top_help(std::ostream& out) {

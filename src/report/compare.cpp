@@ -8,6 +8,7 @@
 
 #include "deflex/diag/plural.hpp"
 #include "deflex/report/summary.hpp"
+#include "html_text.hpp"
 
 namespace deflex::report {
 namespace {
@@ -52,12 +53,6 @@ std::string csv_field(const std::string& s) {
   std::string q = "\"";
   for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
   return q + "\"";
-}
-
-std::string html_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) o += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '"' ? "&quot;" : std::string(1, c);
-  return o;
 }
 
 // The text table's ASCII units as a page shows them.
@@ -153,7 +148,7 @@ std::string compare_html(const std::vector<CompareRow>& rows, double tol,
       ".prov td:first-child{white-space:nowrap}\n"
       "</style></head><body>\n<h1>deflex compare: " + plural(rows.size(), "program") + " on the same stock</h1>\n"
       "<table class=\"prov\">";
-  for (const auto& [k, v] : provenance) h += "<tr><td>" + html_escape(k) + "</td><td>" + html_escape(v) + "</td></tr>";
+  for (const auto& [k, v] : provenance) h += "<tr><td>" + detail::escape_html(k) + "</td><td>" + detail::escape_html(v) + "</td></tr>";
   h += "</table>\n<p>Each program simulated from the same stock with the same tool data and machine; "
        "the surface error is against each program's own path (e &gt; 0 material left). Bars are scaled to the "
        "largest of their column; bold: the smallest of each column.</p>\n"
@@ -161,7 +156,7 @@ std::string compare_html(const std::vector<CompareRow>& rows, double tol,
   for (const Column& c : columns()) h += std::string("<th>") + c.header + "<br>" + html_unit(c.unit) + "</th>";
   h += "</tr>\n";
   for (const CompareRow& r : rows) {
-    h += "<tr><td class=\"p\">" + html_escape(r.program) + "</td>";
+    h += "<tr><td class=\"p\">" + detail::escape_html(r.program) + "</td>";
     for (const Column& c : columns()) {
       double top = 0, low = HUGE_VAL;
       for (const CompareRow& o : rows) {

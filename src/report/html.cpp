@@ -10,17 +10,14 @@
 
 #include "deflex/report/stats.hpp"
 #include "deflex/stiffness/tool.hpp"
+#include "html_text.hpp"
 
-namespace deflex::embedded {
-const std::string& report_page();
-const std::string& three_js();
-const std::string& orbit_controls_js();
-const std::string& dygraphs_js();
-const std::string& dygraphs_css();
-}  // namespace deflex::embedded
 
 namespace deflex::report {
 namespace {
+
+using detail::escape_html;
+using detail::fill;
 
 Json num_or_null(double v, int decimals) { return std::isnan(v) ? Json() : Json(fixed(v, decimals)); }
 
@@ -112,34 +109,6 @@ std::string measured_section(std::string page, bool keep) {
 // Fills the template's marks in the order they stand in it, each searched
 // after the text put in before it: no inserted text (a program line with
 // "@@DATA@@" in a comment) is ever taken for a mark.
-std::string fill(const std::string& page, const std::vector<std::pair<std::string, std::string>>& marks) {
-  std::string out;
-  std::size_t pos = 0;
-  for (const auto& [mark, text] : marks) {
-    const std::size_t at = page.find(mark, pos);
-    if (at == std::string::npos) throw Error(ErrorKind::internal, "report template: no mark " + mark);
-    out.append(page, pos, at - pos);
-    out += text;
-    pos = at + mark.size();
-  }
-  out.append(page, pos, std::string::npos);
-  return out;
-}
-
-std::string escape_html(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
-
 }  // namespace
 
 Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {
@@ -199,9 +168,7 @@ std::string report_html(const HtmlInput& in) {
     const auto it = in.line_text.find(row["line"].get<std::uint32_t>());
     if (it != in.line_text.end()) row["text"] = it->second;
   }
-  std::string json = data.dump(-1, ' ', false, Json::error_handler_t::replace);
-  // Inside <script>: "</" never appears outside a JSON string, and "<\/" reads the same in one.
-  for (std::size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 3)) json.insert(at + 1, "\\");
+  const std::string json = detail::script_json(data);
   const std::string title = escape_html(in.title);
   return fill(measured_section(embedded::report_page(), !in.measured.empty()), {{"@@TITLE@@", title},
                                         {"/*@@DYGRAPHS_CSS@@*/", embedded::dygraphs_css()},

@@ -36,6 +36,7 @@ int cmd_diff(const std::vector<std::string>& args, Io& io);
 int cmd_rewrite(const std::vector<std::string>& args, Io& io);
 int cmd_stiffness(const std::vector<std::string>& args, Io& io);
 int cmd_forces(const std::vector<std::string>& args, Io& io);
+int cmd_stability(const std::vector<std::string>& args, Io& io);
 int cmd_calibrate(const std::vector<std::string>& args, Io& io);
 int cmd_compensate(const std::vector<std::string>& args, Io& io);
 int cmd_simulate(const std::vector<std::string>& args, Io& io);
