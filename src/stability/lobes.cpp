@@ -113,27 +113,37 @@ double rpm_of(const Sample& s, int b, int k, int flutes) {
   return 60 * 2 * kPi * s.f_Hz / (flutes * (s.root[b].eps_rad + 2 * kPi * k));
 }
 
+// The pieces of a traced curve inside [rpm_min, rpm_max], each with the point
+// just outside at either end (so the range's edges interpolate), to out.
+void add_clipped(const Lobe& curve, double rpm_min, double rpm_max, std::vector<Lobe>& out) {
+  const std::vector<LobePoint>& p = curve.points;
+  auto in = [&](std::size_t i) { return i < p.size() && p[i].rpm >= rpm_min && p[i].rpm <= rpm_max; };
+  Lobe piece{curve.k, {}};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (in(i) || in(i + 1) || (i > 0 && in(i - 1))) {
+      piece.points.push_back(p[i]);
+      continue;
+    }
+    if (piece.points.size() > 1) out.push_back(piece);
+    piece.points.clear();
+  }
+  if (piece.points.size() > 1) out.push_back(piece);
+}
+
 // The curves of lobe k: each branch split where it has no root.
 void add_lobe_curves(const std::vector<Sample>& sw, int k, const Cut& c, double rpm_min, double rpm_max,
                      std::vector<Lobe>& out) {
   for (int b = 0; b < 2; ++b) {
     Lobe cur{k, {}};
-    bool inside = false;
-    auto close = [&] {
-      if (inside && cur.points.size() > 1) out.push_back(cur);
-      cur.points.clear();
-      inside = false;
-    };
     for (const Sample& s : sw) {
-      if (!s.root[b].ok) {
-        close();
+      if (s.root[b].ok) {
+        cur.points.push_back({rpm_of(s, b, k, c.flutes), s.root[b].ap_mm, s.f_Hz});
         continue;
       }
-      const double rpm = rpm_of(s, b, k, c.flutes);
-      cur.points.push_back({rpm, s.root[b].ap_mm, s.f_Hz});
-      inside |= rpm >= rpm_min && rpm <= rpm_max;
+      add_clipped(cur, rpm_min, rpm_max, out);
+      cur.points.clear();
     }
-    close();
+    add_clipped(cur, rpm_min, rpm_max, out);
   }
 }
 

@@ -52,14 +52,16 @@ struct LobePoint {
 
 // One lobe's curve as it is traced: lobe number k, one eigenvalue branch of
 // the 2x2 problem, and points in the order of ascending chatter frequency (the
-// speed usually falls as it rises); a gap (no positive root) starts a new curve.
+// speed usually falls as it rises); a gap (no positive root) starts a new
+// curve, and so does leaving the speed range (a curve keeps the one point past
+// either end of the range, for interpolation at the edges).
 struct Lobe {
   int k = 0;
   std::vector<LobePoint> points;
 };
 
 struct Lobes {
-  std::vector<Lobe> lobes;     // the curves with any point inside [rpm_min, rpm_max]
+  std::vector<Lobe> lobes;     // the curves' pieces inside [rpm_min, rpm_max]
   double ap_min_mm = 0;        // the absolute, speed-independent minimum over every chatter frequency
   double ap_min_chatter_Hz = 0;
 };
