@@ -15,6 +15,9 @@ namespace {
 
 using cd = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
+// The most lobes traced: beyond it a speed range reaching so low for so high
+// a chatter frequency is past what the zero-order method is for.
+constexpr double kMaxLobes = 2000;
 
 // One root of det[I + Lambda alpha Phi] = 0 at one chatter frequency.
 struct Root {
@@ -54,13 +57,19 @@ Root root_of(cd lambda, const Cut& c) {
 
 // Eigenvalues of alpha Phi in closed form: lambda^2 - tr lambda + det = 0
 // (Altintas & Budak's a0 Lambda^2 + a1 Lambda + 1 = 0 for Lambda = -1/lambda,
-// the cross terms of Phi included).
+// the cross terms of Phi included). The larger root without cancellation, the
+// smaller as det / larger (Vieta), so that a singular alpha Phi (a tool tip
+// flexible in one direction only) has an exact zero, not round-off that
+// would read as a chatter depth of 10^17 mm.
 Sample sample_at(const Eigen::Matrix2d& alpha, const Frf2& phi, double f_Hz, const Cut& c) {
   const Eigen::Matrix2cd m = alpha.cast<cd>() * phi;
-  const cd tr = m.trace(), det = m.determinant(), disc = std::sqrt(tr * tr - 4.0 * det);
+  const cd tr = m.trace(), det = m.determinant();
+  cd disc = std::sqrt(tr * tr - 4.0 * det);
+  if (std::abs(tr - disc) > std::abs(tr + disc)) disc = -disc;
+  const cd big = 0.5 * (tr + disc);
   Sample s;
   s.f_Hz = f_Hz;
-  s.lambda = {0.5 * (tr + disc), 0.5 * (tr - disc)};
+  s.lambda = {big, std::abs(big) > 0 ? det / big : cd(0)};
   for (int b = 0; b < 2; ++b) s.root[b] = root_of(s.lambda[b], c);
   return s;
 }
@@ -147,6 +156,18 @@ void add_lobe_curves(const std::vector<Sample>& sw, int k, const Cut& c, double 
   }
 }
 
+// The last lobe number that reaches rpm_min at every chatter frequency whose
+// a_lim is within 10 times the minimum: eps < 2 pi puts lobe k at frequency f
+// above 60 f / (N (k + 1)). Missing lobes would leave the envelope too high
+// (unsafe), so every lobe that can set it there is traced.
+int lobes_needed(const std::vector<Sample>& sw, double ap_min_mm, int flutes, double rpm_min) {
+  double f_top = 0;
+  for (const Sample& s : sw)
+    for (const Root& r : s.root)
+      if (r.ok && r.ap_mm <= 10 * ap_min_mm) f_top = std::max(f_top, s.f_Hz);
+  return static_cast<int>(std::min(kMaxLobes, std::ceil(60 * f_top / (flutes * rpm_min))));
+}
+
 }  // namespace
 
 Cut cut_of(const force::Coefficients& k, int flutes, force::AngleInterval immersion) {
@@ -178,7 +199,8 @@ Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rp
   for (const Sample& s : sw)
     for (const Root& r : s.root)
       if (r.ok && r.ap_mm < out.ap_min_mm) out.ap_min_mm = r.ap_mm, out.ap_min_chatter_Hz = s.f_Hz;
-  for (int k = 0; k < max_lobes; ++k) {
+  const int last_k = max_lobes > 0 ? max_lobes - 1 : lobes_needed(sw, out.ap_min_mm, cut.flutes, rpm_min);
+  for (int k = 0; k <= last_k; ++k) {
     // eps > 0: lobe k lies below 60 f / (N k); past rpm_min it and every later one are out of range.
     if (k > 0 && 60 * frf.frequency_Hz.back() / (cut.flutes * k) < rpm_min) break;
     add_lobe_curves(sw, k, cut, rpm_min, rpm_max, out.lobes);

@@ -62,16 +62,21 @@ struct Lobe {
 
 struct Lobes {
   std::vector<Lobe> lobes;     // the curves' pieces inside [rpm_min, rpm_max]
-  double ap_min_mm = 0;        // the absolute, speed-independent minimum over every chatter frequency
+  double ap_min_mm = 0;        // the absolute, speed-independent minimum over every chatter
+                               // frequency; +infinity when no frequency has a chatter root
   double ap_min_chatter_Hz = 0;
 };
 
-// The lobes of lobe numbers 0 .. max_lobes - 1 over [rpm_min, rpm_max]. Chatter
+// The lobes over [rpm_min, rpm_max], of lobe numbers 0 .. max_lobes - 1, or
+// with max_lobes = 0 as many as reach rpm_min at every chatter frequency whose
+// a_lim is within 10 times ap_min_mm (at most 2000): the lower envelope is then
+// complete wherever it is below 10 ap_min_mm (a missing lobe would leave it too
+// high, on the unsafe side). Chatter
 // frequencies are the FRF's samples, each interval subdivided (FRF linearly
 // interpolated) until a_lim changes by under 1 % between neighbours; roots
 // with a_lim <= 0 or not finite are no chatter. Throws Error(ErrorKind::settings)
 // for a cut without teeth, K_t or immersion, or a speed range that is empty.
-Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes = 60);
+Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes = 0);
 
 // The stability limit against speed for fast repeated look-ups: the lower
 // envelope of every lobe, tabulated at `steps` + 1 speeds over [rpm_min,
