@@ -100,7 +100,7 @@ StabilityResult stability(const StabilitySettings& s) {
   r.Kr_ratio = stability::cut_of(k, r.tool.flutes, r.immersion).Kr_ratio;
   r.alpha = mean_alpha(s, r.tool, k, r.immersion);
   r.lobes = stability::zero_order_lobes(frf, r.alpha.cast<std::complex<double>>(), r.tool.flutes, r.Kt_N_per_mm2,
-                                        r.rpm_min, r.rpm_max, 200);
+                                        r.rpm_min, r.rpm_max);
   const stability::StabilityLimit lim(r.lobes, r.rpm_min, r.rpm_max, std::max(4000, s.points));
   for (int i = 0; i <= s.points; ++i) {
     const double rpm = r.rpm_min + (r.rpm_max - r.rpm_min) * i / s.points;

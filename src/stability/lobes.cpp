@@ -15,6 +15,9 @@ namespace {
 
 using cd = std::complex<double>;
 constexpr double kPi = std::numbers::pi;
+// The most lobes traced: beyond it a speed range reaching so low for so high
+// a chatter frequency is past what the zero-order method is for.
+constexpr double kMaxLobes = 2000;
 
 // One root of det[I + Lambda alpha Phi] = 0 at one chatter frequency.
 struct Root {
@@ -60,13 +63,19 @@ Root root_of(cd lambda, const Teeth& c) {
 
 // Eigenvalues of alpha Phi in closed form: lambda^2 - tr lambda + det = 0
 // (Altintas & Budak's a0 Lambda^2 + a1 Lambda + 1 = 0 for Lambda = -1/lambda,
-// the cross terms of Phi included).
+// the cross terms of Phi included). The larger root without cancellation, the
+// smaller as det / larger (Vieta), so that a singular alpha Phi (a tool tip
+// flexible in one direction only) has an exact zero, not round-off that
+// would read as a chatter depth of 10^17 mm.
 Sample sample_at(const Eigen::Matrix2cd& alpha, const Frf2& phi, double f_Hz, const Teeth& c) {
   const Eigen::Matrix2cd m = alpha * phi;
-  const cd tr = m.trace(), det = m.determinant(), disc = std::sqrt(tr * tr - 4.0 * det);
+  const cd tr = m.trace(), det = m.determinant();
+  cd disc = std::sqrt(tr * tr - 4.0 * det);
+  if (std::abs(tr - disc) > std::abs(tr + disc)) disc = -disc;
+  const cd big = 0.5 * (tr + disc);
   Sample s;
   s.f_Hz = f_Hz;
-  s.lambda = {0.5 * (tr + disc), 0.5 * (tr - disc)};
+  s.lambda = {big, std::abs(big) > 0 ? det / big : cd(0)};
   for (int b = 0; b < 2; ++b) s.root[b] = root_of(s.lambda[b], c);
   return s;
 }
@@ -118,28 +127,50 @@ double rpm_of(const Sample& s, int b, int k, int flutes) {
   return 60 * 2 * kPi * s.f_Hz / (flutes * (s.root[b].eps_rad + 2 * kPi * k));
 }
 
+// The pieces of a traced curve inside [rpm_min, rpm_max], each with the point
+// just outside at either end (so the range's edges interpolate), to out.
+void add_clipped(const Lobe& curve, double rpm_min, double rpm_max, std::vector<Lobe>& out) {
+  const std::vector<LobePoint>& p = curve.points;
+  auto in = [&](std::size_t i) { return i < p.size() && p[i].rpm >= rpm_min && p[i].rpm <= rpm_max; };
+  Lobe piece{curve.k, {}};
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (in(i) || in(i + 1) || (i > 0 && in(i - 1))) {
+      piece.points.push_back(p[i]);
+      continue;
+    }
+    if (piece.points.size() > 1) out.push_back(piece);
+    piece.points.clear();
+  }
+  if (piece.points.size() > 1) out.push_back(piece);
+}
+
 // The curves of lobe k: each branch split where it has no root.
 void add_lobe_curves(const std::vector<Sample>& sw, int k, const Teeth& c, double rpm_min, double rpm_max,
                      std::vector<Lobe>& out) {
   for (int b = 0; b < 2; ++b) {
     Lobe cur{k, {}};
-    bool inside = false;
-    auto close = [&] {
-      if (inside && cur.points.size() > 1) out.push_back(cur);
-      cur.points.clear();
-      inside = false;
-    };
     for (const Sample& s : sw) {
-      if (!s.root[b].ok) {
-        close();
+      if (s.root[b].ok) {
+        cur.points.push_back({rpm_of(s, b, k, c.flutes), s.root[b].ap_mm, s.f_Hz});
         continue;
       }
-      const double rpm = rpm_of(s, b, k, c.flutes);
-      cur.points.push_back({rpm, s.root[b].ap_mm, s.f_Hz});
-      inside |= rpm >= rpm_min && rpm <= rpm_max;
+      add_clipped(cur, rpm_min, rpm_max, out);
+      cur.points.clear();
     }
-    close();
+    add_clipped(cur, rpm_min, rpm_max, out);
   }
+}
+
+// The last lobe number that reaches rpm_min at every chatter frequency whose
+// a_lim is within 10 times the minimum: eps < 2 pi puts lobe k at frequency f
+// above 60 f / (N (k + 1)). Missing lobes would leave the envelope too high
+// (unsafe), so every lobe that can set it there is traced.
+int lobes_needed(const std::vector<Sample>& sw, double ap_min_mm, int flutes, double rpm_min) {
+  double f_top = 0;
+  for (const Sample& s : sw)
+    for (const Root& r : s.root)
+      if (r.ok && r.ap_mm <= 10 * ap_min_mm) f_top = std::max(f_top, s.f_Hz);
+  return static_cast<int>(std::min(kMaxLobes, std::ceil(60 * f_top / (flutes * rpm_min))));
 }
 
 }  // namespace
@@ -182,7 +213,8 @@ Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes
   for (const Sample& s : sw)
     for (const Root& r : s.root)
       if (r.ok && r.ap_mm < out.ap_min_mm) out.ap_min_mm = r.ap_mm, out.ap_min_chatter_Hz = s.f_Hz;
-  for (int k = 0; k < max_lobes; ++k) {
+  const int last_k = max_lobes > 0 ? max_lobes - 1 : lobes_needed(sw, out.ap_min_mm, cut.flutes, rpm_min);
+  for (int k = 0; k <= last_k; ++k) {
     // eps > 0: lobe k lies below 60 f / (N k); past rpm_min it and every later one are out of range.
     if (k > 0 && 60 * frf.frequency_Hz.back() / (cut.flutes * k) < rpm_min) break;
     add_lobe_curves(sw, k, cut, rpm_min, rpm_max, out.lobes);

@@ -171,6 +171,25 @@ TEST_SUITE("stability") {
     CHECK(top > 3 * lobes.ap_min_mm);
   }
 
+  TEST_CASE("lobes: enough lobes are traced by default to close the envelope at low speed") {
+    // 824 Hz chatter, 2 teeth: about 50 lobes lie above 500 rpm. With all of
+    // them the envelope there stays near the absolute minimum.
+    const Cut cut{2, 800, 0.3, 0, pi};
+    const Frf frf = frf_from_modes({{800, 0.03, 1e4}}, {}, 3000);
+    const Lobes all = zero_order_lobes(frf, cut, 500, 40000);
+    const StabilityLimit limit(all, 500, 40000, 20000);
+    double worst = 0;
+    for (double rpm = 500; rpm <= 1000; rpm += 1) worst = std::max(worst, limit.ap_limit_mm(rpm));
+    CHECK(worst < 1.2 * all.ap_min_mm);
+    int highest = 0;
+    for (const Lobe& l : all.lobes) highest = std::max(highest, l.k);
+    CHECK(highest >= 49);
+    // A tip flexible in x only makes alpha Phi singular: its zero eigenvalue is
+    // no chatter, so no lobe point lies far above the rest.
+    for (const Lobe& l : all.lobes)
+      for (const LobePoint& p : l.points) CHECK(p.ap_limit_mm < 1e3 * all.ap_min_mm);
+  }
+
   TEST_CASE("lobes: a cut or speed range that makes no sense is a settings error") {
     const Frf frf = frf_from_modes({{800, 0.03, 1e4}}, {}, 3000);
     CHECK_THROWS_AS(zero_order_lobes(frf, {0, 800, 0.3, 0, pi}, 1000, 2000), Error);

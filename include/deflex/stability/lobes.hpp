@@ -52,28 +52,35 @@ struct LobePoint {
 
 // One lobe's curve as it is traced: lobe number k, one eigenvalue branch of
 // the 2x2 problem, and points in the order of ascending chatter frequency (the
-// speed usually falls as it rises); a gap (no positive root) starts a new curve.
+// speed usually falls as it rises); a gap (no positive root) starts a new
+// curve, and so does leaving the speed range (a curve keeps the one point past
+// either end of the range, for interpolation at the edges).
 struct Lobe {
   int k = 0;
   std::vector<LobePoint> points;
 };
 
 struct Lobes {
-  std::vector<Lobe> lobes;     // the curves with any point inside [rpm_min, rpm_max]
-  double ap_min_mm = 0;        // the absolute, speed-independent minimum over every chatter frequency
+  std::vector<Lobe> lobes;     // the curves' pieces inside [rpm_min, rpm_max]
+  double ap_min_mm = 0;        // the absolute, speed-independent minimum over every chatter
+                               // frequency; +infinity when no frequency has a chatter root
   double ap_min_chatter_Hz = 0;
 };
 
-// The lobes of lobe numbers 0 .. max_lobes - 1 over [rpm_min, rpm_max]. Chatter
+// The lobes over [rpm_min, rpm_max], of lobe numbers 0 .. max_lobes - 1, or
+// with max_lobes = 0 as many as reach rpm_min at every chatter frequency whose
+// a_lim is within 10 times ap_min_mm (at most 2000): the lower envelope is then
+// complete wherever it is below 10 ap_min_mm (a missing lobe would leave it too
+// high, on the unsafe side). Chatter
 // frequencies are the FRF's samples, each interval subdivided (FRF linearly
 // interpolated) until a_lim changes by under 1 % between neighbours; roots
 // with a_lim <= 0 or not finite are no chatter. Throws Error(ErrorKind::settings)
 // for a cut without teeth, K_t or immersion, or a speed range that is empty.
-Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes = 60);
+Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rpm_max, int max_lobes = 0);
 // The same for a directional matrix given whole (real for a cut, complex where
 // it stands for one eigenvalue of a cut's: stability/model.hpp), N teeth and K_t.
 Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2, double rpm_min,
-                       double rpm_max, int max_lobes = 60);
+                       double rpm_max, int max_lobes = 0);
 
 // The stability limit against speed for fast repeated look-ups: the lower
 // envelope of every lobe, tabulated at `steps` + 1 speeds over [rpm_min,

@@ -59,8 +59,8 @@ struct Springs {
 
 // The `dynamics:` section. Tap tests of tool-holder-spindle assemblies give
 // modal damping ratios of about 0.02-0.05 for the tool-tip modes (Schmitz &
-// Smith, Machining Dynamics, 2nd ed. 2019, ch. 4 and 7 examples; Altintas 2012
-// ch. 3): 0.03 stands in the middle when the profile gives none.
+// Smith, Machining Dynamics, 2nd ed. 2019; Altintas 2012 ch. 3): 0.03 stands
+// in the middle when the profile gives none.
 struct Dynamics {
   double damping_ratio = 0.03;
   bool damping_given = false;  // the profile gave it (else the default above)

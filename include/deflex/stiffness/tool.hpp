@@ -33,9 +33,8 @@ struct Material {
 // Density: WC-10%Co 14,500 kg/m^3 (ASM Handbook vol. 2, "Cemented carbides":
 // 14.3-14.6 g/cm^3 at 10 % Co), M2 HSS 8,150 kg/m^3 (ASM Handbook vol. 1,
 // "Wrought tool steels": M2 8.16 g/cm^3), steel 7,850 kg/m^3 (the usual
-// carbon and low-alloy steel figure, e.g. Roark's Formulas for Stress and
-// Strain, table of material properties). A custom material gives
-// `density_kg_per_m3:` beside E_MPa and poisson, or has none (0).
+// figure of carbon and low-alloy steels, ASM Handbook vol. 1). A custom
+// material gives `density_kg_per_m3:` beside E_MPa and poisson, or has none (0).
 std::optional<Material> material_preset(const std::string& name);
 
 // A reduced-diameter neck between the flutes and the shank (long-reach tools).
