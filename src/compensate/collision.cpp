@@ -86,7 +86,7 @@ std::string Collision::kind() const {
 
 std::string Collision::message() const {
   const std::string where = "; " + plural(points, "point") + " on " + plural(line_count, "line") +
-                            (line_count > 1 ? ", the deepest " + fixed_decimals(worst_mm, 2) + " mm at line " +
+                            (worst_line != first_line ? ", the deepest " + fixed_decimals(worst_mm, 2) + " mm at line " +
                                                   std::to_string(worst_line)
                                             : "");
   if (part == AssemblyPart::holder)

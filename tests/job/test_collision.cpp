@@ -36,8 +36,9 @@ struct Pocket : test::TempDir {
     s.output = *this / "out.nc";
     return s;
   }
-  job::CheckResult check(const std::string& program, bool rest_stock, std::string& err) const {
+  job::CheckResult check(const std::string& program, bool rest_stock, std::string& err, int threads = 0) const {
     job::CheckSettings cs;
+    cs.threads = threads;
     cs.program = *this / program;
     cs.tool_file = *this / "tools.yaml";
     cs.stock = "box:0,0,-80,100,100,0";
@@ -129,11 +130,14 @@ TEST_CASE("collision: check --stock gives compensate's line and depth, at one th
     if (first.empty()) first = e;
     CHECK(e == first);
   }
-  std::string err;
-  const job::CheckResult r = d.check("short.nc", true, err);
-  CHECK(r.errors == 1);
-  CHECK(line_with(err, "[holder_collision]") == first);
-  CHECK(err.find("G1 Z-55. F300") != std::string::npos);
+  for (int threads : {1, 2}) {
+    CAPTURE(threads);
+    std::string err;
+    const job::CheckResult r = d.check("short.nc", true, err, threads);
+    CHECK(r.errors == 1);
+    CHECK(line_with(err, "[holder_collision]") == first);
+    CHECK(err.find("G1 Z-55. F300") != std::string::npos);
+  }
 }
 
 }  // TEST_SUITE
