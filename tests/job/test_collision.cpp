@@ -5,7 +5,7 @@
 // pass at a stick-out of 60 mm is clean; the pocket is the rest stock of an
 // earlier program (Settings::stock_from), and without it the shank is buried
 // in solid stock; check --stock finds the same line and depth by the sweep
-// alone; the same at one thread and at two.
+// alone; the same at one thread and at two, and in pieces.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -138,6 +138,22 @@ TEST_CASE("collision: check --stock gives compensate's line and depth, at one th
     CHECK(line_with(err, "[holder_collision]") == first);
     CHECK(err.find("G1 Z-55. F300") != std::string::npos);
   }
+}
+
+TEST_CASE("collision: a program read in pieces gives the whole program's error, in compensate and check --stock") {
+  const Pocket d;
+  const auto whole = test::compensate_job(d.settings("short.nc", true));
+  std::string whole_check;
+  (void)d.check("short.nc", true, whole_check);
+  const test::PieceLines two("2");
+  const auto pieces = test::compensate_job(d.settings("short.nc", true));
+  REQUIRE_FALSE(pieces.ok());
+  CHECK(pieces.err == whole.err);
+  CHECK(pieces.what == whole.what);
+  CHECK_FALSE(std::filesystem::exists(d / "out.nc"));  // refused inside the write
+  std::string err;
+  CHECK(d.check("short.nc", true, err).errors == 1);
+  CHECK(err == whole_check);
 }
 
 }  // TEST_SUITE
