@@ -4,7 +4,8 @@
 # roughing (flat D10, 0.5 mm allowance) and a semi-finishing pass (the
 # finishing ball, 0.2 mm, lines 1 mm apart), both are swept into the blank
 # with --stock-from, and the finishing program is compensated on that stock -
-# and, for comparison, on the bare blank. Prints one table row per program and
+# and, for comparison, on the bare blank (where the finishing tool's holder or
+# shank would run into it, the row says so: compensate refuses such a program). Prints one table row per program and
 # stock; everything lands in OUT (default bench/out/corpus).
 #   sh scripts/corpus.sh [OUT]          after sh scripts/test.sh (uses build/deflex)
 set -eu
@@ -58,9 +59,15 @@ echo "$jobs" | while read -r prog blank finish extra; do
     mkdir -p "$r"
     from=""
     [ "$stock" = blank ] || from="--stock-from $d/rough.nc --stock-from $d/semi.nc"
+    # A program whose holder or shank runs into the stock is refused (exit
+    # 1, nothing written): its row names the errors instead of the figures.
     # shellcheck disable=SC2086
-    $deflex compensate "$corpus/$prog" --stock "$blank" $from --tool "$finish" --material Al7075-T6 \
-      --report "$r/report" -o "$r/comp.nc" $extra 2>"$r/stderr"
-    row "$name" "$stock" "$r"
+    if $deflex compensate "$corpus/$prog" --stock "$blank" $from --tool "$finish" --material Al7075-T6 \
+      --report "$r/report" -o "$r/comp.nc" $extra 2>"$r/stderr"; then
+      row "$name" "$stock" "$r"
+    else
+      printf '%-15s %-12s refused: %s\n' "$name" "$stock" \
+        "$(sed -n 's/.*error: \(the [a-z]* of T[0-9]*\).* runs \([0-9.]*\) mm .*/\1 \2 mm in the material/p' "$r/stderr" | head -n 1)"
+    fi
   done
 done

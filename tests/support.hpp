@@ -169,6 +169,26 @@ inline const char* const kDiffSplitA = "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1X3.\
 inline const char* const kDiffSplitB =
     "G21G90G0X0Y0Z0\nG1X1.F100\nG1X2.\nG1 X2.5 Y0 Z0\nG1X3.Y0.01\nG1X3.1Y0\nG1X3.2\nG1X3.3\nG1X3.4\n";
 
+// The holder and shank check's pocket (tests/*/test_collision.cpp). T1: D10
+// flat, flutes 20 mm, stick-out 40 mm; T2 the same at 60 mm (the sample
+// machine mill3's holder above them, nose diameter 32 mm).
+inline const char* kPocketTools = R"(tools:
+  T1: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 20, stickout_mm: 40, material: carbide}
+  T2: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 20, stickout_mm: 60, material: carbide}
+)";
+// The pocket X40..60 Y40..60, 55.5 mm deep, as an earlier program: T2 at
+// Z-55.5 over X45..55 Y45..55, 1 mm apart.
+inline std::string pocket_roughing() {
+  std::string p = "G21 G90 G17\nT2 M6\nS8000 M3\nG0 X45. Y45. Z5.\nG1 Z-55.5 F300\n";
+  for (int y = 45; y <= 55; ++y) p += "G1 X45. Y" + std::to_string(y) + ". F300\nX55.\n";
+  return p + "G0 Z5.\nM30\n";
+}
+// A pass 0.5 mm above the pocket's floor with T`tool`, across its middle:
+// line 5 the plunge to Z-55, line 6 the cut.
+inline std::string pocket_floor_pass(int tool) {
+  return "G21 G90 G17\nT" + std::to_string(tool) + " M6\nS8000 M3\nG0 X45. Y50. Z5.\nG1 Z-55. F300\nX55.\nG0 Z5.\nM30\n";
+}
+
 // A copy of the file `source` as `name` in `dir` with the first `from`
 // replaced by `to` (which must be there); its path.
 inline std::string edited_copy(const TempDir& dir, const std::string& source, const std::string& name,

@@ -49,7 +49,13 @@ const char* kCompensateHelp =
     "beside it: such points are left as programmed and counted in the [left_alone]\n"
     "warning, normal_source undetermined); for flat and bull-nose ends from the\n"
     "tool and the travel: the wall of a flank cut, else the normal to the travel\n"
-    "in its vertical plane (blind to a slope across the feed).\n";
+    "in its vertical plane (blind to a slope across the feed).\n"
+    "Where the holder (the machine profile's holder:), the neck or the shank above\n"
+    "the flutes would stand more than 0.01 mm in the stock (the --stock-from programs'\n"
+    "rest stock included), the program is in error: exit 1, nothing written, an error\n"
+    "at the first such line with the depth and the least stick-out (holder) or reach\n"
+    "(neck, shank) that clears it. `deflex check --stock` finds the same without the\n"
+    "forces.\n";
 
 void summary_line(Io& io, const char* what, const report::ErrorStats& s, double tol) {
   char buf[256];
@@ -134,7 +140,8 @@ int cmd_simulate(const std::vector<std::string>& args, Io& io) {
                "tool lands against the programmed path, or with --reference, against the path of\n"
                "another program with the same blocks (the design intent): that is how a\n"
                "compensated program is judged. A summary goes to stdout; --report DIR writes\n"
-               "report.html, points.csv and summary.json.\n",
+               "report.html, points.csv and summary.json. A holder, neck or shank that would\n"
+               "run into the stock is an error, as in compensate: exit 1, no report.\n",
                desc);
     return 0;
   }

@@ -66,8 +66,14 @@ const char* kCheckHelp =
     "point of every cutting move (0.5 mm apart) the programmed cutter is measured\n"
     "against the part model, and where it cuts into the part or stands off a face of\n"
     "it by more than --part-gap a warning names the lines and the largest gap (no\n"
-    "stock, no simulation). A summary goes to stdout. Exit 0 when there is no error,\n"
-    "1 otherwise.\n";
+    "stock, no simulation). With --stock (and --stock-from, the earlier programs' rest\n"
+    "stock), the holder and shank check: the program swept through the stock as\n"
+    "compensate sweeps it (no forces), and wherever the holder (the machine profile's\n"
+    "holder:), the neck or the shank above the flutes would stand more than 0.01 mm\n"
+    "in the material, an error at the first such line with the depth and the least\n"
+    "stick-out (holder) or reach (neck, shank) that clears it: the same errors\n"
+    "compensate and simulate stop on. A summary goes to stdout. Exit 0 when there is\n"
+    "no error, 1 otherwise.\n";
 
 const char* kPathHelp =
     "Prints one line per tool motion: KIND X Y Z, where KIND is G0, G1, G2 or G3 and\n"
@@ -111,14 +117,22 @@ int cmd_check(const std::vector<std::string>& args, Io& io) {
   desc.add_options()("help,h", po::bool_switch(&help), "show this help")
                     ("format", po::value(&format)->default_value("text"), "summary on stdout: text or json")
                     ("tool-file", po::value(&cs.tool_file), "tool library for the gouge check (default: config tool_file, else the installed samples/tools.yaml)")
-                    ("tool", po::value(&cs.tool), "with --part: check every cut with this tool (default: the program's T words)");
+                    ("tool", po::value(&cs.tool), "with --part or --stock: check every cut with this tool (default: the program's T words)")
+                    ("stock", po::value(&cs.stock), "the holder and shank check against this stock: box:X0,Y0,Z0,X1,Y1,Z1 (mm, work frame), "
+                                                    "an STL/STEP/IGES solid, a .zmap (deflex stock) or auto[:MARGIN] (default: none, no such check)");
+  add_stock_from_options(desc, cs.stock_from);
+  desc.add_options()
+      ("cell-mm", po::value(&cs.cell_mm)->default_value(0.05, "0.05"), "with --stock: Z-map cell size, mm")
+      ("cl-spacing", po::value(&cs.cl_spacing_mm)->default_value(0.5), "with --stock: largest distance between CL points along a move, mm")
+      ("threads", po::value(&cs.threads)->default_value(0), "with --stock: worker threads (0: all cores)");
   add_part_options(desc, cs.part);
   add_read_options(desc, cs.read);
   std::vector<std::string> files;
   parse_with_files(args, desc, files, 1);
   if (!files.empty()) cs.program = files[0];
   if (help) {
-    print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--format text|json]", kCheckHelp, desc);
+    print_help(io.out, "deflex check FILE [--machine M] [--dialect D] [--part P] [--stock S [--stock-from A.nc ...]] [--format text|json]",
+               kCheckHelp, desc);
     return 0;
   }
   if (format != "text" && format != "json") throw Error(ErrorKind::settings, "--format takes text or json");

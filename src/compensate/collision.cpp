@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "deflex/diag/plural.hpp"
+
 namespace deflex::compensate {
 
 const char* to_string(AssemblyPart p) {
@@ -76,6 +78,66 @@ Interference interference(const stock::ZMap& z, const V3& tip_mm, const Assembly
     if (d > r.depth_mm) r = {d, f.part};
   }
   return r;
+}
+
+std::string Collision::kind() const {
+  return part == AssemblyPart::holder ? "holder_collision" : "shank_collision";
+}
+
+std::string Collision::message() const {
+  const std::string where = "; " + plural(points, "point") + " on " + plural(line_count, "line") +
+                            (worst_line != first_line ? ", the deepest " + fixed_decimals(worst_mm, 2) + " mm at line " +
+                                                  std::to_string(worst_line)
+                                            : "");
+  if (part == AssemblyPart::holder)
+    return "the holder of " + tool + " runs " + fixed_decimals(first_mm, 2) + " mm into the material at its stick-out of " +
+           fixed_decimals(from_mm, 1) + " mm: the machine crashes here" + where +
+           "; a stick-out of at least " + fixed_decimals(clears_mm, 1) + " mm keeps the holder clear";
+  return std::string("the ") + to_string(part) + " of " + tool + " (diameter " + fixed_decimals(diameter_mm, 2) +
+         " mm from " + fixed_decimals(from_mm, 1) + " mm above the tip) runs " + fixed_decimals(first_mm, 2) +
+         " mm into the material: it rubs or breaks" + where + "; the cut needs a tool whose flutes or neck reach " +
+         fixed_decimals(clears_mm, 1) + " mm above the tip at that diameter";
+}
+
+void CollisionScan::add(const Point& p, const std::string& tool_id) {
+  if (!(p.collision_mm > collision_tolerance_mm)) return;
+  const bool holder = p.collision_part == AssemblyPart::holder;
+  Acc& a = acc_[{tool_id, holder}];
+  Collision& c = a.c;
+  if (!c.points++) {
+    c.tool = tool_id;
+    c.part = p.collision_part;
+    c.first_line = p.line;
+  }
+  if (p.line == c.first_line) c.first_mm = std::max(c.first_mm, p.collision_mm);
+  if (p.collision_mm > c.worst_mm) {
+    c.worst_mm = p.collision_mm;
+    c.worst_line = p.line;
+    c.part = p.collision_part;
+  }
+  a.lines.insert(p.line);
+}
+
+std::vector<Collision> CollisionScan::collisions() const {
+  std::vector<Collision> out;
+  for (const auto& [key, a] : acc_) {
+    Collision c = a.c;
+    c.line_count = a.lines.size();
+    const stiffness::Tool& t = stiffness::find_tool(tools_, c.tool);
+    if (c.part == AssemblyPart::holder) {
+      c.from_mm = t.stickout_mm;
+      c.clears_mm = t.stickout_mm + c.worst_mm;
+    } else {
+      c.from_mm = t.flute_length_mm;
+      c.diameter_mm = t.diameter_mm;
+      for (const Frustum& f : assembly_of(t, std::nullopt).frusta)
+        if (f.part == c.part) c.from_mm = f.z0_mm, c.diameter_mm = 2 * f.r0_mm;
+      c.clears_mm = c.from_mm + c.worst_mm;
+    }
+    out.push_back(std::move(c));
+  }
+  std::sort(out.begin(), out.end(), [](const Collision& a, const Collision& b) { return a.first_line < b.first_line; });
+  return out;
 }
 
 }  // namespace deflex::compensate

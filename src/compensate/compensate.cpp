@@ -71,6 +71,7 @@ const ToolModel& model_for(std::map<std::string, ToolModel>& cache, const std::s
   m.slices = force::make_slices(c, s.slice_mm, m.tool.flute_length_mm);
   m.compliance = stiffness::beam_compliance(m.tool, ph.machine, ph.tool_only);
   m.assembly = assembly_of(m.tool, ph.machine.holder);
+  if (s.geometry_only) return cache.emplace(id, std::move(m)).first->second;  // the sweep alone
   if (m.tool.type != stock::EndShape::ball) {
     // 150 slices (30 mm of flute at 0.2 mm): 22500 interpolations, a few ms.
     const stiffness::CrossComplianceTable full = stiffness::beam_cross_compliance(m.tool, ph.machine, ph.tool_only);
@@ -170,6 +171,17 @@ double stability_limit(const stability::LimitCache& c, const force::CutterSlices
 
 }  // namespace
 
+Point geometry_point(const engage::CLSample& cl, const interp::Motion& design) {
+  Point p;
+  p.line = cl.line;
+  p.tool = design.tool;
+  p.fixed = design.fixed;
+  p.index = cl.index;
+  p.count = cl.count;
+  p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
+  return p;
+}
+
 FeedLimits feed_limits(const Physics& ph, const Settings& s) {
   return {s.feed_limit_N, ph.spindle.set ? &ph.spindle : nullptr};
 }
@@ -178,13 +190,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
                std::vector<force::Vec3>& rev, bool keep_profile) {
-  Point p;
-  p.line = cl.line;
-  p.tool = design.tool;
-  p.fixed = design.fixed;
-  p.index = cl.index;
-  p.count = cl.count;
-  p.tip_mm = V3(cl.point.tip_mm[0], cl.point.tip_mm[1], cl.point.tip_mm[2]);
+  Point p = geometry_point(cl, design);
   p.ap_mm = mt.ap_mm;
   p.ae_mm = mt.ae_mm;
   p.cwe_area_mm2 = mt.cwe_area_mm2;
@@ -310,6 +316,11 @@ struct Simulation::Impl {
       const auto it = std::lower_bound(held.begin(), held.end(), gi,
                                        [](const Held& h, std::size_t i) { return h.index < i; });
       if (it == held.end() || it->index != gi) throw Error(ErrorKind::internal, "simulation: a sample of an unknown motion");
+      if (s.geometry_only) {
+        r.p = geometry_point(cl, it->design);
+        r.p.motion = static_cast<std::uint32_t>(gi);
+        return;
+      }
       thread_local std::vector<force::Vec3> rev;
       r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, feed_limits(ph, s), rev,
                      s.flank_profiles);

@@ -64,6 +64,11 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
                const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
                std::vector<force::Vec3>& rev, bool keep_profile = false);
 
+// A sample's point with its place alone (line, motion's tool, tip): the
+// point of a run without physics (Settings::geometry_only), and where
+// point_of starts.
+Point geometry_point(const engage::CLSample& cl, const interp::Motion& design);
+
 // Point::stock_depth_mm (see its definition).
 double stock_depth(const stock::ZMap& z, const engage::CLSample& cl, double r);
 
@@ -95,6 +100,7 @@ class Run {
     if (!z_) z_ = std::make_unique<stock::ZMap>(clone(*ph.stock));
     so_.path.cl_spacing_mm = s.cl_spacing_mm;
     so_.threads = s.threads;
+    so_.evaluate = !s.geometry_only;
   }
   // Before motion m: false for a rapid before the first cut (not run); a cut
   // with another tool finishes the old simulator and starts the tool's own.

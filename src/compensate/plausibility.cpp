@@ -185,39 +185,12 @@ struct StabilityChecks {
 
 }  // namespace
 
-namespace {
-
-// The tool assembly's non-cutting parts in the stock (Point::collision_mm):
-// the holder, and the neck or shank, the worst of each by depth.
-struct CollisionChecks {
-  Acc holder, shank;
-  AssemblyPart shank_part = AssemblyPart::shank;  // the worst shank-side hit's part
-  CollisionChecks() {
-    holder.f.kind = "holder_collision";
-    shank.f.kind = "shank_collision";
-  }
-  void add(const Point& p, const std::string& id) {
-    // Below a hundredth of a millimetre the Z-map's cells on a wall decide, not the part.
-    if (!(p.collision_mm > 0.01)) return;
-    if (p.collision_part == AssemblyPart::holder) {
-      holder.add(p.line, p.collision_mm, id);
-      return;
-    }
-    const bool worse = !shank.any || p.collision_mm > shank.f.worst;
-    shank.add(p.line, p.collision_mm, id);
-    if (worse) shank_part = p.collision_part;
-  }
-};
-
-}  // namespace
-
 struct PlausibilityScan::State {
   const stiffness::ToolLibrary& tools;
   const Settings& s;
   Acc flute, force, cap, centre, rough, gouge;
   SpindleChecks spindle;
   StabilityChecks stability;
-  CollisionChecks collision;
   // A ball end's roughing points wait for the end of their motion, and those
   // of a steep drop (more than R down over less than R across) for the end of
   // the next one. A drop and a climb back of more than R each within 2R
@@ -381,7 +354,6 @@ void PlausibilityScan::State::add(const Point& p) {
   if (!p.air) check_force(p, t, id);
   if (!p.air && !p.plunge) spindle.add(p, id);
   if (!p.air && !p.plunge) stability.add(p, id);
-  collision.add(p, id);
   if (!p.air && !p.plunge) check_cap(p, id);
   // 4. A plunge into material with an end that does not cut at its centre.
   if (p.plunge && !t.centre_cutting && (!p.air || p.stock_depth_mm > 0.01)) {
@@ -595,34 +567,6 @@ void no_material_finding(Plausibility& out, std::size_t air_points, std::uint32_
   out.findings.push_back(f);
 }
 
-// The assembly's findings: how deep, and what clears it - for the holder the
-// least stick-out (the holder rises with it; the longer shank is checked by
-// running again with it), for the neck or shank the reach the cut needs.
-void collision_findings(Plausibility& out, CollisionChecks& c, const stiffness::ToolLibrary& tools) {
-  if (c.holder.any) {
-    const stiffness::Tool& t = tools.tools.at(c.holder.f.tool);
-    c.holder.f.limit = t.stickout_mm;
-    emit(out, c.holder, "the holder runs " + fixed_decimals(c.holder.f.worst, 2) + " mm into the material over " +
-                            c.holder.f.tool + " at its stick-out of " + fixed_decimals(t.stickout_mm, 1) +
-                            " mm: the machine crashes here; a stick-out of at least " +
-                            fixed_decimals(t.stickout_mm + c.holder.f.worst, 1) +
-                            " mm keeps the holder clear (run again with it: the longer shank is checked then)");
-  }
-  if (c.shank.any) {
-    const stiffness::Tool& t = tools.tools.at(c.shank.f.tool);
-    const Assembly a = assembly_of(t, std::nullopt);
-    double z0 = t.flute_length_mm, d = t.diameter_mm;
-    for (const Frustum& f : a.frusta)
-      if (f.part == c.shank_part) z0 = f.z0_mm, d = 2 * f.r0_mm;
-    c.shank.f.limit = z0;
-    emit(out, c.shank, std::string("the ") + to_string(c.shank_part) + " of " + c.shank.f.tool + " (diameter " +
-                           fixed_decimals(d, 2) + " mm from " + fixed_decimals(z0, 1) + " mm above the tip) runs " +
-                           fixed_decimals(c.shank.f.worst, 2) + " mm into the material: it rubs or breaks; the cut "
-                           "needs a tool whose flutes or neck reach " + fixed_decimals(z0 + c.shank.f.worst, 1) +
-                           " mm above the tip at that diameter");
-  }
-}
-
 // Chatter: how far over the limit, where, and how to find a stable speed.
 void stability_findings(Plausibility& out, StabilityChecks& c) {
   if (c.chatter.any) {
@@ -704,7 +648,6 @@ Plausibility PlausibilityScan::finish(bool compensated) {
   if (z.earlier.points) earlier_finding(out, z.earlier, z.s);
   spindle_findings(out, z.spindle);
   stability_findings(out, z.stability);
-  collision_findings(out, z.collision, z.tools);
   if (!z.material && z.air_points) no_material_finding(out, z.air_points, z.first_air_line, z.first_air_tool);
   return out;
 }

@@ -105,7 +105,8 @@ void Simulator::evaluate_batch() {
   auto one = [&](std::size_t i) {
     const Sample& s = batch_[i];
     const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), s.pending), &s.current};
-    metrics_[i] = eng_.evaluate(view, s.cl.point, proc_, engs_[i]);
+    if (o_.evaluate) metrics_[i] = eng_.evaluate(view, s.cl.point, proc_, engs_[i]);
+    else metrics_[i] = Metrics{}, engs_[i] = force::Engagement{};
     if (work_) work_(i, s.cl, metrics_[i], engs_[i]);
   };
   // Traced as one loop of independent samples whatever the threads: the

@@ -2,6 +2,8 @@
 #include "deflex/job/check.hpp"
 
 #include <memory>
+#include <optional>
+#include <sstream>
 
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/gouge.hpp"
@@ -9,8 +11,10 @@
 #include "deflex/interp/decimal.hpp"
 #include "deflex/interp/shape.hpp"
 #include "deflex/interp/travel.hpp"
+#include "deflex/job/run.hpp"
 #include "deflex/part/part.hpp"
 #include "deflex/stiffness/tool.hpp"
+#include "internal.hpp"
 
 namespace deflex::job {
 namespace {
@@ -68,6 +72,37 @@ void check_gouges(const CheckSettings& cs, const Setup& s, const std::string& pa
       motions, pm, lib, [&st](const interp::Motion& m) { return compensate::tool_id(m, st); }, {}, gap,
       st.part_reach_mm);
   report_part_gaps(g, whole.source(), gap, diags);
+}
+
+// The holder and shank check: the program opened as a simulation would open
+// it (the stock, the earlier programs swept into it, the tools and the
+// machine's holder) and swept through the stock alone. Its own diagnostics
+// were reported by the check's pass; the run's are kept quiet unless it fails.
+void check_collisions(const CheckSettings& cs, Io& io, Diagnostics& diags) {
+  if (cs.program == "-")
+    throw Error(ErrorKind::settings, "{stock} in check takes a program file: the input stream is read once");
+  Settings s;
+  s.program = cs.program;
+  s.read = cs.read;
+  s.tool_file = cs.tool_file;
+  s.tool = cs.tool;
+  s.stock = cs.stock;
+  s.stock_from = cs.stock_from;
+  s.cell_mm = cs.cell_mm;
+  s.cl_spacing_mm = cs.cl_spacing_mm;
+  s.threads = cs.threads;
+  std::ostringstream held;
+  Io quiet{io.in, held, held};
+  quiet.quiet = true;
+  quiet.names = io.names;
+  std::optional<Run> j;
+  try {
+    j.emplace(open(s, Purpose::check, quiet));
+  } catch (const Error&) {
+    io.err << held.str();
+    throw;
+  }
+  detail::report_collisions(*j, detail::sweep_collisions(*j, {}), diags);
 }
 
 }  // namespace
@@ -129,6 +164,7 @@ CheckResult check(const CheckSettings& cs, Io& io) {
   CheckResult r;
   r.stats = it.finish();
   if (!part_file.empty() && !r.stats.stopped) check_gouges(cs, s, part_file, *prog.whole_program(), motions, diags);
+  if (!cs.stock.empty() && !r.stats.stopped && !diags.errors()) check_collisions(cs, io, diags);
   if (r.stats.cutter_comp_motions)
     diags.report(Severity::note, tc.cutter_comp_line(), r.stats.first_cutter_comp_line, 1,
                  plural(r.stats.cutter_comp_motions, "motion") + (r.stats.cutter_comp_motions == 1 ? " runs" : " run") +

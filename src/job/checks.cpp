@@ -58,7 +58,8 @@ class CuttingCheck {
  public:
   CuttingCheck(const Settings& a, const compensate::Settings& st, const stiffness::ToolLibrary& lib,
                Run::CutExtent& extent)
-      : a_(a), st_(st), lib_(lib), extent_(extent) {
+      // The sweep alone (check --stock) needs neither a spindle speed nor a feed.
+      : a_(a), st_(st), lib_(lib), extent_(extent), no_s_(st.geometry_only), no_f_(st.geometry_only) {
     // A tool named on the command line that the library lacks is a usage error
     // (exit 2, with the library's tools).
     if (!st.tool_override.empty()) (void)stiffness::find_tool(lib, st.tool_override);

@@ -1,5 +1,6 @@
 // job::compensate() (job.hpp): the mirror pass over a program read whole or
 // in pieces, the output written whole or not at all, the figures and the report.
+#include <functional>
 #include <ostream>
 
 #include "deflex/compensate/apply.hpp"
@@ -24,7 +25,8 @@ bool to_stream(const Run& j) { return j.given.output.empty() || j.given.output =
 // On a program read in pieces: the same messages and output as on the whole
 // program, memory bounded by a piece.
 Outcome compensate_in_pieces(Run& j, std::ostream& out, const compensate::Progress& progress,
-                             const compensate::PointSinks& sinks, compensate::PlausibilityScan& scan) {
+                             const compensate::PointSinks& sinks, compensate::PlausibilityScan& scan,
+                             const std::function<void()>& refuse) {
   compensate::PipelineInput in = detail::pipeline_input(j, progress);
   in.sinks = sinks;
   in.on_piece = [&scan](const compensate::Result& r) { scan.capped(r.capped_lines); };
@@ -32,7 +34,11 @@ Outcome compensate_in_pieces(Run& j, std::ostream& out, const compensate::Progre
   j.physics.consumable_stock = j.stock.get();
   compensate::PipelineResult res;
   // The output appears whole or not at all: through a temporary file.
-  auto fill = [&](std::ostream& o) { res = compensate::compensate_in_pieces(in, o); };
+  // A collision found on the way refuses it inside the write: the temporary goes.
+  auto fill = [&](std::ostream& o) {
+    res = compensate::compensate_in_pieces(in, o);
+    refuse();
+  };
   if (to_stream(j)) writer::write_through_temporary(out, fill);
   else writer::write_file_atomically(j.given.output, j.given.program, fill);
   j.physics.stock = j.physics.consumable_stock = nullptr;
@@ -41,7 +47,8 @@ Outcome compensate_in_pieces(Run& j, std::ostream& out, const compensate::Progre
 
 // On the whole program (the input stream, subprograms, gain 0 with a feed limit).
 Outcome compensate_whole(Run& j, std::ostream& out, const compensate::Progress& progress,
-                         const compensate::PointSinks& sinks, compensate::PlausibilityScan& scan) {
+                         const compensate::PointSinks& sinks, compensate::PlausibilityScan& scan,
+                         const std::function<void()>& refuse) {
   const std::vector<bool> split_ok = compensate::splittable(j.prog, j.motions);
   // Nothing reads the initial stock after this: the mirror pass may cut it.
   j.physics.consumable_stock = j.stock.get();
@@ -49,6 +56,7 @@ Outcome compensate_whole(Run& j, std::ostream& out, const compensate::Progress& 
   o.r = compensate::compensate(j.motions, j.physics, j.settings, progress, &split_ok, &sinks);
   compensate::Result& r = o.r;
   j.physics.stock = j.physics.consumable_stock = nullptr;
+  refuse();
   std::vector<bool> can = compensate::movable(r.motions);
   const std::vector<double>* feeds = j.settings.feed_limit_N > 0 ? &r.feeds_mm_per_min : nullptr;
   // The written program read back holds the only copy of the text.
@@ -132,14 +140,22 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
   if (!j.measured.empty()) j.settings.flank_profiles = true;
   const std::unique_ptr<fit::Nearest> nearest = detail::nearest_of(j);
   compensate::PointSinks sinks;
+  compensate::CollisionScan collisions(j.physics.tools);
   sinks.nominal = [&](const compensate::Point& p) {
     scan.add(p);
+    collisions.add(p, compensate::tool_id(p.tool, j.settings));
     rec.rec->as_written(p);
     if (nearest) nearest->add(p);
   };
   sinks.final = [&](const compensate::Point& p, const V3& off, std::size_t original) { rec.rec->point(p, off, original); };
   const compensate::Progress progress = detail::progress_of(obs);
-  Outcome o = j.pieces ? compensate_in_pieces(j, out, progress, sinks, scan) : compensate_whole(j, out, progress, sinks, scan);
+  // The holder or the shank in the material (the program as written): an
+  // error, and nothing is written.
+  const std::function<void()> refuse = [&] {
+    detail::refuse_collisions(j, collisions, io, "nothing compensated, nothing written");
+  };
+  Outcome o = j.pieces ? compensate_in_pieces(j, out, progress, sinks, scan, refuse)
+                       : compensate_whole(j, out, progress, sinks, scan, refuse);
   detail::end_progress(progress);
   CompensateResult c;
   c.result = std::move(o.r);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "deflex/compensate/collision.hpp"
 #include "deflex/compensate/pipeline.hpp"
 #include "deflex/job/job.hpp"
 #include "deflex/report/recorder.hpp"
@@ -45,6 +46,17 @@ void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io
 // they are held against (null without one in the machine profile).
 report::Json spindle_json(const report::RunFigures& f, const profile::SpindleRating& r);
 report::Json warnings_json(const compensate::Plausibility& pl);
+
+// The tool assembly in the stock (compensate/collision.hpp): each collision
+// an error at its first line, column 1 (the block).
+void report_collisions(const Run& j, const std::vector<compensate::Collision>& c, Diagnostics& diags);
+// The same from a run's scan, then the run's input Error ("...; " + nothing)
+// when there is one: the run goes no further and writes nothing.
+void refuse_collisions(const Run& j, const compensate::CollisionScan& scan, Io& io, const std::string& nothing);
+// The program swept through the stock alone (compensate::Settings::
+// geometry_only: the simulation's samples, batches and stock, no forces):
+// the collisions simulate and compensate would refuse.
+std::vector<compensate::Collision> sweep_collisions(Run& j, const compensate::Progress& progress);
 
 // The cutting moves a compensation leaves as written, once per reason with
 // a count and the first line (a note); and the points they leave outside the

@@ -88,7 +88,8 @@ namespace {
 // stream), for a purpose that takes pieces, and long enough to need them.
 void read_program(Run& j, Io& io) {
   const Settings& s = j.given;
-  const bool in_pieces = j.purpose == Purpose::compensate || (j.purpose == Purpose::simulate && s.reference.empty());
+  const bool in_pieces = j.purpose == Purpose::compensate || j.purpose == Purpose::check ||
+                         (j.purpose == Purpose::simulate && s.reference.empty());
   std::unique_ptr<gcode::ProgramPasses> pieces;
   if (in_pieces && s.program != "-") pieces = std::make_unique<gcode::ProgramPasses>(s.program, &io.in, piece_lines());
   if (!pieces) {
@@ -115,6 +116,7 @@ void resolve_physics(Run& j) {
   j.physics.machine = stiffness::parse_machine_stiffness(j.setup.machine->root, j.setup.machine->file);
   j.physics.tool_only = s.tool_only;
   j.physics.spindle = j.setup.machine->spindle;
+  if (j.purpose == Purpose::check) return;  // the sweep alone: no forces
   MaterialSettings mat = s.material;
   // A material by name (given, or the config's): its library. Coefficients
   // given alone need none (and a material file beside them is an error).
@@ -133,7 +135,7 @@ void resolve_physics(Run& j) {
 void build_stock_and_part(Run& j, Io& io, const Run* shared, const std::vector<EarlierRun>& earlier) {
   const Settings& s = j.given;
   const std::string part = !s.part.part.empty() ? s.part.part : config_path(j.setup.config, "part");
-  if (!part.empty()) {
+  if (!part.empty() && j.purpose != Purpose::check) {
     j.part_spec = part;
     if (!shared) j.part = std::make_unique<part::PartModel>(part::PartModel::load(part));
     j.physics.part = shared ? shared->physics.part : j.part.get();
@@ -171,6 +173,7 @@ Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const R
   j.settings = detail::settings_of(s, j.setup.config, *j.setup.machine);
   j.settings.rounding_mm = writer::rounding_mm(false, j.setup.dialect);
   j.settings.rounding_inch_mm = writer::rounding_mm(true, j.setup.dialect);
+  j.settings.geometry_only = purpose == Purpose::check;
   read_program(j, io);
   if (purpose == Purpose::compensate) detail::warn_meaningless(j.settings, j.setup.strict, io);
   if (!j.pieces) detail::subprograms(j, io);

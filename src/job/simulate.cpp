@@ -75,8 +75,10 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   // The points go to the recorder as they are produced; nothing keeps them.
   detail::Recording rec(j, false, obs);
   compensate::PlausibilityScan scan(j.physics.tools, j.settings, !j.given.stock_from.empty(), &j.physics.spindle);
+  compensate::CollisionScan collisions(j.physics.tools);
   const compensate::PointSink sink = [&](const compensate::Point& p) {
     scan.add(p);
+    collisions.add(p, compensate::tool_id(p.tool, j.settings));
     const V3 offset = report::offset_at(p, intent);
     rec.rec->point(p, offset, p.motion);
     if (nearest) nearest->add(p, offset);
@@ -90,6 +92,9 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   }
   j.physics.stock = j.physics.consumable_stock = nullptr;
   detail::end_progress(progress);
+  // The holder or the shank in the material: the machine crashes there, so the
+  // program is in error as a simulation of it (no report is written).
+  detail::refuse_collisions(j, collisions, io, "no report written");
   SimulateResult s;
   s.figures = rec.rec->finish();
   s.plausibility = scan.finish(false);

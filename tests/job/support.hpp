@@ -62,6 +62,12 @@ inline Outcome<job::SimulateResult> simulate_job(const job::Settings& s, const s
       s, job::Purpose::simulate, [](job::Run& r, Streams& st) { return job::simulate(r, st.io); }, stdin_text);
 }
 
+// The stock of samples/programs/pocket_finish.nc beside its box: its two
+// holes pre-drilled by a flat D20 (tests/data/pocket_predrill.nc). T5 drills
+// them 12 mm deep with flutes of 10 mm: on the bare box its shank runs 2 mm
+// into the bore, an error (compensate/collision.hpp).
+inline std::vector<job::EarlierOp> pocket_predrilled() { return {{"tests/data/pocket_predrill.nc", ""}}; }
+
 // The sample side wall with its first pass (line 16) replaced by `pass`.
 inline std::string side_wall_with(const TempDir& dir, const std::string& name, const std::string& pass) {
   return edited_copy(dir, "samples/programs/side_wall.nc", name, "N22 X110. F2546.4\n", pass);

@@ -78,20 +78,29 @@ TEST_SUITE("job") {
     REQUIRE(ok.ok());
     CHECK(ok.err.find("warning:") == std::string::npos);
     CHECK(ok.result->summary.at("warnings") == report::Json::array());
-    // The same path with the D6 ball T3 (flutes 9 mm) 12 mm into the wall's raw box.
+    // The same path with the D6 ball T3 (flutes 9 mm) 8 mm into a raw box
+    // (top Z-4): deeper than its radius, a raw blank that needs roughing.
     job::Settings s = on_wall(kWall);
     s.tool = "T3";
-    s.stock = "box:0,-40,-30,100,10,0";
+    s.stock = "box:0,-40,-30,100,10,-4";
     const auto r = test::simulate_job(s);
     INFO(r.err);
     REQUIRE(r.ok());
-    CHECK(r.err.find("side_wall.nc:16:1: warning: the cut reaches") != std::string::npos);
-    CHECK(r.err.find("[flute_length]") != std::string::npos);
+    CHECK(r.err.find("side_wall.nc:16:1: warning: a_p up to") != std::string::npos);
     CHECK(r.err.find("[roughing]") != std::string::npos);
     CHECK(r.err.find("N22 X110.") != std::string::npos);  // the source line under it
     std::vector<std::string> kinds;
     for (const auto& w : r.result->summary.at("warnings")) kinds.push_back(w.at("kind"));
-    CHECK(std::find(kinds.begin(), kinds.end(), "flute_length") != kinds.end());
     CHECK(std::find(kinds.begin(), kinds.end(), "roughing") != kinds.end());
+    // 12 mm into the wall's raw box (top Z0), 3 mm above the flutes: the neck
+    // (D5.6 from 9 mm above the tip) rubs in the material it has not cut, an
+    // error at the pass's line (0 - (-12 + 9) = 3 mm), and no report.
+    s.stock = "box:0,-40,-30,100,10,0";
+    const auto deep = test::simulate_job(s);
+    REQUIRE_FALSE(deep.ok());
+    CHECK(deep.error == ErrorKind::input);
+    CHECK(deep.err.find("side_wall.nc:16:1: error: the neck of T3 (diameter 5.60 mm from 9.0 mm above the tip) runs 3.00 mm "
+                        "into the material") != std::string::npos);
+    CHECK(deep.err.find("[shank_collision]") != std::string::npos);
   }
 }

@@ -127,6 +127,7 @@ TEST_SUITE("job") {
       job::Settings s;
       s.program = in;
       s.stock = "box:-5,-5,-20,105,85,0";
+      s.stock_from = test::pocket_predrilled();
       s.tolerance_mm = 0.0005;
       s.output = out;
       return test::compensate_job(s);

@@ -17,6 +17,7 @@ TEST_SUITE("job") {
     job::Settings s;
     s.program = "samples/programs/pocket_finish.nc";
     s.stock = "box:-5,-5,-20,105,85,0";
+    s.stock_from = test::pocket_predrilled();
     test::Streams streams;
     job::Io& io = streams.io;
     for (const char* lines : {"0", "5"}) {
@@ -55,6 +56,7 @@ TEST_SUITE("job") {
     job::Settings s;
     s.program = "samples/programs/pocket_finish.nc";
     s.stock = "box:-5,-5,-20,105,85,0";
+    s.stock_from = test::pocket_predrilled();
     const auto r = test::compensate_job(s);
     REQUIRE(r.ok());
     const std::string note =

@@ -115,7 +115,8 @@ TEST_SUITE("job") {
     CHECK(js.at("dialect") == "fanuc");
     CHECK(js.at("tools") == report::Json::array({"T1: flat D10 mm"}));
     CHECK(js.at("material") == "C35 (samples/materials.yaml)");
-    job::Settings t7 = slot_on("box:0,0,-25,80,80,0");
+    // T7's flutes are 15 mm long: 12.4 mm into a box with its top at Z-5.
+    job::Settings t7 = slot_on("box:0,0,-25,80,80,-5");
     t7.tool = "T7";
     const auto c = test::compensate_job(t7, kSlot);
     REQUIRE(c.ok());
@@ -123,14 +124,28 @@ TEST_SUITE("job") {
   }
 
   TEST_CASE("stock auto[:MARGIN] is the blank round the cutting moves and the tool, and says so") {
-    const auto r = test::simulate_job(slot_on("auto:2"), kSlot);
-    REQUIRE(r.ok());
     // Tips X 0.001..79.999, Y 0.001..0.626, Z -17.368..10 (the plunge starts at
-    // Z10); R 5 + 2 beyond them, 2 below, the top at the highest tip.
+    // Z10); R 5 + 2 beyond them, 2 below, the top at the highest tip. T1's
+    // flutes (22 mm) are shorter than the slot is deep in that blank (27.4 mm):
+    // its shank runs 5.37 mm into the material, in the auto blank as in the same box.
+    const auto t1 = test::simulate_job(slot_on("auto:2"), kSlot);
+    REQUIRE_FALSE(t1.ok());
+    CHECK(has(t1.err, "auto:2 is the blank box:-6.999,-6.999,-19.368,86.999,7.626,10.000 (round the "
+                      "cutting moves and the tool, 2 mm beyond them"));
+    CHECK(has(t1.err, "<stdin>:7:1: error: the shank of T1 (diameter 10.00 mm from 22.0 mm above the tip) runs 5.37 mm"));
+    const auto t1_box = test::simulate_job(slot_on("box:-6.999,-6.999,-19.368,86.999,7.626,10.000"), kSlot);
+    REQUIRE_FALSE(t1_box.ok());
+    CHECK(t1_box.err.substr(t1_box.err.find("<stdin>:7:1: error:")) == t1.err.substr(t1.err.find("<stdin>:7:1: error:")));
+    // T4, a flat D20 with flutes 38 mm long, cuts it: R 10 + 2 beyond.
+    job::Settings t4 = slot_on("auto:2");
+    t4.tool = "T4";
+    const auto r = test::simulate_job(t4, kSlot);
+    REQUIRE(r.ok());
     CHECK(has(r.err, "note: "));
-    CHECK(has(r.err, "auto:2 is the blank box:-6.999,-6.999,-19.368,86.999,7.626,10.000 (round the "
+    CHECK(has(r.err, "auto:2 is the blank box:-11.999,-11.999,-19.368,91.999,12.626,10.000 (round the "
                      "cutting moves and the tool, 2 mm beyond them"));
-    const auto same = test::simulate_job(slot_on("box:-6.999,-6.999,-19.368,86.999,7.626,10.000"), kSlot);
+    t4.stock = "box:-11.999,-11.999,-19.368,91.999,12.626,10.000";
+    const auto same = test::simulate_job(t4, kSlot);
     REQUIRE(same.ok());
     const report::ErrorStats &a = r.result->figures.error, &b = same.result->figures.error;
     CHECK(a.points > 0);

@@ -7,9 +7,17 @@
 // stick-out (the holder face), then the holder's taper from its nose diameter
 // to its base diameter over its length (the machine profile's `holder:`).
 // Whatever lies higher (the spindle nose) is not modelled.
+//
+// A part of the assembly in the material is an error, not a warning: the
+// machine crashes there whatever the compensation does. Depths up to
+// collision_tolerance_mm are not counted.
 #pragma once
+#include <cstdint>
+#include <map>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "deflex/compensate/compensate.hpp"
@@ -41,5 +49,49 @@ struct Interference {
   AssemblyPart part = AssemblyPart::shank;
 };
 Interference interference(const stock::ZMap& z, const V3& tip_mm, const Assembly& a);
+
+// Below a hundredth of a millimetre the Z-map's cells on a wall decide, not
+// the part (a wall a tool has just cut stands within a cell of its flank):
+// a depth up to this is no collision.
+inline constexpr double collision_tolerance_mm = 0.01;
+
+// One tool's part (the holder, or the neck or shank) in the material.
+struct Collision {
+  std::string tool;
+  AssemblyPart part = AssemblyPart::holder;  // the neck or shank: the one of the deepest point
+  std::uint32_t first_line = 0;              // the first line where it is in the material
+  double first_mm = 0;                       // how deep there (its deepest point on that line)
+  std::uint32_t worst_line = 0;              // the deepest point's line
+  double worst_mm = 0;
+  std::size_t points = 0, line_count = 0;
+  // The holder: the least stick-out that clears it (the stick-out plus the
+  // deepest depth: the holder rises with it, and the longer shank below it
+  // is narrower than the holder and already checked to any height). The neck
+  // or shank: the height above the tip its bottom must reach at that diameter.
+  double clears_mm = 0;
+  double from_mm = 0;      // the part's bottom above the tip (the holder's: the stick-out)
+  double diameter_mm = 0;  // the neck's or shank's diameter
+  std::string kind() const;             // holder_collision | shank_collision
+  std::string message() const;          // one sentence, without the location
+};
+
+// The collisions of a simulation's points (Point::collision_mm), in program
+// order as they come: one per tool and part (holder; neck or shank).
+class CollisionScan {
+ public:
+  explicit CollisionScan(const stiffness::ToolLibrary& tools) : tools_(tools) {}
+  void add(const Point& p, const std::string& tool_id);
+  bool any() const { return !acc_.empty(); }
+  // By first line.
+  std::vector<Collision> collisions() const;
+
+ private:
+  struct Acc {
+    Collision c;
+    std::set<std::uint32_t> lines;
+  };
+  const stiffness::ToolLibrary& tools_;
+  std::map<std::pair<std::string, bool>, Acc> acc_;  // (tool, holder?)
+};
 
 }  // namespace deflex::compensate

@@ -77,6 +77,9 @@ struct Settings {
   std::string tool_override;    // use this tool whatever the T words say
   double part_reach_mm = 1.0;   // a part contact farther than this is not the surface being cut
   bool flank_profiles = false;  // simulate(): keep each flank point's e(z) in Point::flank_profile (reports)
+  // simulate(): the sweep through the stock and the assembly check alone
+  // (Point::collision_mm; no engagement, forces or normals): `deflex check --stock`.
+  bool geometry_only = false;
 };
 
 // What does not change with the path: tools, machine, material, stock.

@@ -44,6 +44,10 @@ struct SimOptions {
   std::size_t max_batch = 256;    // CL samples per batch
   int threads = 0;                // 0: TBB's default (all cores); 1: sequential
   bool commit_beside = true;      // false: each commit done before anything goes on (the tests' reference)
+  // false: the samples are not evaluated (the sink and the sample work get
+  // empty metrics and engagement): the sweep alone, with the same samples,
+  // batches and commits, so the stock a sink reads is the same.
+  bool evaluate = true;
 };
 
 using PointSink = std::function<void(const CLSample&, const Metrics&, const force::Engagement&)>;

@@ -1,7 +1,9 @@
 // `deflex check` as a call: a program read and interpreted as the control
-// would, its diagnostics, the machine's travel, and with a part model the
-// gouge check (the programmed cutter against the design surface; no stock,
-// no simulation).
+// would, its diagnostics, the machine's travel, with a part model the
+// gouge check (the programmed cutter against the design surface), and with a
+// stock the holder and shank check (the program swept through the stock, the
+// earlier programs' rest stock included, by the simulation's sweep alone: no
+// engagement, no forces; the same errors simulate and compensate give).
 #pragma once
 #include <functional>
 #include <string>
@@ -25,6 +27,14 @@ struct CheckSettings {
   std::string tool_file; // the tool library of the gouge check and of G41/G42 radii
   std::string tool;      // the gouge check's tool for every cut ("": the program's T words)
   bool keep_diagnostics = false;  // CheckResult::diagnostics (a text run may report millions)
+  // The holder and shank check where a stock is given (as compensate takes
+  // it: box, solid, .zmap or auto; "": none, the check as before), with the
+  // earlier operations swept into it first.
+  std::string stock;
+  std::vector<EarlierOp> stock_from;
+  double cell_mm = 0.05;         // its Z-map cell
+  double cl_spacing_mm = 0.5;    // the samples along a move, as simulate's
+  int threads = 0;               // 0: all cores
 };
 
 struct CheckResult {

@@ -32,6 +32,8 @@ enum class Purpose {
   simulate,    // in pieces unless judged against a reference
   compare,     // read whole, beside others on a shared stock
   fit,         // read whole: simulated once per basis machine (fit/basis.hpp)
+  check,       // check --stock: in pieces like simulate; the sweep and the assembly check
+               // alone (compensate::Settings::geometry_only): no material, no part model
 };
 
 struct Run {
