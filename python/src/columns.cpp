@@ -50,6 +50,7 @@ const std::map<std::string, Get>& getters() {
       {"cusp_height_mm", [](const R& r) { return r.cusp_height_mm; }},
       {"power_kW", [](const R& r) { return r.power_kW; }},
       {"torque_Nm", [](const R& r) { return r.torque_Nm; }},
+      {"ap_limit_mm", [](const R& r) { return r.ap_limit_mm; }},
   };
   return g;
 }

@@ -13,7 +13,7 @@ from conftest import SAMPLE
 # rows, unrounded, equal the CSV within half a unit of the last place.
 DECIMALS = {"x_mm": 4, "y_mm": 4, "z_mm": 4, "path_mm": 3, "ap_mm": 4, "ae_mm": 4, "d_eff_mm": 4,
             "cwe_area_mm2": 4, "mrr_mm3_per_s": 2, "Fx_N": 2, "Fy_N": 2, "Fz_N": 2, "flank_z_min_mm": 4,
-            "flank_z_max_mm": 4, "stepover_mm": 4, "power_kW": 4, "torque_Nm": 3}
+            "flank_z_max_mm": 4, "stepover_mm": 4, "power_kW": 4, "torque_Nm": 3, "ap_limit_mm": 4}
 
 
 def test_compensate_gives_the_cli_bytes(cli_compensated, py_compensated):

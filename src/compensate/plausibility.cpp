@@ -576,7 +576,8 @@ void stability_findings(Plausibility& out, StabilityChecks& c) {
                              fixed_decimals(c.limit_mm, 2) + " mm (zero-order lobes of its tip's modes): it chatters, "
                              "and a chattering cut leaves marks no compensation removes; take a smaller depth or move S "
                              "to a stable pocket (`deflex stability --tool " + c.chatter.f.tool + " --ae " +
-                             fixed_decimals(c.ae_mm, 2) + "` draws the lobes)");
+                             fixed_decimals(c.ae_mm, 2) + " --ap " + fixed_decimals(c.ap_mm, 2) +
+                             "` with the run's machine and material draws its lobes)");
   }
   for (const auto& [id, line] : c.unmodelled) {
     Finding f;

@@ -88,6 +88,7 @@ report::Json summary_of(const Run& j, const CompensateResult& c) {
   js["machining_time"] = {{"as_written", report::to_json(c.time_as_written)},
                           {"compensated", report::to_json(c.time_compensated)}};
   js["spindle"] = detail::spindle_json(f, j.physics.spindle);
+  js["stability"] = detail::stability_json(f);
   js["warnings"] = detail::warnings_json(c.plausibility);
   js["left_alone"] = detail::left_alone_json(f);
   js["used"] = c.used.json;

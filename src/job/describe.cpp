@@ -108,6 +108,11 @@ report::Json spindle_json(const report::RunFigures& f, const profile::SpindleRat
           {"rating", std::move(rating)}};
 }
 
+report::Json stability_json(const report::RunFigures& f) {
+  return {{"checked_points", f.stability_checked}, {"points_above_limit", f.above_limit},
+          {"worst_ap_over_limit", report::fixed(f.worst_ap_over_limit, 4)}};
+}
+
 report::Json warnings_json(const compensate::Plausibility& pl) {
   report::Json a = report::Json::array();
   for (const compensate::Finding& f : pl.findings)

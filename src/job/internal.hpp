@@ -45,6 +45,9 @@ void print_plausibility(const Run& j, const compensate::Plausibility& pl, Io& io
 // summary.json's "spindle": the run's peak power and torque, and the rating
 // they are held against (null without one in the machine profile).
 report::Json spindle_json(const report::RunFigures& f, const profile::SpindleRating& r);
+// summary.json's "stability": the points whose a_p was held against the
+// stability limit, how many were above it, and the largest a_p over it.
+report::Json stability_json(const report::RunFigures& f);
 report::Json warnings_json(const compensate::Plausibility& pl);
 
 // The tool assembly in the stock (compensate/collision.hpp): each collision

@@ -52,6 +52,7 @@ report::Json summary_of(const Run& j, const SimulateResult& s) {
   js["cusp_height_mm"] = report::cusp_json(s.figures.cusp);
   js["machining_time"] = report::to_json(s.time);
   js["spindle"] = detail::spindle_json(s.figures, j.physics.spindle);
+  js["stability"] = detail::stability_json(s.figures);
   js["warnings"] = detail::warnings_json(s.plausibility);
   js["used"] = s.used.json;
   return js;

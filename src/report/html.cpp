@@ -44,6 +44,8 @@ Json plots_json(const std::vector<std::pair<std::string, std::string>>& maps) {
            {"P", "P_S1"}),
       plot("spindle torque (mean over a revolution) and the S1 rating at the point's speed", "N m", {"M", "S1"},
            {"M", "M_S1"}),
+      plot("axial depth of cut and the stability limit at the point's immersion and speed (chatter above it)", "mm",
+           {"a_p", "limit"}, {"ap", "ap_lim"}),
   });
 }
 

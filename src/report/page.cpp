@@ -13,9 +13,10 @@ Json num_or_null(double v, int decimals) { return std::isnan(v) ? Json() : Json(
 
 // The plots' series along the program, in the order of PageSink::Rec::series.
 // P and M: the spindle's power and torque; P_S1 and M_S1 what its S1 curve
-// allows at the point's speed (NaN without a rating).
+// allows at the point's speed (NaN without a rating). ap_lim: the stability
+// limit (NaN where not checked).
 const char* const kSeries[kSeriesCount] = {"F",    "Fx",   "Fy", "Fz", "delta", "ap",  "ae",
-                                           "mrr",  "deff", "area", "cusp", "P", "P_S1", "M", "M_S1"};
+                                           "mrr",  "deff", "area", "cusp", "P", "P_S1", "M", "M_S1", "ap_lim"};
 
 // One pass of gap filling: an empty cell enclosed by filled ones - two on
 // opposite sides (across a row, a column or a diagonal), or five of its eight
@@ -144,7 +145,7 @@ void PageSink::add(const compensate::Point& p, const V3& contact, double path_mm
   const double s[kSeriesCount] = {p.force_N.norm(), p.force_N.x(), p.force_N.y(), p.force_N.z(), 1000 * p.delta_mm.norm(),
                                   p.ap_mm, p.ae_mm, p.mrr_mm3_per_s, p.d_eff_mm, p.cwe_area_mm2, 1000 * c.height_mm,
                                   p.power_kW, profile::power_from_torque_kW(allowed_Nm, p.spindle_rpm),
-                                  p.torque_Nm, allowed_Nm};
+                                  p.torque_Nm, allowed_Nm, p.ap_limit_mm > 0 ? p.ap_limit_mm : kNone};
   for (std::size_t k = 0; k < kSeriesCount; ++k) r.series[k] = static_cast<float>(s[k]);
   r.stepover_mm = static_cast<float>(c.stepover_mm);
   r.cusp_mm = static_cast<float>(c.height_mm);

@@ -15,7 +15,7 @@
 namespace deflex::report {
 
 // The values drawn along the program (kSeries in page.cpp).
-inline constexpr std::size_t kSeriesCount = 15;
+inline constexpr std::size_t kSeriesCount = 16;
 
 class PageSink {
  public:

@@ -39,7 +39,7 @@ bool continuous(std::uint32_t a, std::uint32_t b) { return b - a <= 1; }
 const char* const kPointsCsvHeader =
     "line,x_mm,y_mm,z_mm,path_mm,ap_mm,ae_mm,d_eff_mm,cwe_area_mm2,mrr_mm3_per_s,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,"
     "dz_mm,surface_error_mm,surface_error_as_written_mm,offset_mm,nx,ny,nz,normal_source,part_gap_mm,"
-    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm,power_kW,torque_Nm\n";
+    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm,power_kW,torque_Nm,ap_limit_mm\n";
 
 struct Recorder::Impl {
   explicit Impl(RecorderOptions o)
@@ -201,6 +201,12 @@ struct Recorder::Impl {
     peak_mrr = std::max(peak_mrr, p.mrr_mm3_per_s);
     peak_power_kW = std::max(peak_power_kW, p.power_kW);
     peak_torque_Nm = std::max(peak_torque_Nm, p.torque_Nm);
+    if (p.ap_limit_mm > 0) {
+      ++stability_checked;
+      const double ratio = p.ap_mm / p.ap_limit_mm;
+      worst_ap_over_limit = std::max(worst_ap_over_limit, ratio);
+      above_limit += ratio > 1;
+    }
     d_eff_sum += p.d_eff_mm;
     area_sum += p.cwe_area_mm2;
     if (page) page->add(p, contact(p), path_mm, error, as_written, c);
@@ -224,6 +230,7 @@ struct Recorder::Impl {
     }
     r.stepover_mm = c.stepover_mm, r.cusp_height_mm = c.height_mm;
     r.power_kW = p.power_kW, r.torque_Nm = p.torque_Nm;
+    if (p.ap_limit_mm > 0) r.ap_limit_mm = p.ap_limit_mm;
     if (opt.rows) opt.rows(r);
     if (opt.points_csv) write_csv(r);
   }
@@ -250,6 +257,7 @@ struct Recorder::Impl {
     f(r.flank_z_min_mm, 4), f(r.flank_z_max_mm, 4);
     f(r.stepover_mm, 4), f(r.cusp_height_mm, 6);
     f(r.power_kW, 4), f(r.torque_Nm, 3);
+    f(r.ap_limit_mm, 4);
     o << '\n';
   }
 
@@ -290,6 +298,9 @@ struct Recorder::Impl {
     f.peak_mrr_mm3_per_s = peak_mrr;
     f.peak_power_kW = peak_power_kW;
     f.peak_torque_Nm = peak_torque_Nm;
+    f.worst_ap_over_limit = worst_ap_over_limit;
+    f.above_limit = above_limit;
+    f.stability_checked = stability_checked;
     if (cutting) {
       const double n = static_cast<double>(cutting);
       f.mean_force_N = force_sum / n;
@@ -327,7 +338,8 @@ struct Recorder::Impl {
   ValueAccumulator cusp_stats;
   std::size_t cutting = 0;
   double peak_force_N = 0, force_sum = 0, peak_deflection_mm = 0, peak_mrr = 0, d_eff_sum = 0, area_sum = 0;
-  double peak_power_kW = 0, peak_torque_Nm = 0;
+  double peak_power_kW = 0, peak_torque_Nm = 0, worst_ap_over_limit = 0;
+  std::size_t above_limit = 0, stability_checked = 0;
   bool any_flank = false;
   std::map<interp::Fixed, RunFigures::LeftAlone> left_alone;
   std::unique_ptr<PageSink> page;

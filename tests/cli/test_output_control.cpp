@@ -57,7 +57,7 @@ TEST_SUITE("cli") {
   TEST_CASE("--help of every command: the output options, and defaults as typed (no 0.050000000000000003)") {
     const std::regex noisy(R"(\(=[0-9]*\.[0-9]{7,}\))");
     for (std::string c : {"compensate", "simulate", "compare", "path", "check", "diff", "rewrite", "stock", "rough",
-                          "testcut", "probe", "forces", "stiffness", "calibrate"}) {
+                          "testcut", "probe", "forces", "stiffness", "calibrate", "stability"}) {
       CAPTURE(c);
       const test::CliResult h = test::run_cli({c, "--help"});
       CHECK(h.rc == 0);

@@ -65,6 +65,7 @@ struct PointRow {
   double flank_min_mm = kNone, flank_max_mm = kNone, flank_z_min_mm = kNone, flank_z_max_mm = kNone;
   double stepover_mm = kNone, cusp_height_mm = kNone;
   double power_kW = 0, torque_Nm = 0;  // the spindle's load (compensate::Point)
+  double ap_limit_mm = kNone;          // the stability limit (compensate::Point; none where not checked)
 };
 // The header of points.csv: its columns, in the order of PointRow's values.
 extern const char* const kPointsCsvHeader;
@@ -98,6 +99,10 @@ struct RunFigures {
   ValueStats cusp;              // the rows' cusp heights (ball ends with a neighbouring pass)
   double peak_force_N = 0, mean_force_N = 0, peak_deflection_mm = 0, peak_mrr_mm3_per_s = 0;
   double peak_power_kW = 0, peak_torque_Nm = 0;  // the spindle's (mean over a revolution)
+  // The stability limit (chatter): the largest a_p over it, the rows above
+  // it (ratio > 1) and the rows it was checked at.
+  double worst_ap_over_limit = 0;
+  std::size_t above_limit = 0, stability_checked = 0;
   double mean_d_eff_mm = 0, mean_area_mm2 = 0;
   bool flank_rows = false;      // flank_profile.csv got a row
   // The rows outside the tolerance on motions deflex never moves, per reason
