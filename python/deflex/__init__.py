@@ -8,7 +8,7 @@ and analyse the predicted surface error with NumPy, pandas and matplotlib.
     comp = job.compensate("part_comp.nc")  # or compensate() for comp.program in memory
 
 deflex.Job                 the settings of a run and its runs (deflex/job.py)
-deflex.compliance, forces, cusp_height_mm   the physics as calls (deflex/physics.py)
+deflex.compliance, forces, stability, cusp_height_mm   the physics as calls (deflex/physics.py)
 deflex.Error and its classes               deflex/errors.py
 
 The compiled half is deflex._deflex (python/src/): the library's job API with
@@ -17,7 +17,7 @@ the GIL released while it runs.
 
 from .errors import ConfigError, Error, FileError, InputError, InternalError, UsageError
 from .job import Job
-from .physics import Compliance, Forces, compliance, cusp_height_mm, forces
+from .physics import Compliance, Forces, Stability, compliance, cusp_height_mm, forces, stability
 from .results import CompensateResult, ErrorFigures, SimulateResult
 from ._deflex import data_dir
 

@@ -6,7 +6,7 @@ from typing import NamedTuple
 
 from . import _deflex
 
-__all__ = ["Compliance", "Forces", "compliance", "forces", "cusp_height_mm"]
+__all__ = ["Compliance", "Forces", "Stability", "compliance", "forces", "stability", "cusp_height_mm"]
 
 
 class Compliance(NamedTuple):
@@ -20,6 +20,16 @@ class Forces(NamedTuple):
     mean_N: "numpy.ndarray"      # (3,) over the revolution
     peak_abs_N: "numpy.ndarray"  # (3,) largest |F| per axis
     shape_code: "str | None"     # Morelli's code of the curve (flat end, down-milling), else None
+
+
+class Stability(NamedTuple):
+    rpm: "numpy.ndarray"          # (points + 1,) spindle speeds
+    ap_limit_mm: "numpy.ndarray"  # (points + 1,) the largest stable a_p at each (the lobes' lower envelope)
+    pockets: "numpy.ndarray"      # (n, 2) rpm, ap_limit_mm of the envelope's peaks, best first
+    ap_min_mm: float              # the absolute limit, stable at every speed
+    ap_min_chatter_Hz: float
+    modes: list                   # the model's tip modes: dicts of frequency_Hz, damping_ratio, stiffness_N_per_mm
+    frf_source: str
 
 
 def compliance(tool, tool_file=None, machine=None, heights_mm=None, tool_only=False, method="beam", mesh_mm=0.0):
@@ -45,6 +55,21 @@ def forces(*, tool, ae_mm, ap_mm, fz_mm, milling="down", tool_file=None, materia
                        kte_N_per_mm=kte_N_per_mm, kre_N_per_mm=kre_N_per_mm, kae_N_per_mm=kae_N_per_mm,
                        ae_mm=ae_mm, ap_mm=ap_mm, fz_mm=fz_mm, milling=milling, steps=steps, dz_mm=dz_mm)
     return Forces(d["angle_deg"], d["force_N"], d["mean_N"], d["peak_abs_N"], d.get("shape_code"))
+
+
+def stability(*, tool, ae_mm, ap_mm=None, milling="down", machine=None, frf=None, tool_only=False, rpm=None,
+              points=1000, tool_file=None, material=None, material_file=None):
+    """The zero-order stability limit (chatter, Altintas & Budak 1995) against
+    spindle speed, as `deflex stability`: from the beam model's tip modes on
+    `machine` (default config.yaml's; tool_only: clamped at the holder face) or
+    a measured FRF CSV (`frf`, then give rpm=(min, max) without a machine).
+    a_e from the cutting side; ap_mm: the engagement of that depth on the
+    tool's own shape (default: the straight wall's immersion)."""
+    d = _deflex.stability(tool=tool, tool_file=tool_file, material=material, material_file=material_file,
+                          machine=machine, frf=frf, tool_only=tool_only, ae_mm=ae_mm, ap_mm=ap_mm, milling=milling,
+                          rpm=rpm, points=points)
+    return Stability(d["limit"][:, 0], d["limit"][:, 1], d["pockets"], d["ap_min_mm"], d["ap_min_chatter_Hz"],
+                     d["modes"], d["frf_source"])
 
 
 def cusp_height_mm(diameter_mm, stepover_mm, inclination_deg=0.0, direction_deg=0.0):

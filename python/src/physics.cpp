@@ -1,6 +1,6 @@
 // The physics as plain calls, the library functions behind `deflex stiffness`
-// (src/cli/cmd_stiffness.cpp), `deflex forces` (src/cli/cmd_forces.cpp) and
-// the cusp height (process/cusp.hpp): numbers and NumPy arrays, units in the
+// (src/cli/cmd_stiffness.cpp), `deflex forces` (src/cli/cmd_forces.cpp),
+// `deflex stability` (src/cli/cmd_stability.cpp) and the cusp height (process/cusp.hpp): numbers and NumPy arrays, units in the
 // names. Libraries default as a job's do (job/setup.hpp: config.yaml, else
 // the installed samples).
 #include <pybind11/numpy.h>
@@ -16,6 +16,7 @@
 #include "deflex/force/tool.hpp"
 #include "deflex/job/setup.hpp"
 #include "deflex/job/physics.hpp"
+#include "deflex/job/stability.hpp"
 #include "deflex/process/cusp.hpp"
 #include "deflex/profile/profile.hpp"
 #include "deflex/stiffness/compliance.hpp"
@@ -89,6 +90,35 @@ py::dict forces(const std::string& tool, const py::object& tool_file, const job:
   return d;
 }
 
+py::array_t<double> pairs_array(const std::vector<std::pair<double, double>>& v) {
+  py::array_t<double> a({py::ssize_t(v.size()), py::ssize_t(2)});
+  auto w = a.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < v.size(); ++i) w(py::ssize_t(i), 0) = v[i].first, w(py::ssize_t(i), 1) = v[i].second;
+  return a;
+}
+
+py::dict stability(job::StabilitySettings s, const std::string& milling, const std::optional<std::pair<double, double>>& rpm) {
+  if (milling != "up" && milling != "down")
+    throw Error(ErrorKind::settings, "milling must be 'up' or 'down', not '" + milling + "'");
+  s.up_milling = milling == "up";
+  if (rpm) s.rpm_min = rpm->first, s.rpm_max = rpm->second;
+  const job::StabilityResult r = job::stability(s);
+  py::list modes;
+  for (const auto& m : r.modes) {
+    py::dict d;
+    d["frequency_Hz"] = m.frequency_Hz, d["damping_ratio"] = m.damping_ratio, d["stiffness_N_per_mm"] = m.stiffness_N_per_mm;
+    modes.append(d);
+  }
+  py::dict d;
+  d["limit"] = pairs_array(r.limit);
+  d["pockets"] = pairs_array(r.pockets);
+  d["ap_min_mm"] = r.lobes.ap_min_mm;
+  d["ap_min_chatter_Hz"] = r.lobes.ap_min_chatter_Hz;
+  d["modes"] = modes;
+  d["frf_source"] = r.frf_source;
+  return d;
+}
+
 // Mikó et al. Eq. 4 and 7 (process/cusp.hpp), angles in degrees.
 double cusp_height_mm(double diameter_mm, double stepover_mm, double inclination_deg, double direction_deg) {
   constexpr double rad = std::numbers::pi / 180;
@@ -117,6 +147,27 @@ void bind_physics(py::module_& m) {
       py::arg("ka_N_per_mm2") = py::none(), py::arg("kte_N_per_mm") = py::none(), py::arg("kre_N_per_mm") = py::none(),
       py::arg("kae_N_per_mm") = py::none(), py::arg("ae_mm"), py::arg("ap_mm"), py::arg("fz_mm"),
       py::arg("milling") = "down", py::arg("steps") = 360, py::arg("dz_mm") = 0.05);
+  m.def(
+      "stability",
+      [](const std::string& tool, const py::object& tool_file, const py::object& material, const py::object& material_file,
+         const py::object& machine, const py::object& frf, bool tool_only, double ae_mm, std::optional<double> ap_mm,
+         const std::string& milling, std::optional<std::pair<double, double>> rpm, int points) {
+        job::StabilitySettings s;
+        s.tool = tool;
+        s.tool_file = opt_path("tool_file", tool_file);
+        s.material = {opt_path("material", material), opt_path("material_file", material_file), {}, {}, {}, {}, {}, {}};
+        s.machine = opt_path("machine", machine);
+        s.frf = opt_path("frf", frf);
+        s.tool_only = tool_only;
+        s.ae_mm = ae_mm;
+        s.ap_mm = ap_mm;
+        s.points = points;
+        return stability(s, milling, rpm);
+      },
+      py::kw_only(), py::arg("tool"), py::arg("tool_file") = py::none(), py::arg("material") = py::none(),
+      py::arg("material_file") = py::none(), py::arg("machine") = py::none(), py::arg("frf") = py::none(),
+      py::arg("tool_only") = false, py::arg("ae_mm"), py::arg("ap_mm") = py::none(), py::arg("milling") = "down",
+      py::arg("rpm") = py::none(), py::arg("points") = 1000);
   m.def("cusp_height_mm", py::vectorize(&cusp_height_mm), py::arg("diameter_mm"), py::arg("stepover_mm"),
         py::arg("inclination_deg") = 0.0, py::arg("direction_deg") = 0.0);
 }

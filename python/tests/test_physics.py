@@ -46,6 +46,21 @@ def test_forces_are_the_cli_forces():
         deflex.forces(**args, milling="climb")
 
 
+def test_stability_is_the_cli_stability():
+    cli = json.loads(run_cli("stability", "--tool-file", "samples/tools.yaml", "--tool", "T1", "--material",
+                             "Al7075-T6", "--machine", "mill3", "--ae", "3", "--points", "200", "--format",
+                             "json").stdout)
+    s = deflex.stability(tool="T1", tool_file="samples/tools.yaml", material="Al7075-T6", machine="mill3", ae_mm=3,
+                         points=200)
+    assert s.rpm.shape == (201,) and s.ap_limit_mm.shape == (201,)
+    assert np.allclose(s.ap_limit_mm, [p[1] for p in cli["limit"]], atol=5e-5)
+    assert math.isclose(s.ap_min_mm, cli["ap_min_mm"], abs_tol=5e-5)
+    assert len(s.modes) == len(cli["modes"]) == 4
+    assert np.all(s.ap_limit_mm >= s.ap_min_mm * (1 - 1e-9))
+    with pytest.raises(deflex.UsageError, match="milling"):
+        deflex.stability(tool="T1", ae_mm=3, milling="climb")
+
+
 def test_cusp_height_closed_form():
     # Eq. 7 on a level surface: R - sqrt(R^2 - (a_e/2)^2).
     assert math.isclose(deflex.cusp_height_mm(16, 1.0), 8 - math.sqrt(64 - 0.25), rel_tol=1e-12)

@@ -10,8 +10,13 @@
 
 #include "deflex/diag/plural.hpp"
 #include "internal.hpp"
+#include "plausibility_parts.hpp"
 
 namespace deflex::compensate {
+
+using detail::Acc;
+using detail::SpindleChecks;
+using detail::StabilityChecks;
 
 const Finding* Plausibility::find(const std::string& kind) const {
   for (const Finding& f : findings)
@@ -41,22 +46,6 @@ ForceLimit force_limit(const stiffness::Tool& t) {
 }
 
 namespace {
-
-struct Acc {
-  Finding f;
-  std::set<std::uint32_t> seen;
-  bool any = false;
-  void add(std::uint32_t line, double value, const std::string& tool) {
-    ++f.count;
-    if (!any || value > f.worst) {
-      f.worst = value;
-      f.line = line;
-      f.tool = tool;
-    }
-    any = true;
-    if (seen.insert(line).second && f.lines.size() < 12) f.lines.push_back(line);
-  }
-};
 
 // A point of a full-width slot run (kept until the run is judged).
 struct RunPoint {
@@ -120,66 +109,6 @@ struct AirRuns {
     run_points = run_line_count = 0;
     run_lines.clear();
     run_mm = run_gap_mm = 0;
-  }
-};
-
-}  // namespace
-
-namespace {
-
-// The spindle's load against its rating: the worst point by torque over the
-// S1 curve's allowance at its speed (power over the power curve is the same
-// ratio: P = M w), with its figures for the message; S above max_rpm; and,
-// with a feed limit, the points no feed keeps within it.
-struct SpindleChecks {
-  const profile::SpindleRating* rating = nullptr;  // null: none in the profile
-  double feed_limit_N = 0;
-  Acc load, speed, floor;
-  double power_kW = 0, torque_Nm = 0, rpm = 0;  // the worst load's point
-  double s6_worst = 0;                           // its load over the S6 curve
-  SpindleChecks(const profile::SpindleRating* r, double limit_N) : rating(r && r->set ? r : nullptr), feed_limit_N(limit_N) {
-    load.f.kind = "spindle_load";
-    speed.f.kind = "spindle_speed";
-    floor.f.kind = "feed_limit";
-  }
-  void add(const Point& p, const std::string& id);
-};
-
-void SpindleChecks::add(const Point& p, const std::string& id) {
-  if (feed_limit_N > 0 && p.feed_share < detail::min_feed_share) floor.add(p.line, p.feed_share, id);
-  if (!rating || !(p.spindle_rpm > 0)) return;
-  if (p.spindle_rpm > rating->max_rpm) {
-    speed.add(p.line, p.spindle_rpm, id);
-    speed.f.limit = rating->max_rpm;
-  }
-  const double ratio = p.torque_Nm / rating->s1.allowed_torque_Nm(p.spindle_rpm);
-  if (!(ratio > 1)) return;
-  const bool worse = !load.any || ratio > load.f.worst;
-  load.add(p.line, ratio, id);
-  if (!worse) return;
-  power_kW = p.power_kW;
-  torque_Nm = p.torque_Nm;
-  rpm = p.spindle_rpm;
-  s6_worst = rating->s6 ? p.torque_Nm / rating->s6->allowed_torque_Nm(p.spindle_rpm) : 0;
-}
-
-// Chatter: the axial depth of cut over the zero-order stability limit at the
-// point's immersion and speed (Point::ap_limit_mm), the worst by that ratio
-// with its figures; and the tools whose limit is not known.
-struct StabilityChecks {
-  Acc chatter;
-  double ap_mm = 0, limit_mm = 0, rpm = 0, ae_mm = 0;  // the worst point's
-  std::map<std::string, std::uint32_t> unmodelled;  // tool -> its first cutting line
-  StabilityChecks() { chatter.f.kind = "chatter"; }
-  void add(const Point& p, const std::string& id) {
-    if (p.ap_limit_mm < 0) unmodelled.try_emplace(id, p.line);
-    if (!(p.ap_limit_mm > 0)) return;
-    const double ratio = p.ap_mm / p.ap_limit_mm;
-    if (!(ratio > 1)) return;
-    const bool worse = !chatter.any || ratio > chatter.f.worst;
-    chatter.add(p.line, ratio, id);
-    if (!worse) return;
-    ap_mm = p.ap_mm, limit_mm = p.ap_limit_mm, rpm = p.spindle_rpm, ae_mm = p.ae_mm;
   }
 };
 
@@ -467,7 +396,7 @@ void PlausibilityScan::capped(const std::vector<std::uint32_t>& lines) {
   st_->fold(false);
 }
 
-namespace {
+namespace detail {
 
 // "N points on M lines (l1, l2, ...)": the end of every finding's message.
 std::string lines_text(const Finding& f) {
@@ -482,6 +411,13 @@ void emit(Plausibility& out, Acc& a, const std::string& msg) {
   a.f.message = msg + "; " + lines_text(a.f);
   out.findings.push_back(a.f);
 }
+
+}  // namespace detail
+
+using detail::emit;
+using detail::lines_text;
+
+namespace {
 
 void flute_finding(Plausibility& out, Acc& flute, const stiffness::ToolLibrary& tools) {
   const auto& t = tools.tools.at(flute.f.tool);
@@ -565,64 +501,6 @@ void no_material_finding(Plausibility& out, std::size_t air_points, std::uint32_
               " cutting points is in the stock: each cuts air or plunges, so nothing is compensated and the "
               "error figures say nothing; check {stock} (and {stock_from})";
   out.findings.push_back(f);
-}
-
-// Chatter: how far over the limit, where, and how to find a stable speed.
-void stability_findings(Plausibility& out, StabilityChecks& c) {
-  if (c.chatter.any) {
-    c.chatter.f.limit = 1;
-    emit(out, c.chatter, "the cut is " + fixed_decimals(c.ap_mm, 2) + " mm deep (a_p) at " + fixed_decimals(c.rpm, 0) +
-                             " rpm where the stability limit of " + c.chatter.f.tool + " is " +
-                             fixed_decimals(c.limit_mm, 2) + " mm (zero-order lobes of its tip's modes): it chatters, "
-                             "and a chattering cut leaves marks no compensation removes; take a smaller depth or move S "
-                             "to a stable pocket (`deflex stability --tool " + c.chatter.f.tool + " --ae " +
-                             fixed_decimals(c.ae_mm, 2) + " --ap " + fixed_decimals(c.ap_mm, 2) +
-                             "` with the run's machine and material draws its lobes)");
-  }
-  for (const auto& [id, line] : c.unmodelled) {
-    Finding f;
-    f.kind = "stability_unchecked";
-    f.tool = id;
-    f.line = line;
-    f.lines = {line};
-    f.line_count = 1;
-    f.message = "the stability limit (chatter) of " + id + " is not checked: its material or its holder's has no "
-                "density_kg_per_m3, which the tip's modes need (add it to the {E_MPa, poisson} material of the tool library or "
-                "of the machine profile's holder)";
-    out.findings.push_back(f);
-  }
-}
-
-// The spindle's findings: how much and how often the cut asks more than the
-// S1 rating gives, S above the spindle's top speed, and the points the feed
-// limit cannot bring within its limits.
-void spindle_findings(Plausibility& out, SpindleChecks& c) {
-  if (c.load.any) {
-    const profile::SpindleRating& r = *c.rating;
-    c.load.f.limit = 1;
-    std::string s6;
-    if (r.s6)
-      s6 = c.s6_worst > 1 ? "; above its S6 rating too (" + fixed_decimals(r.s6->allowed_power_kW(c.rpm), 1) + " kW)"
-                          : "; within its S6 rating (" + fixed_decimals(r.s6->allowed_power_kW(c.rpm), 1) +
-                                " kW), which it gives only for short spells";
-    const std::string remedy = c.feed_limit_N > 0 ? "{feed_limit_N} lowers the feed of these blocks to keep within it"
-                                                  : "lower the feed or the depth of cut ({feed_limit_N} keeps the feed within it)";
-    emit(out, c.load, "the cut asks the spindle for up to " + fixed_decimals(c.power_kW, 2) + " kW and " +
-                          fixed_decimals(c.torque_Nm, 1) + " N m at " + fixed_decimals(c.rpm, 0) + " rpm, " +
-                          fixed_decimals(100 * (c.load.f.worst - 1), 0) + " % over its continuous (S1) rating there, " +
-                          fixed_decimals(r.s1.allowed_power_kW(c.rpm), 2) + " kW and " +
-                          fixed_decimals(r.s1.allowed_torque_Nm(c.rpm), 1) + " N m" + (r.source.empty() ? "" : " (" + r.source + ")") +
-                          s6 + ": the spindle slows or overheats; " + remedy);
-  }
-  if (c.speed.any)
-    emit(out, c.speed, "S" + fixed_decimals(c.speed.f.worst, 0) + " is above the spindle's top speed, max_rpm " +
-                           fixed_decimals(c.speed.f.limit, 0) + ": the control clamps or refuses it, and the cut runs at another speed than simulated");
-  if (c.floor.any) {
-    c.floor.f.limit = detail::min_feed_share;
-    emit(out, c.floor, "even at a tenth of the feed the peak force or the torque stays above the limits of {feed_limit_N} (the edge forces, "
-                       "which do not shrink with the feed, reach them alone): the feed of these blocks is lowered tenfold, the most "
-                       "deflex lowers it, and the limit is still exceeded; take a smaller depth or width of cut");
-  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/cutter.hpp"
@@ -41,7 +42,16 @@ Eigen::Matrix2d mean_alpha(const StabilitySettings& s, const st::Tool& t, const 
   const force::CutterSlices cs = force::make_slices(c, std::min(0.05, *s.ap_mm / 20), *s.ap_mm);
   force::Engagement e;
   force::simple_engagement(cs, s.ae_mm, *s.ap_mm, s.up_milling ? force::MillingMode::up : force::MillingMode::down, e);
-  return stability::directional_matrix_mm(cs, e, k) / *s.ap_mm;
+  const Eigen::Matrix2d B = stability::directional_matrix_mm(cs, e, k);
+  if (B.isZero()) {
+    char b[300];
+    std::snprintf(b, sizeof b,
+                  "stability: a cut %g mm wide (a_e, from the full diameter) and %g mm deep engages nothing of %s: "
+                  "its radius at that depth does not reach the wall",
+                  s.ae_mm, *s.ap_mm, t.id.c_str());
+    throw Error(ErrorKind::settings, b);
+  }
+  return B / *s.ap_mm;
 }
 
 // The envelope's local maxima (plateaus counted once), highest first.
@@ -64,7 +74,7 @@ StabilityResult stability(const StabilitySettings& s) {
   const std::string lib = !s.tool_file.empty() ? s.tool_file : tool_library_path("", cfg);
   StabilityResult r;
   r.tool = st::find_tool(st::load_tool_library(lib), s.tool);
-  r.material = mat.material.empty() && mat.kt ? "the coefficients given" : mat.material;
+  r.material = !mat.material.empty() ? mat.material : mat.kt ? "the coefficients given" : config_string(cfg, "material");
   double max_rpm = 0;
   st::MachineStiffness m;
   // The model needs a machine (its holder, joints and damping) unless the

@@ -19,12 +19,7 @@ constexpr double kPi = std::numbers::pi;
 // a chatter frequency is past what the zero-order method is for.
 constexpr double kMaxLobes = 2000;
 
-// One root of det[I + Lambda alpha Phi] = 0 at one chatter frequency.
-struct Root {
-  double ap_mm = 0;    // a_lim; valid only when ok
-  double eps_rad = 0;  // phase between inner and outer modulation, (0, 2 pi)
-  bool ok = false;     // a_lim > 0 and finite
-};
+using Root = ChatterRoot;
 
 struct Sample {
   double f_Hz = 0;
@@ -123,7 +118,7 @@ std::vector<Sample> sweep(const Frf& frf, const Eigen::Matrix2cd& alpha, const T
   return out;
 }
 
-double rpm_of(const Sample& s, int b, int k, int flutes) {
+double rpm_of(const ChatterSample& s, int b, int k, int flutes) {
   return 60 * 2 * kPi * s.f_Hz / (flutes * (s.root[b].eps_rad + 2 * kPi * k));
 }
 
@@ -145,11 +140,11 @@ void add_clipped(const Lobe& curve, double rpm_min, double rpm_max, std::vector<
 }
 
 // The curves of lobe k: each branch split where it has no root.
-void add_lobe_curves(const std::vector<Sample>& sw, int k, const Teeth& c, double rpm_min, double rpm_max,
+void add_lobe_curves(const std::vector<ChatterSample>& sw, int k, const Teeth& c, double rpm_min, double rpm_max,
                      std::vector<Lobe>& out) {
   for (int b = 0; b < 2; ++b) {
     Lobe cur{k, {}};
-    for (const Sample& s : sw) {
+    for (const ChatterSample& s : sw) {
       if (s.root[b].ok) {
         cur.points.push_back({rpm_of(s, b, k, c.flutes), s.root[b].ap_mm, s.f_Hz});
         continue;
@@ -165,9 +160,9 @@ void add_lobe_curves(const std::vector<Sample>& sw, int k, const Teeth& c, doubl
 // a_lim is within 10 times the minimum: eps < 2 pi puts lobe k at frequency f
 // above 60 f / (N (k + 1)). Missing lobes would leave the envelope too high
 // (unsafe), so every lobe that can set it there is traced.
-int lobes_needed(const std::vector<Sample>& sw, double ap_min_mm, int flutes, double rpm_min) {
+int lobes_needed(const std::vector<ChatterSample>& sw, double ap_min_mm, int flutes, double rpm_min) {
   double f_top = 0;
-  for (const Sample& s : sw)
+  for (const ChatterSample& s : sw)
     for (const Root& r : s.root)
       if (r.ok && r.ap_mm <= 10 * ap_min_mm) f_top = std::max(f_top, s.f_Hz);
   return static_cast<int>(std::min(kMaxLobes, std::ceil(60 * f_top / (flutes * rpm_min))));
@@ -207,12 +202,11 @@ Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes
     throw Error(ErrorKind::settings, "the speed range must be 0 < rpm_min < rpm_max");
   if (frf.frequency_Hz.size() < 2) throw Error(ErrorKind::settings, "an FRF needs at least 2 frequencies");
   const Teeth cut{flutes, Kt_N_per_mm2};
-  const std::vector<Sample> sw = sweep(frf, alpha, cut);
+  const ChatterSweep all = chatter_sweep(frf, alpha, flutes, Kt_N_per_mm2);
+  const std::vector<ChatterSample>& sw = all.samples;
   Lobes out;
-  out.ap_min_mm = std::numeric_limits<double>::infinity();
-  for (const Sample& s : sw)
-    for (const Root& r : s.root)
-      if (r.ok && r.ap_mm < out.ap_min_mm) out.ap_min_mm = r.ap_mm, out.ap_min_chatter_Hz = s.f_Hz;
+  out.ap_min_mm = all.ap_min_mm;
+  out.ap_min_chatter_Hz = all.ap_min_chatter_Hz;
   const int last_k = max_lobes > 0 ? max_lobes - 1 : lobes_needed(sw, out.ap_min_mm, cut.flutes, rpm_min);
   for (int k = 0; k <= last_k; ++k) {
     // eps > 0: lobe k lies below 60 f / (N k); past rpm_min it and every later one are out of range.
@@ -220,6 +214,42 @@ Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes
     add_lobe_curves(sw, k, cut, rpm_min, rpm_max, out.lobes);
   }
   return out;
+}
+
+ChatterSweep chatter_sweep(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2) {
+  if (flutes < 1 || !(Kt_N_per_mm2 > 0) || !std::isfinite(Kt_N_per_mm2))
+    throw Error(ErrorKind::settings, "a cut needs at least one tooth and a cutting coefficient K_t > 0");
+  if (frf.frequency_Hz.size() < 2) throw Error(ErrorKind::settings, "an FRF needs at least 2 frequencies");
+  ChatterSweep out;
+  out.flutes = flutes;
+  for (const Sample& s : sweep(frf, alpha, {flutes, Kt_N_per_mm2})) {
+    out.samples.push_back({s.f_Hz, s.root});
+    for (const Root& r : s.root)
+      if (r.ok && r.ap_mm < out.ap_min_mm) out.ap_min_mm = r.ap_mm, out.ap_min_chatter_Hz = s.f_Hz;
+  }
+  return out;
+}
+
+double ap_limit_at(const ChatterSweep& sw, double rpm) {
+  // Lobe k passes speed n at chatter frequency f where eps + 2 pi k =
+  // 2 pi 60 f / (N n): between two neighbouring samples of a branch whose
+  // real lobe number k(f) = 60 f / (N n) - eps / (2 pi) straddles an integer,
+  // a lobe crosses n; a_lim there is interpolated like the lobe's curve.
+  double best = std::numeric_limits<double>::infinity();
+  const double per_Hz = 60 / (sw.flutes * rpm);
+  for (int b = 0; b < 2; ++b)
+    for (std::size_t j = 1; j < sw.samples.size(); ++j) {
+      const ChatterSample &p = sw.samples[j - 1], &q = sw.samples[j];
+      const Root &rp = p.root[b], &rq = q.root[b];
+      if (!rp.ok || !rq.ok) continue;
+      const double kp = p.f_Hz * per_Hz - rp.eps_rad / (2 * kPi), kq = q.f_Hz * per_Hz - rq.eps_rad / (2 * kPi);
+      const double lo = std::min(kp, kq), hi = std::max(kp, kq);
+      for (double k = std::max(0.0, std::ceil(lo)); k <= hi; ++k) {
+        const double t = hi > lo ? (k - kp) / (kq - kp) : 0;
+        best = std::min(best, rp.ap_mm + t * (rq.ap_mm - rp.ap_mm));
+      }
+    }
+  return std::isfinite(best) ? best : sw.ap_min_mm;
 }
 
 }  // namespace deflex::stability

@@ -51,18 +51,27 @@ LimitCache::LimitCache(const std::vector<stiffness::Mode>& modes, const force::C
   std::tie(rpm_min_, rpm_max_) = rpm_range(max_rpm);
 }
 
-const StabilityLimit& LimitCache::limit_at_degree(int degree) const {
+double LimitCache::unit_limit_mm(int degree, double rpm) const {
+  // Below the range every lobe crowds in: the absolute minimum, on the safe side.
+  const bool inside = rpm >= rpm_min_ && rpm <= rpm_max_;
+  const std::pair<int, double> key{degree, inside ? rpm : -1.0};
+  const ChatterSweep* sweep = nullptr;
   {
     std::shared_lock lock(mutex_);
-    if (auto it = limits_.find(degree); it != limits_.end()) return *it->second;
+    if (auto it = limits_.find(key); it != limits_.end()) return it->second;
+    if (auto it = sweeps_.find(degree); it != sweeps_.end()) sweep = it->second.get();
   }
   // Made outside the lock: two threads may make the same one, the first kept.
-  const double th = degree * std::numbers::pi / 180;
-  const Eigen::Matrix2cd alpha = std::polar(1.0, th) * Eigen::Matrix2cd::Identity();
-  auto made = std::make_unique<StabilityLimit>(
-      zero_order_lobes(frf_, alpha, flutes_, Kt_N_per_mm2_, rpm_min_, rpm_max_), rpm_min_, rpm_max_);
+  if (!sweep) {
+    const double th = degree * std::numbers::pi / 180;
+    const Eigen::Matrix2cd alpha = std::polar(1.0, th) * Eigen::Matrix2cd::Identity();
+    auto made = std::make_unique<ChatterSweep>(chatter_sweep(frf_, alpha, flutes_, Kt_N_per_mm2_));
+    std::unique_lock lock(mutex_);
+    sweep = sweeps_.try_emplace(degree, std::move(made)).first->second.get();
+  }
+  const double a = inside ? ap_limit_at(*sweep, rpm) : sweep->ap_min_mm;
   std::unique_lock lock(mutex_);
-  return *limits_.try_emplace(degree, std::move(made)).first->second;
+  return limits_.try_emplace(key, a).first->second;
 }
 
 double LimitCache::ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double rpm) const {
@@ -72,7 +81,7 @@ double LimitCache::ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double
     const double r = std::abs(mu[b]);
     if (!(r > 1e-12)) continue;
     const int degree = static_cast<int>(std::lround(std::arg(mu[b]) * 180 / std::numbers::pi));
-    scale = std::min(scale, limit_at_degree(degree == -180 ? 180 : degree).ap_limit_mm(rpm) / r);
+    scale = std::min(scale, unit_limit_mm(degree == -180 ? 180 : degree, rpm) / r);
   }
   return ap_mm * scale;
 }

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <complex>
+#include <numbers>
 #include <vector>
 
 #include "deflex/force/cutter.hpp"
@@ -64,6 +65,23 @@ TEST_CASE("a flat end's directional matrix is a_p times the coefficients of its 
           8 * directional_coefficients(cut_of(k, 3, force::immersion_interval(6, 6, ae, mode)));
       CHECK((B - want).norm() <= 1e-9 * want.norm());
     }
+}
+
+TEST_CASE("the limit at one speed from the sweep is the lobes' envelope (StabilityLimit) within 0.5 %") {
+  const std::vector<stiffness::Mode> m = modes();
+  const Frf frf = frf_from_modes(m, m, 1.5 * m.back().frequency_Hz);
+  const force::Coefficients k = steel();
+  for (const force::AngleInterval imm : {force::AngleInterval{0, std::numbers::pi}, force::AngleInterval{2.2, std::numbers::pi},
+                                         force::AngleInterval{0, 0.9}}) {
+    const Cut cut = cut_of(k, 3, imm);
+    const Eigen::Matrix2cd alpha = directional_coefficients(cut).cast<std::complex<double>>();
+    const ChatterSweep sw = chatter_sweep(frf, alpha, 3, k.Ktc_N_per_mm2);
+    const StabilityLimit table(zero_order_lobes(frf, cut, 1000, 20000), 1000, 20000, 20000);
+    for (double rpm = 1500; rpm <= 19500; rpm += 250) {
+      CAPTURE(rpm);
+      CHECK(ap_limit_at(sw, rpm) == doctest::Approx(table.ap_limit_mm(rpm)).epsilon(0.005));
+    }
+  }
 }
 
 TEST_CASE("LimitCache: the per-phase tables give the limit of the cut's own lobes within 2 %") {

@@ -20,6 +20,8 @@
 // Insperger & Stepan's semi-discretization) are missed there, so the lobes of
 // a light finishing cut may be optimistic near the flip speeds.
 #pragma once
+#include <array>
+#include <limits>
 #include <vector>
 
 #include "deflex/force/coefficients.hpp"
@@ -43,6 +45,30 @@ Cut cut_of(const force::Coefficients& k, int flutes, force::AngleInterval immers
 
 // The average directional coefficients alpha, [[xx, xy], [yx, yy]].
 Eigen::Matrix2d directional_coefficients(const Cut& c);
+
+// One root of the characteristic equation at one chatter frequency, on one
+// eigenvalue branch: a_lim and eps, the phase between the inner and the outer
+// modulation, in (0, 2 pi).
+struct ChatterRoot {
+  double ap_mm = 0;    // a_lim; valid only when ok
+  double eps_rad = 0;
+  bool ok = false;     // a_lim > 0 and finite
+};
+
+struct ChatterSample {
+  double f_Hz = 0;
+  std::array<ChatterRoot, 2> root;  // per eigenvalue branch, each followed continuously
+};
+
+// Every chatter frequency of a cut with its roots, refined as
+// zero_order_lobes() says: what its lobes are, before they are mapped onto
+// speeds.
+struct ChatterSweep {
+  int flutes = 0;
+  std::vector<ChatterSample> samples;
+  double ap_min_mm = std::numeric_limits<double>::infinity();  // the absolute minimum
+  double ap_min_chatter_Hz = 0;
+};
 
 struct LobePoint {
   double rpm = 0;
@@ -81,6 +107,14 @@ Lobes zero_order_lobes(const Frf& frf, const Cut& cut, double rpm_min, double rp
 // it stands for one eigenvalue of a cut's: stability/model.hpp), N teeth and K_t.
 Lobes zero_order_lobes(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2, double rpm_min,
                        double rpm_max, int max_lobes = 0);
+
+// The sweep of a directional matrix (as the second zero_order_lobes()).
+ChatterSweep chatter_sweep(const Frf& frf, const Eigen::Matrix2cd& alpha, int flutes, double Kt_N_per_mm2);
+// The limit at one speed straight from the sweep: the lowest lobe that
+// crosses it (each lobe interpolated between the sweep's frequencies, as its
+// curve is), ap_min_mm where none does. What StabilityLimit tabulates, for
+// one speed without tracing every lobe: a program's few S values.
+double ap_limit_at(const ChatterSweep& sweep, double rpm);
 
 // The stability limit against speed for fast repeated look-ups: the lower
 // envelope of every lobe, tabulated at `steps` + 1 speeds over [rpm_min,

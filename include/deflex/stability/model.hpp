@@ -55,9 +55,10 @@ Eigen::Matrix2d directional_matrix_mm(const force::CutterSlices& cs, const force
 // and y with no cross terms, Phi = G I, so the eigenvalues of B Phi (B a
 // cut's directional matrix) are mu G, mu an eigenvalue of B: each of the two
 // is a lobe problem of its own, whose limit scales as 1 / |mu| and whose
-// lobes depend on the phase of mu alone. One StabilityLimit per phase
-// (rounded to a whole degree), made on first use, serves every cut.
-// Thread-safe: the simulator's threads share one.
+// lobes depend on the phase of mu alone. One chatter sweep per phase (rounded
+// to a whole degree) and its limit at each speed a program runs (ap_limit_at),
+// each made on first use, serve every cut. Thread-safe: the simulator's
+// threads share one.
 class LimitCache {
  public:
   // modes: the tip's, in x and y alike (tip_model).
@@ -70,13 +71,15 @@ class LimitCache {
   const Frf& frf() const { return frf_; }
 
  private:
-  const StabilityLimit& limit_at_degree(int degree) const;
+  // The limit of unit |mu| at phase `degree` and `rpm`.
+  double unit_limit_mm(int degree, double rpm) const;
   Frf frf_;
   double Kt_N_per_mm2_;
   int flutes_;
   double rpm_min_, rpm_max_;
   mutable std::shared_mutex mutex_;
-  mutable std::map<int, std::unique_ptr<StabilityLimit>> limits_;
+  mutable std::map<int, std::unique_ptr<ChatterSweep>> sweeps_;
+  mutable std::map<std::pair<int, double>, double> limits_;  // (phase, rpm) -> mm
 };
 
 }  // namespace deflex::stability
