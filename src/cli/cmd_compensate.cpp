@@ -55,7 +55,13 @@ const char* kCompensateHelp =
     "rest stock included), the program is in error: exit 1, nothing written, an error\n"
     "at the first such line with the depth and the least stick-out (holder) or reach\n"
     "(neck, shank) that clears it. `deflex check --stock` finds the same without the\n"
-    "forces.\n";
+    "forces.\n"
+    "Every cutting point is also held against the machine: its spindle power and\n"
+    "torque against the profile's spindle: S1 curve, and its a_p against the\n"
+    "zero-order stability limit of its own engagement and S from the tool tip's\n"
+    "modes (chatter; the profile's dynamics: damping_ratio, default 0.03): a\n"
+    "warning at the line where either is passed (`deflex stability` draws the\n"
+    "lobes; docs/stability.md).\n";
 
 void summary_line(Io& io, const char* what, const report::ErrorStats& s, double tol) {
   char buf[256];
