@@ -50,8 +50,13 @@ constexpr double kDefaultMaxRpm = 30000;
 // the holder face with tool_only), over the spindle's speed range.
 void stability_model(ToolModel& m, const Physics& ph) {
   try {
-    const stability::TipModel tip = stability::tip_model(m.tool, ph.machine, ph.tool_only);
     const double max_rpm = ph.spindle.set ? ph.spindle.max_rpm : kDefaultMaxRpm;
+    if (!m.tool.frf_file.empty()) {
+      m.stability = std::make_shared<const stability::LimitCache>(stability::load_frf_csv(m.tool.frf_file), ph.k,
+                                                                  m.tool.flutes, max_rpm);
+      return;
+    }
+    const stability::TipModel tip = stability::tip_model(m.tool, ph.machine, ph.tool_only);
     m.stability = std::make_shared<const stability::LimitCache>(tip.modes, ph.k, m.tool.flutes, max_rpm);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::config) throw;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <tuple>
 
 #include "deflex/compensate/gouge.hpp"
@@ -18,6 +19,7 @@
 #include "deflex/interp/travel.hpp"
 #include "deflex/report/html.hpp"
 #include "deflex/report/summary.hpp"
+#include "deflex/stability/frf.hpp"
 #include "deflex/writer/expand.hpp"
 #include "internal.hpp"
 
@@ -88,7 +90,11 @@ class CuttingCheck {
       no_f_ = true;
       error(src, m.line, "cutting with no feed (F0 or no F word): give {feed_mm_per_min} MM_PER_MIN");
     }
-    extent_.add(m, 0.5 * lib_.tools.at(id).diameter_mm);
+    const stiffness::Tool& t = lib_.tools.at(id);
+    // A tool's measured FRF is read now, so that a broken one is a located
+    // error before the simulation, not in the middle of it.
+    if (!t.frf_file.empty() && frf_read_.insert(id).second) (void)stability::load_frf_csv(t.frf_file);
+    extent_.add(m, 0.5 * t.diameter_mm);
   }
   // The errors in the order found; throws where one ends the run.
   void report(Diagnostics& diags) const {
@@ -107,6 +113,7 @@ class CuttingCheck {
   bool no_s_ = false, no_f_ = false;
   std::optional<Error> fatal_;
   std::vector<std::tuple<SourceText, std::uint32_t, std::string>> found_;
+  std::set<std::string> frf_read_;  // the tools whose frf_file was read
 };
 
 // --stock auto[:MARGIN]: the box round the cutting moves' tips and their

@@ -51,37 +51,60 @@ LimitCache::LimitCache(const std::vector<stiffness::Mode>& modes, const force::C
   std::tie(rpm_min_, rpm_max_) = rpm_range(max_rpm);
 }
 
-double LimitCache::unit_limit_mm(int degree, double rpm) const {
+LimitCache::LimitCache(Frf measured, const force::Coefficients& k, int flutes, double max_rpm)
+    : frf_(std::move(measured)), Kt_N_per_mm2_(k.Ktc_N_per_mm2), flutes_(flutes), symmetric_(false) {
+  std::tie(rpm_min_, rpm_max_) = rpm_range(max_rpm);
+}
+
+template <class Key, class Alpha>
+double LimitCache::cached_limit(std::map<Key, std::unique_ptr<ChatterSweep>>& sweeps,
+                                std::map<std::pair<Key, double>, double>& limits, const Key& key, double rpm,
+                                const Alpha& alpha) const {
   // Below the range every lobe crowds in: the absolute minimum, on the safe side.
   const bool inside = rpm >= rpm_min_ && rpm <= rpm_max_;
-  const std::pair<int, double> key{degree, inside ? rpm : -1.0};
+  const std::pair<Key, double> at{key, inside ? rpm : -1.0};
   const ChatterSweep* sweep = nullptr;
   {
     std::shared_lock lock(mutex_);
-    if (auto it = limits_.find(key); it != limits_.end()) return it->second;
-    if (auto it = sweeps_.find(degree); it != sweeps_.end()) sweep = it->second.get();
+    if (auto it = limits.find(at); it != limits.end()) return it->second;
+    if (auto it = sweeps.find(key); it != sweeps.end()) sweep = it->second.get();
   }
   // Made outside the lock: two threads may make the same one, the first kept.
   if (!sweep) {
-    const double th = degree * std::numbers::pi / 180;
-    const Eigen::Matrix2cd alpha = std::polar(1.0, th) * Eigen::Matrix2cd::Identity();
-    auto made = std::make_unique<ChatterSweep>(chatter_sweep(frf_, alpha, flutes_, Kt_N_per_mm2_));
+    auto made = std::make_unique<ChatterSweep>(chatter_sweep(frf_, alpha(), flutes_, Kt_N_per_mm2_));
     std::unique_lock lock(mutex_);
-    sweep = sweeps_.try_emplace(degree, std::move(made)).first->second.get();
+    sweep = sweeps.try_emplace(key, std::move(made)).first->second.get();
   }
   const double a = inside ? ap_limit_at(*sweep, rpm) : sweep->ap_min_mm;
   std::unique_lock lock(mutex_);
-  return limits_.try_emplace(key, a).first->second;
+  return limits.try_emplace(at, a).first->second;
 }
 
 double LimitCache::ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double rpm) const {
+  if (!symmetric_) {
+    const double s = B_mm.norm();
+    if (!(s > 1e-12)) return std::numeric_limits<double>::infinity();
+    std::array<int, 4> key;
+    for (int i = 0; i < 4; ++i) key[i] = static_cast<int>(std::lround(64 * B_mm(i / 2, i % 2) / s));
+    const auto alpha = [&key] {
+      Eigen::Matrix2cd a;
+      for (int i = 0; i < 4; ++i) a(i / 2, i % 2) = key[i] / 64.0;
+      return a;
+    };
+    // The key's matrix is B / s to within its rounding: its limit over s is B's.
+    return ap_mm * cached_limit(matrix_sweeps_, matrix_limits_, key, rpm, alpha) / s;
+  }
   const Eigen::Vector2cd mu = B_mm.eigenvalues();
   double scale = std::numeric_limits<double>::infinity();
   for (int b = 0; b < 2; ++b) {
     const double r = std::abs(mu[b]);
     if (!(r > 1e-12)) continue;
-    const int degree = static_cast<int>(std::lround(std::arg(mu[b]) * 180 / std::numbers::pi));
-    scale = std::min(scale, unit_limit_mm(degree == -180 ? 180 : degree, rpm) / r);
+    int degree = static_cast<int>(std::lround(std::arg(mu[b]) * 180 / std::numbers::pi));
+    if (degree == -180) degree = 180;
+    const auto alpha = [degree] {
+      return Eigen::Matrix2cd(std::polar(1.0, degree * std::numbers::pi / 180) * Eigen::Matrix2cd::Identity());
+    };
+    scale = std::min(scale, cached_limit(sweeps_, limits_, degree, rpm, alpha) / r);
   }
   return ap_mm * scale;
 }

@@ -84,7 +84,7 @@ static void parse_lengths(const Map& n, Tool& t) {
 Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string& file) {
   const Map n(node, "tool '" + id + "'", file,
               {"type", "diameter_mm", "corner_radius_mm", "flutes", "helix_deg", "flute_length_mm",
-               "stickout_mm", "shank_diameter_mm", "flute_diameter_ratio", "material", "step_file", "neck",
+               "stickout_mm", "shank_diameter_mm", "flute_diameter_ratio", "material", "step_file", "frf_file", "neck",
                "description", "max_force_N", "centre_cutting"});
   Tool t;
   t.id = id;
@@ -105,6 +105,11 @@ Tool parse_tool(const YAML::Node& node, const std::string& id, const std::string
     std::filesystem::path p = n.text("step_file");
     if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
     t.step_file = p.lexically_normal().string();
+  }
+  if (n.has("frf_file")) {
+    std::filesystem::path p = n.text("frf_file");
+    if (p.is_relative()) p = std::filesystem::path(file).parent_path() / p;
+    t.frf_file = p.lexically_normal().string();
   }
   if (n.has("description")) n.text("description");
   return t;

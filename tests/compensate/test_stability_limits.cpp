@@ -13,6 +13,7 @@
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/plausibility.hpp"
 #include "deflex/force/material.hpp"
+#include "deflex/stability/frf.hpp"
 #include "deflex/stability/model.hpp"
 #include "deflex/stock/build.hpp"
 
@@ -110,6 +111,40 @@ TEST_CASE("stability along a program: a tool material without density is uncheck
   CHECK(f->line == 8);  // N6: the first cut that is no plunge (a plunge is not checked)
   CHECK(f->message.find("density_kg_per_m3") != std::string::npos);
   CHECK(pl.find("chatter") == nullptr);
+}
+
+TEST_CASE("stability along a program: a tool's measured FRF (frf_file) replaces the model; the model's own FRF gives its limits") {
+  Slot model, measured;
+  test::TempDir dir("frf");
+  const stability::TipModel tip = stability::tip_model(model.ph.tools.tools.at("T1"), model.ph.machine, false);
+  test::write_file(dir / "tap_T1.csv", stability::frf_csv(tip.frf));
+  measured.ph.tools.tools.at("T1").frf_file = dir / "tap_T1.csv";
+  const auto a = model.run(3.0), b = measured.run(3.0);
+  REQUIRE(a.size() == b.size());
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!steady(a[i])) continue;
+    ++n;
+    // The measured path keys the matrix's direction in 64ths: within 3 %.
+    CHECK(b[i].ap_limit_mm == doctest::Approx(a[i].ap_limit_mm).epsilon(0.03));
+  }
+  CHECK(n > 50);
+}
+
+TEST_CASE("stability along a program: a broken frf_file is a located error before the simulation") {
+  test::TempDir dir("frf");
+  test::write_file(dir / "tap.csv", "frequency_Hz,re_xx_mm_per_N,im_xx_mm_per_N,re_yy_mm_per_N,im_yy_mm_per_N\n"
+                                    "100,1e-5,-1e-6,1e-5,-1e-6\n200,1e-5,oops,1e-5,-1e-6\n");
+  std::string lib = test::read_file("samples/tools.yaml");
+  lib += "  T9:\n    type: flat\n    diameter_mm: 10\n    flutes: 4\n    flute_length_mm: 22\n    stickout_mm: 40\n"
+         "    material: carbide\n    frf_file: tap.csv\n";
+  test::write_file(dir / "tools.yaml", lib);
+  test::write_file(dir / "p.nc", slot(3.0));
+  const test::CliResult r = test::run_cli({"simulate", dir / "p.nc", "--tool-file", dir / "tools.yaml", "--tool", "T9",
+                                           "--stock", "box:0,-20,-20,100,20,0", "--material", "Al7075-T6"});
+  CHECK(r.rc == 1);
+  CHECK(r.err.find("tap.csv:3:") != std::string::npos);
+  CHECK(r.out.empty());
 }
 
 }  // TEST_SUITE

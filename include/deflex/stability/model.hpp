@@ -3,6 +3,7 @@
 // the limit at each cut's immersion and speed, computed once per immersion
 // and kept (LimitCache).
 #pragma once
+#include <array>
 #include <map>
 #include <memory>
 #include <shared_mutex>
@@ -63,6 +64,11 @@ class LimitCache {
  public:
   // modes: the tip's, in x and y alike (tip_model).
   LimitCache(const std::vector<stiffness::Mode>& modes, const force::Coefficients& k, int flutes, double max_rpm);
+  // A measured FRF, x and y apart, cross terms and all: there the cut's own
+  // matrix decides, not one eigenvalue's phase. One sweep per direction of
+  // the directional matrix (B / |B|, each entry rounded to 1/64: a limit
+  // within about 2 %), its limit scaled by 1 / |B|.
+  LimitCache(Frf measured, const force::Coefficients& k, int flutes, double max_rpm);
   // The depth at which a cut with directional matrix B_mm (directional_matrix_mm)
   // and axial depth ap_mm, its engagement scaled along the axis, chatters at
   // `rpm`: ap_mm times the scale at which the first branch goes unstable.
@@ -71,15 +77,23 @@ class LimitCache {
   const Frf& frf() const { return frf_; }
 
  private:
-  // The limit of unit |mu| at phase `degree` and `rpm`.
-  double unit_limit_mm(int degree, double rpm) const;
+  // The limit at `rpm` of the directional matrix kept under `key` (a phase
+  // in degrees, or a unit matrix in 64ths), its sweep and the limit made on
+  // first use (alpha(): the matrix).
+  template <class Key, class Alpha>
+  double cached_limit(std::map<Key, std::unique_ptr<ChatterSweep>>& sweeps,
+                      std::map<std::pair<Key, double>, double>& limits, const Key& key, double rpm,
+                      const Alpha& alpha) const;
   Frf frf_;
   double Kt_N_per_mm2_;
   int flutes_;
+  bool symmetric_ = true;  // the modal model's Phi = G I (else a measured FRF)
   double rpm_min_, rpm_max_;
   mutable std::shared_mutex mutex_;
   mutable std::map<int, std::unique_ptr<ChatterSweep>> sweeps_;
   mutable std::map<std::pair<int, double>, double> limits_;  // (phase, rpm) -> mm
+  mutable std::map<std::array<int, 4>, std::unique_ptr<ChatterSweep>> matrix_sweeps_;
+  mutable std::map<std::pair<std::array<int, 4>, double>, double> matrix_limits_;
 };
 
 }  // namespace deflex::stability

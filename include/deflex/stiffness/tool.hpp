@@ -62,6 +62,10 @@ struct Tool {
   std::optional<double> max_force_N;
   bool centre_cutting = true;
   std::string step_file;  // vendor model, resolved against the library's folder; empty: none
+  // The tool tip's measured FRF (a tap test's CSV, stability/frf.hpp), resolved
+  // the same way: the stability check along a program uses it instead of the
+  // modal model. Empty: none.
+  std::string frf_file;
   std::string source;     // "file:line:col" of the tool's entry, for messages
 };
 
