@@ -2,10 +2,12 @@
 // immersion (job::stability); here the options and the printing.
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <ostream>
 #include <sstream>
 
 #include "common.hpp"
+#include "deflex/diag/plural.hpp"
 #include "deflex/job/stability.hpp"
 #include "deflex/report/json.hpp"
 #include "deflex/report/lobes.hpp"
@@ -75,11 +77,7 @@ struct Args {
   bool up = false, down = false, help = false;
 };
 
-std::string num(double v, int decimals) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
+constexpr double kDegPerRad = 180 / std::numbers::pi;
 
 // "MIN:MAX" in rpm.
 void parse_rpm(const std::string& text, job::StabilitySettings& s) {
@@ -105,7 +103,6 @@ report::Json to_json(const job::StabilityResult& r) {
     for (const auto& [rpm, ap] : v) a.push_back({report::fixed(rpm, 1), report::fixed(ap, 4)});
     return a;
   };
-  constexpr double deg = 180 / 3.14159265358979323846;
   return {{"tool", r.tool.id},
           {"frf_source", r.frf_source},
           {"modes", std::move(modes)},
@@ -113,7 +110,7 @@ report::Json to_json(const job::StabilityResult& r) {
            {{"flutes", r.tool.flutes},
             {"Kt_N_per_mm2", report::fixed(r.Kt_N_per_mm2, 2)},
             {"Kr_ratio", report::fixed(r.Kr_ratio, 4)},
-            {"immersion_deg", {report::fixed(r.immersion.start * deg, 2), report::fixed(r.immersion.end * deg, 2)}}}},
+            {"immersion_deg", {report::fixed(r.immersion.start * kDegPerRad, 2), report::fixed(r.immersion.end * kDegPerRad, 2)}}}},
           {"rpm_range", {r.rpm_min, r.rpm_max}},
           {"ap_min_mm", report::fixed(r.lobes.ap_min_mm, 4)},
           {"ap_min_chatter_Hz", report::fixed(r.lobes.ap_min_chatter_Hz, 1)},
@@ -123,7 +120,7 @@ report::Json to_json(const job::StabilityResult& r) {
 
 std::string to_csv(const job::StabilityResult& r) {
   std::string o = "rpm,ap_limit_mm\n";
-  for (const auto& [rpm, ap] : r.limit) o += num(rpm, 1) + "," + num(ap, 4) + "\n";
+  for (const auto& [rpm, ap] : r.limit) o += fixed_decimals(rpm, 1) + "," + fixed_decimals(ap, 4) + "\n";
   return o;
 }
 
@@ -134,20 +131,19 @@ std::string what_from(const job::StabilityResult& r, const job::StabilitySetting
 
 std::string to_text(const job::StabilityResult& r, const job::StabilitySettings& s) {
   std::ostringstream o;
-  constexpr double deg = 180 / 3.14159265358979323846;
   o << "stability of " << r.tool.id << " (" << stock::to_string(r.tool.type) << " D " << r.tool.diameter_mm << " mm, "
     << r.tool.flutes << " flutes, stick-out " << r.tool.stickout_mm << " mm)\n"
     << "  tip response: " << what_from(r, s) << "\n";
   for (const auto& m : r.modes)
-    o << "    mode " << num(m.frequency_Hz, 1) << " Hz, damping " << num(m.damping_ratio, 3)
-      << (r.damping_given ? "" : " (default)") << ", stiffness at the tip " << num(m.stiffness_N_per_mm, 0) << " N/mm\n";
+    o << "    mode " << fixed_decimals(m.frequency_Hz, 1) << " Hz, damping " << fixed_decimals(m.damping_ratio, 3)
+      << (r.damping_given ? "" : " (default)") << ", stiffness at the tip " << fixed_decimals(m.stiffness_N_per_mm, 0) << " N/mm\n";
   o << "  cut: a_e " << s.ae_mm << " mm " << (s.up_milling ? "up" : "down") << "-milling, immersion "
-    << num(r.immersion.start * deg, 1) << "-" << num(r.immersion.end * deg, 1) << " deg"
-    << (s.ap_mm ? ", engagement of a_p " + num(*s.ap_mm, 3) + " mm on the tool's shape" : "") << "; K_t "
-    << num(r.Kt_N_per_mm2, 0) << " N/mm^2, K_r " << num(r.Kr_ratio, 3) << " (" << r.material << ")\n"
-    << "  absolute limit (stable at every speed): a_p " << num(r.lobes.ap_min_mm, 3) << " mm (chatter near "
-    << num(r.lobes.ap_min_chatter_Hz, 0) << " Hz)\n"
-    << "  stable pockets in " << num(r.rpm_min, 0) << "-" << num(r.rpm_max, 0) << " rpm (the limit's highest peaks):\n"
+    << fixed_decimals(r.immersion.start * kDegPerRad, 1) << "-" << fixed_decimals(r.immersion.end * kDegPerRad, 1) << " deg"
+    << (s.ap_mm ? ", engagement of a_p " + fixed_decimals(*s.ap_mm, 3) + " mm on the tool's shape" : "") << "; K_t "
+    << fixed_decimals(r.Kt_N_per_mm2, 0) << " N/mm^2, K_r " << fixed_decimals(r.Kr_ratio, 3) << " (" << r.material << ")\n"
+    << "  absolute limit (stable at every speed): a_p " << fixed_decimals(r.lobes.ap_min_mm, 3) << " mm (chatter near "
+    << fixed_decimals(r.lobes.ap_min_chatter_Hz, 0) << " Hz)\n"
+    << "  stable pockets in " << fixed_decimals(r.rpm_min, 0) << "-" << fixed_decimals(r.rpm_max, 0) << " rpm (the limit's highest peaks):\n"
     << "       rpm   ap_limit_mm\n";
   for (std::size_t i = 0; i < r.pockets.size() && i < 8; ++i) {
     char b[80];
@@ -165,15 +161,15 @@ void write_report(const job::StabilityResult& r, const job::StabilitySettings& s
   if (ec) throw Error(ErrorKind::io, dir + ": error: cannot create the report folder: " + ec.message());
   const std::filesystem::path d(dir);
   report::LobesPage p;
-  p.title = "deflex stability: " + r.tool.id + ", a_e " + num(s.ae_mm, 2) + " mm " + (s.up_milling ? "up" : "down") + "-milling";
-  p.provenance = {{"tool", r.tool.id + " (" + stock::to_string(r.tool.type) + " D " + num(r.tool.diameter_mm, 2) + " mm, " +
+  p.title = "deflex stability: " + r.tool.id + ", a_e " + fixed_decimals(s.ae_mm, 2) + " mm " + (s.up_milling ? "up" : "down") + "-milling";
+  p.provenance = {{"tool", r.tool.id + " (" + stock::to_string(r.tool.type) + " D " + fixed_decimals(r.tool.diameter_mm, 2) + " mm, " +
                                std::to_string(r.tool.flutes) + " flutes)"},
                   {"tip response", what_from(r, s)},
-                  {"material", r.material + ": K_t " + num(r.Kt_N_per_mm2, 0) + " N/mm², K_r " + num(r.Kr_ratio, 3)},
-                  {"absolute limit", num(r.lobes.ap_min_mm, 3) + " mm"}};
+                  {"material", r.material + ": K_t " + fixed_decimals(r.Kt_N_per_mm2, 0) + " N/mm², K_r " + fixed_decimals(r.Kr_ratio, 3)},
+                  {"absolute limit", fixed_decimals(r.lobes.ap_min_mm, 3) + " mm"}};
   for (const auto& m : r.modes)
-    p.provenance.emplace_back("mode", num(m.frequency_Hz, 1) + " Hz, ζ " + num(m.damping_ratio, 3) + ", k " +
-                                          num(m.stiffness_N_per_mm, 0) + " N/mm");
+    p.provenance.emplace_back("mode", fixed_decimals(m.frequency_Hz, 1) + " Hz, ζ " + fixed_decimals(m.damping_ratio, 3) + ", k " +
+                                          fixed_decimals(m.stiffness_N_per_mm, 0) + " N/mm");
   std::string command = "deflex stability";
   for (const auto& a : args) command += " " + a;
   p.provenance.emplace_back("command", command);

@@ -57,7 +57,7 @@ void stability_model(ToolModel& m, const Physics& ph) {
       return;
     }
     const stability::TipModel tip = stability::tip_model(m.tool, ph.machine, ph.tool_only);
-    m.stability = std::make_shared<const stability::LimitCache>(tip.modes, ph.k, m.tool.flutes, max_rpm);
+    m.stability = std::make_shared<const stability::LimitCache>(tip, ph.k, m.tool.flutes, max_rpm);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::config) throw;
     m.stability_unchecked = e.what();

@@ -9,18 +9,22 @@
 #include <mutex>
 #include <numbers>
 
-#include <Eigen/Eigenvalues>
-
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stiffness/modes.hpp"
 
 namespace deflex::stability {
 
-TipModel tip_model(const stiffness::Tool& t, const stiffness::MachineStiffness& m, bool tool_only, int modes) {
+TipModel tip_model_of(std::vector<stiffness::Mode> modes) {
   TipModel r;
-  r.modes = stiffness::tip_modes(t, m, tool_only, modes);
-  if (r.modes.empty()) throw Error(ErrorKind::config, "tool " + t.id + ": the beam model has no mode that moves the tip");
+  r.modes = std::move(modes);
   r.frf = frf_from_modes(r.modes, r.modes, 1.5 * r.modes.back().frequency_Hz);
+  return r;
+}
+
+TipModel tip_model(const stiffness::Tool& t, const stiffness::MachineStiffness& m, bool tool_only, int modes) {
+  std::vector<stiffness::Mode> found = stiffness::tip_modes(t, m, tool_only, modes);
+  if (found.empty()) throw Error(ErrorKind::config, "tool " + t.id + ": the beam model has no mode that moves the tip");
+  TipModel r = tip_model_of(std::move(found));
   r.frf.source = "the beam model of " + t.id + (tool_only ? " clamped at the holder face" : " on the machine");
   return r;
 }
@@ -43,11 +47,8 @@ Eigen::Matrix2d directional_matrix_mm(const force::CutterSlices& cs, const force
   return B;
 }
 
-LimitCache::LimitCache(const std::vector<stiffness::Mode>& modes, const force::Coefficients& k, int flutes,
-                       double max_rpm)
-    : frf_(frf_from_modes(modes, modes, 1.5 * modes.back().frequency_Hz)),
-      Kt_N_per_mm2_(k.Ktc_N_per_mm2),
-      flutes_(flutes) {
+LimitCache::LimitCache(const TipModel& tip, const force::Coefficients& k, int flutes, double max_rpm)
+    : frf_(tip.frf), Kt_N_per_mm2_(k.Ktc_N_per_mm2), flutes_(flutes) {
   std::tie(rpm_min_, rpm_max_) = rpm_range(max_rpm);
 }
 
@@ -94,7 +95,10 @@ double LimitCache::ap_limit_mm(const Eigen::Matrix2d& B_mm, double ap_mm, double
     // The key's matrix is B / s to within its rounding: its limit over s is B's.
     return ap_mm * cached_limit(matrix_sweeps_, matrix_limits_, key, rpm, alpha) / s;
   }
-  const Eigen::Vector2cd mu = B_mm.eigenvalues();
+  // The eigenvalues of the 2 x 2 in closed form (this runs at every point).
+  const double tr = B_mm.trace(), det = B_mm.determinant();
+  const std::complex<double> disc = std::sqrt(std::complex<double>(tr * tr - 4 * det));
+  const std::complex<double> mu[2] = {0.5 * (tr + disc), 0.5 * (tr - disc)};
   double scale = std::numeric_limits<double>::infinity();
   for (int b = 0; b < 2; ++b) {
     const double r = std::abs(mu[b]);

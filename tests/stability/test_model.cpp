@@ -41,8 +41,7 @@ std::vector<stiffness::Mode> modes() { return {{900, 0.03, 4000}, {2400, 0.04, 2
 // The limit of a cut with directional matrix alpha (mean over its depth), by
 // the lobes of that matrix itself: what LimitCache must agree with.
 double direct_limit_mm(const Eigen::Matrix2d& alpha, int flutes, double Kt, double rpm) {
-  const std::vector<stiffness::Mode> m = modes();
-  const Frf frf = frf_from_modes(m, m, 1.5 * m.back().frequency_Hz);
+  const Frf frf = tip_model_of(modes()).frf;
   const auto [lo, hi] = rpm_range(20000);
   const StabilityLimit lim(zero_order_lobes(frf, alpha.cast<std::complex<double>>(), flutes, Kt, lo, hi), lo, hi);
   return lim.ap_limit_mm(rpm);
@@ -68,8 +67,7 @@ TEST_CASE("a flat end's directional matrix is a_p times the coefficients of its 
 }
 
 TEST_CASE("the limit at one speed from the sweep is the lobes' envelope (StabilityLimit) within 0.5 %") {
-  const std::vector<stiffness::Mode> m = modes();
-  const Frf frf = frf_from_modes(m, m, 1.5 * m.back().frequency_Hz);
+  const Frf frf = tip_model_of(modes()).frf;
   const force::Coefficients k = steel();
   for (const force::AngleInterval imm : {force::AngleInterval{0, std::numbers::pi}, force::AngleInterval{2.2, std::numbers::pi},
                                          force::AngleInterval{0, 0.9}}) {
@@ -84,9 +82,9 @@ TEST_CASE("the limit at one speed from the sweep is the lobes' envelope (Stabili
   }
 }
 
-TEST_CASE("LimitCache: the per-phase tables give the limit of the cut's own lobes within 2 %") {
+TEST_CASE("LimitCache: the per-phase sweeps give the limit of the cut's own lobes within 2 %") {
   const force::Coefficients k = steel();
-  const LimitCache cache(modes(), k, 3, 20000);
+  const LimitCache cache(tip_model_of(modes()), k, 3, 20000);
   force::Engagement e;
   // A flat end at several immersions and a ball end whose slices each have
   // their own immersion and kappa: the mean directional matrix B / a_p.

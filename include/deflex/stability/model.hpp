@@ -1,7 +1,6 @@
 // The stability limit of a library tool on its machine: the tool tip's FRF
 // from the beam model's modes (stiffness/modes.hpp), and, along a program,
-// the limit at each cut's immersion and speed, computed once per immersion
-// and kept (LimitCache).
+// the limit of each cut's own engagement at its speed (LimitCache).
 #pragma once
 #include <array>
 #include <map>
@@ -30,9 +29,13 @@ struct TipModel {
   Frf frf;
 };
 
-// The FRF of the tool's lowest modes on the machine (tool_only: clamped
-// rigidly at the holder face), up to 1.5 times the highest mode kept.
-// Throws what stiffness::tip_modes throws (a material without density).
+// The FRF of modes in x and y alike (no cross terms), up to 1.5 times the
+// highest (modes: not empty, frequency ascending).
+TipModel tip_model_of(std::vector<stiffness::Mode> modes);
+
+// The tool's lowest modes on the machine (tool_only: clamped rigidly at the
+// holder face) and their FRF. Throws what stiffness::tip_modes throws (a
+// material without density).
 TipModel tip_model(const stiffness::Tool& t, const stiffness::MachineStiffness& m, bool tool_only,
                    int modes = kModelModes);
 
@@ -62,8 +65,8 @@ Eigen::Matrix2d directional_matrix_mm(const force::CutterSlices& cs, const force
 // threads share one.
 class LimitCache {
  public:
-  // modes: the tip's, in x and y alike (tip_model).
-  LimitCache(const std::vector<stiffness::Mode>& modes, const force::Coefficients& k, int flutes, double max_rpm);
+  // The tip's modes, in x and y alike, and their FRF (tip_model).
+  LimitCache(const TipModel& tip, const force::Coefficients& k, int flutes, double max_rpm);
   // A measured FRF, x and y apart, cross terms and all: there the cut's own
   // matrix decides, not one eigenvalue's phase. One sweep per direction of
   // the directional matrix (B / |B|, each entry rounded to 1/64: a limit
