@@ -5,6 +5,7 @@
 #   scripts/test.sh --sanitize  the same suite under AddressSanitizer + UBSan, any
 #                               report fatal, in build-sanitize/ with clang 14;
 #                               that build also holds the fuzz targets (scripts/fuzz.sh),
+#                               each of which the suite runs for 10 s,
 #                               so the machine compiles the instrumented tree once
 set -eu
 cd "$(dirname "$0")/.."
