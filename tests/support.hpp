@@ -175,6 +175,7 @@ inline const char* const kDiffSplitB =
 inline const char* kPocketTools = R"(tools:
   T1: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 20, stickout_mm: 40, material: carbide}
   T2: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 20, stickout_mm: 60, material: carbide}
+  T3: {type: flat, diameter_mm: 10, flutes: 4, flute_length_mm: 20, stickout_mm: 60, shank_diameter_mm: 12, material: carbide}
 )";
 // The pocket X40..60 Y40..60, 55.5 mm deep, as an earlier program: T2 at
 // Z-55.5 over X45..55 Y45..55, 1 mm apart.

@@ -18,7 +18,7 @@ const char* to_string(AssemblyPart p) {
 
 Assembly assembly_of(const stiffness::Tool& t, const std::optional<stiffness::Holder>& holder) {
   Assembly a;
-  double z = t.flute_length_mm;
+  double z = a.flute_top_mm = t.flute_length_mm;
   if (t.neck && t.neck->length_mm > 0) {
     const double r = t.neck->diameter_mm / 2;
     a.frusta.push_back({AssemblyPart::neck, z, z + t.neck->length_mm, r, r});
@@ -42,9 +42,28 @@ double lowest_at(const Frustum& f, double d) {
   return f.z0_mm + (d - f.r0_mm) / (f.r1_mm - f.r0_mm) * (f.z1_mm - f.z0_mm);
 }
 
+// The material height h at (x, y) after sweep l of a tool whose flutes reach
+// flute_top_mm above its tip. A sweep lowers the Z-map to the tool's lower
+// surface as if the tool went up forever; the flutes do not: where the
+// material stood higher than the flutes reached as they passed (the tip's
+// height where the axis passes nearest the point, the highest over a
+// plunge), the material above them is still there for the shank to meet.
+double cut_by(const stock::LineSweep& l, double x, double y, double h, double flute_top_mm) {
+  double tip_z = std::max(l.a()[2], l.b()[2]);
+  if (l.xy_length() > 0) {
+    const double u = ((x - l.a()[0]) * l.dir_x() + (y - l.a()[1]) * l.dir_y()) / l.xy_length();
+    tip_z = l.a()[2] + std::clamp(u, 0.0, 1.0) * (l.b()[2] - l.a()[2]);
+  }
+  return h <= tip_z + flute_top_mm ? std::min(h, l.lower_height(x, y)) : h;
+}
+
 // The deepest cell of frustum f: the rows of its disc the tile and row maxima
-// do not clear, cell by cell.
-double deepest(const stock::ZMap& z, const V3& tip, const Frustum& f) {
+// do not clear, cell by cell. A cell's material is the Z-map's height, lowered
+// by the sweeps not yet committed to it (`near`: the tool's own last moves,
+// which in a plunge or a ramp deeper than the flutes have cut the bore the
+// shank follows into) where their flutes reached the top of it (cut_by).
+double deepest(const stock::ZMap& z, const std::vector<const stock::LineSweep*>& near, double flute_top_mm,
+               const V3& tip, const Frustum& f) {
   const double rmax = std::max(f.r0_mm, f.r1_mm);
   const float low = static_cast<float>(tip.z() + f.z0_mm);
   // Most points: no material anywhere over the part's square stands above its
@@ -60,10 +79,12 @@ double deepest(const stock::ZMap& z, const V3& tip, const Frustum& f) {
     const int i0 = std::max(0, z.ix(tip.x() - half)), i1 = std::min(g.nx - 1, z.ix(tip.x() + half));
     if (i1 < i0 || !z.row_above(j, i0, i1, low)) continue;
     for (int i = i0; i <= i1; ++i) {
-      const float h = z.at(i, j);
+      double h = z.at(i, j);
       if (h <= low) continue;
       const double zl = lowest_at(f, std::hypot(z.cx(i) - tip.x(), dy));
-      if (!std::isnan(zl)) worst = std::max(worst, h - (tip.z() + zl));
+      if (std::isnan(zl)) continue;
+      for (const stock::LineSweep* l : near) h = cut_by(*l, z.cx(i), z.cy(j), h, flute_top_mm);
+      worst = std::max(worst, h - (tip.z() + zl));
     }
   }
   return worst;
@@ -71,10 +92,22 @@ double deepest(const stock::ZMap& z, const V3& tip, const Frustum& f) {
 
 }  // namespace
 
-Interference interference(const stock::ZMap& z, const V3& tip_mm, const Assembly& a) {
+Interference interference(const engage::StockView& stock, const V3& tip_mm, const Assembly& a) {
   Interference r;
+  double rmax = 0;
+  for (const Frustum& f : a.frusta) rmax = std::max({rmax, f.r0_mm, f.r1_mm});
+  // The uncommitted sweeps whose footprint reaches the assembly's.
+  thread_local std::vector<const stock::LineSweep*> near;
+  near.clear();
+  auto reaches = [&](const stock::LineSweep& l) {
+    return l.x_min() <= tip_mm.x() + rmax && l.x_max() >= tip_mm.x() - rmax && l.y_min() <= tip_mm.y() + rmax &&
+           l.y_max() >= tip_mm.y() - rmax;
+  };
+  if (stock.current && reaches(*stock.current)) near.push_back(stock.current);
+  for (const stock::LineSweep& l : stock.pending)
+    if (reaches(l)) near.push_back(&l);
   for (const Frustum& f : a.frusta) {
-    const double d = deepest(z, tip_mm, f);
+    const double d = deepest(*stock.zmap, near, a.flute_top_mm, tip_mm, f);
     if (d > r.depth_mm) r = {d, f.part};
   }
   return r;

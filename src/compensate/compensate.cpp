@@ -347,8 +347,10 @@ struct Simulation::Impl {
     // The assembly reads the stock as far as the holder's radius, beyond the
     // tiles an evaluation waits for (Simulator::read_box): here, in the sink,
     // the commit beside it has ended, so the stock read is the same whatever
-    // the threads, and no tile is being written.
-    const Interference hit = interference(run.zmap(), r.p.tip_mm, tm->assembly);
+    // the threads, and no tile is being written. The sweeps the sample's
+    // evaluation saw pending count too: a plunge deeper than the flutes has
+    // cut the bore its shank follows into.
+    const Interference hit = interference(run.sim().sink_view(), r.p.tip_mm, tm->assembly);
     r.p.collision_mm = hit.depth_mm;
     r.p.collision_part = hit.part;
     out(r.p);

@@ -130,10 +130,17 @@ void Simulator::evaluate_batch() {
   if (sink_)
     for (std::size_t i = 0; i < n; ++i) {
       sink_slot_ = i;
+      sinking_ = &batch_[i];
       sink_(batch_[i].cl, metrics_[i], engs_[i]);
     }
+  sinking_ = nullptr;
   samples_ += n;
   batch_.clear();
+}
+
+StockView Simulator::sink_view() const {
+  if (!sinking_) throw Error(ErrorKind::internal, "simulation: sink_view() outside a sink call");
+  return {&z_, std::span<const stock::LineSweep>(pend_.data(), sinking_->pending), &sinking_->current};
 }
 
 void Simulator::commit_old(bool all) {

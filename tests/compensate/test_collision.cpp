@@ -97,8 +97,9 @@ TEST_CASE("collision: a pocket deeper than the stick-out lets the holder in, a l
 
 TEST_CASE("collision: the stock is what the earlier program left, and a shank in a narrow slot") {
   // Without the earlier pocket the tool would plunge into solid stock: the
-  // pass at Z-55 buries the shank (radius 5 from 20 mm above the tip), 35 mm
-  // deep, and the holder, 15 mm - where the pocket exists only the holder hits.
+  // plunge's shank follows in the bore its flutes cut, and the pass at Z-55
+  // buries it (radius 5 from 20 mm above the tip) 35 mm deep, and the
+  // holder 15 mm - where the pocket exists only the holder hits.
   const stock::ZMap solid = stock::make_stock("box:0,0,-80,100,100,0", {});
   const Run buried(test::pocket_floor_pass(1), solid);
   const compensate::Collision* shank = buried.find("shank_collision");
@@ -113,9 +114,29 @@ TEST_CASE("collision: the stock is what the earlier program left, and a shank in
   const compensate::Assembly a =
       compensate::assembly_of(pocket.ph.tools.tools.at("T1"), pocket.ph.machine.holder);
   const stock::ZMap z = pocketed();
-  const auto at55 = compensate::interference(z, {50, 50, -55}, a), at56 = compensate::interference(z, {50, 50, -54}, a);
+  const auto at55 = compensate::interference({&z, {}, nullptr}, {50, 50, -55}, a),
+             at56 = compensate::interference({&z, {}, nullptr}, {50, 50, -54}, a);
   CHECK(at55.part == compensate::AssemblyPart::holder);
   CHECK(at55.depth_mm - at56.depth_mm == doctest::Approx(1.0));
+}
+
+TEST_CASE("collision: a plunge deeper than the flutes: the shank follows into its bore unless it is wider") {
+  // T2 (shank as wide as the flutes) plunges 55 mm into solid stock with 20
+  // mm flutes: the flutes cut the bore the shank follows, so the plunge
+  // (line 5) is clean and the cut along X (line 6) is the first error. T3's
+  // shank is 12 mm over 10 mm flutes: its ring 5 to 6 mm from the axis meets
+  // material the flutes never cut, from the plunge on: at the bottom
+  // 0 - (-55 + 20) = 35 mm deep.
+  const stock::ZMap solid = stock::make_stock("box:0,0,-80,100,100,0", {});
+  const Run same(test::pocket_floor_pass(2), solid);
+  const compensate::Collision* s2 = same.find("shank_collision");
+  REQUIRE(s2);
+  CHECK(s2->first_line == 6);
+  const Run wide(test::pocket_floor_pass(3), solid);
+  const compensate::Collision* s3 = wide.find("shank_collision");
+  REQUIRE(s3);
+  CHECK(s3->first_line == 5);
+  CHECK(s3->worst_mm == doctest::Approx(35.0).epsilon(1e-3));
 }
 
 TEST_CASE("collision: the neck and shank begin where the force model's flutes end") {

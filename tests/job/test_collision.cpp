@@ -101,13 +101,15 @@ TEST_CASE("collision: the same pocket with a longer stick-out is clean") {
 }
 
 TEST_CASE("collision: the earlier program's rest stock is honoured") {
-  // Without the roughing the pass plunges into solid stock: the shank (from
-  // the flutes' top, 20 mm above the tip) stands 0 - (-55 + 20) = 35 mm deep.
+  // Without the roughing the pass plunges into solid stock: the plunge's
+  // shank follows into the bore its flutes cut (line 5 is clean), and the
+  // cut along X drives it (from the flutes' top, 20 mm above the tip) into
+  // the material the flutes never reached: 0 - (-55 + 20) = 35 mm deep.
   const Pocket d;
   const auto solid = test::compensate_job(d.settings("long.nc", false));
   REQUIRE_FALSE(solid.ok());
   const std::string e = line_with(solid.err, "[shank_collision]");
-  CHECK(e.starts_with(d / "long.nc" + ":5:1: error: the shank of T2 (diameter 10.00 mm from 20.0 mm above the tip) runs 35.00 mm"));
+  CHECK(e.starts_with(d / "long.nc" + ":6:1: error: the shank of T2 (diameter 10.00 mm from 20.0 mm above the tip) runs 35.00 mm"));
   CHECK(e.find("reach 55.0 mm above the tip") != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(d / "out.nc"));
   std::string err;

@@ -127,15 +127,17 @@ TEST_SUITE("job") {
     // Tips X 0.001..79.999, Y 0.001..0.626, Z -17.368..10 (the plunge starts at
     // Z10); R 5 + 2 beyond them, 2 below, the top at the highest tip. T1's
     // flutes (22 mm) are shorter than the slot is deep in that blank (27.4 mm):
-    // its shank runs 5.37 mm into the material, in the auto blank as in the same box.
+    // its shank follows the plunge (line 7) into the bore the flutes cut, and
+    // the first move across (line 8) runs it 5.37 mm into the material, in the
+    // auto blank as in the same box.
     const auto t1 = test::simulate_job(slot_on("auto:2"), kSlot);
     REQUIRE_FALSE(t1.ok());
     CHECK(has(t1.err, "auto:2 is the blank box:-6.999,-6.999,-19.368,86.999,7.626,10.000 (round the "
                       "cutting moves and the tool, 2 mm beyond them"));
-    CHECK(has(t1.err, "<stdin>:7:1: error: the shank of T1 (diameter 10.00 mm from 22.0 mm above the tip) runs 5.37 mm"));
+    CHECK(has(t1.err, "<stdin>:8:1: error: the shank of T1 (diameter 10.00 mm from 22.0 mm above the tip) runs 5.37 mm"));
     const auto t1_box = test::simulate_job(slot_on("box:-6.999,-6.999,-19.368,86.999,7.626,10.000"), kSlot);
     REQUIRE_FALSE(t1_box.ok());
-    CHECK(t1_box.err.substr(t1_box.err.find("<stdin>:7:1: error:")) == t1.err.substr(t1.err.find("<stdin>:7:1: error:")));
+    CHECK(t1_box.err.substr(t1_box.err.find("<stdin>:8:1: error:")) == t1.err.substr(t1.err.find("<stdin>:8:1: error:")));
     // T4, a flat D20 with flutes 38 mm long, cuts it: R 10 + 2 beyond.
     job::Settings t4 = slot_on("auto:2");
     t4.tool = "T4";

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "deflex/compensate/compensate.hpp"
+#include "deflex/engage/engagement.hpp"
 #include "deflex/stiffness/machine.hpp"
 #include "deflex/stiffness/tool.hpp"
 #include "deflex/stock/zmap.hpp"
@@ -37,18 +38,20 @@ struct Frustum {
 
 struct Assembly {
   std::vector<Frustum> frusta;  // bottom up
+  double flute_top_mm = 0;      // the flutes' top above the tip: what cuts lies below it
 };
 // The tool's non-cutting parts and the holder (none: the tool's alone).
 Assembly assembly_of(const stiffness::Tool& t, const std::optional<stiffness::Holder>& holder);
 
-// The deepest interference of the assembly with the stock when the tip is at
+// The deepest interference of the assembly with the stock (the Z-map and the
+// sweeps not yet committed to it, engage::StockView) when the tip is at
 // tip_mm: how far material stands above the lowest point of a part at its
 // distance from the axis (mm, > 0), and which part. depth 0: clear.
 struct Interference {
   double depth_mm = 0;
   AssemblyPart part = AssemblyPart::shank;
 };
-Interference interference(const stock::ZMap& z, const V3& tip_mm, const Assembly& a);
+Interference interference(const engage::StockView& stock, const V3& tip_mm, const Assembly& a);
 
 // Below a hundredth of a millimetre the Z-map's cells on a wall decide, not
 // the part (a wall a tool has just cut stands within a cell of its flank):

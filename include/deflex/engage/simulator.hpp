@@ -94,6 +94,11 @@ class Simulator {
   void set_sample_work(SampleWork w) { work_ = std::move(w); }
   // During a sink call: the slot its sample had in the sample work.
   std::size_t sink_slot() const { return sink_slot_; }
+  // During a sink call: the stock as its sample met it (the Z-map, the sweeps
+  // pending before it and its own motion up to it), for what reads the stock
+  // beyond the tool (the holder and shank check): the sink sees the Z-map
+  // with every commit before the sample's batch done, and no later one.
+  StockView sink_view() const;
   // Evaluates what is left and commits every pending volume: the Z-map is then
   // the stock as cut by all motions run so far.
   void finish();
@@ -136,6 +141,7 @@ class Simulator {
   PointSink sink_;
   SampleWork work_;
   std::size_t sink_slot_ = 0;
+  const Sample* sinking_ = nullptr;  // the sample a sink call is for
   double keep_mm_ = 0, batch_mm_ = 0;
   std::vector<stock::LineSweep> pend_;  // oldest first
   std::vector<double> pend_end_s_;      // path length at each one's end
