@@ -123,6 +123,10 @@ class Run {
     return true;
   }
   engage::Simulator& sim() { return *sim_; }
+  // Whether prepare(m) would keep the simulator (a rapid, or a cut with its tool).
+  bool keeps(const interp::Motion& m) const {
+    return sim_ && (m.kind == interp::MotionKind::rapid || tool_id(m, s_) == id_);
+  }
   const engage::SimOptions& options() const { return so_; }  // every simulator's
   const stock::ZMap& zmap() const { return *z_; }
   const ToolModel& tool() const { return *tm_; }

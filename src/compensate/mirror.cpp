@@ -4,6 +4,7 @@
 #include <exception>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "deflex/compensate/compensate.hpp"
@@ -62,6 +63,25 @@ bool comp_split_ok(const interp::Motion& m, double u0, double u1, double u, doub
   return along(u) - along(u0) >= min_len_mm && along(u1) - along(u) >= min_len_mm;
 }
 
+// The part [u0, u1] of motion m (parameters of the whole move); the whole
+// move for [0, 1], by the same arithmetic (so that a point evaluated ahead of
+// the whole move is the one its solve asks for).
+interp::Motion part_of(const interp::Motion& m, double u0, double u1) {
+  interp::Motion part = m;
+  for (int c = 0; c < 3; ++c) {
+    part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
+    if (u1 != 1.0) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
+  }
+  if (m.comp && u1 != 1.0) part.contour_end_mm = contour_point(m, part.end_mm);
+  return part;
+}
+
+// Whether two motions are the same move, bit for bit where the probe reads it.
+bool same_move(const interp::Motion& a, const interp::Motion& b) {
+  return a.kind == b.kind && a.start_mm == b.start_mm && a.end_mm == b.end_mm && a.center_mm == b.center_mm &&
+         a.feed_mm_per_min == b.feed_mm_per_min && a.line == b.line;
+}
+
 // P_comp = P_nom - gain e(P_comp) n over the whole program is reached by going
 // through it once, in order: at each motion end, with every earlier motion
 // already at its compensated position and cut into the stock, the offset along
@@ -94,7 +114,10 @@ class Stream {
       programmed_feed_ = m.feed_mm_per_min;
       m.feed_mm_per_min = feed_ = feeds[i];
       splits_ = 0;
-      if (!run_.prepare(m)) {
+      const bool prepared = run_.prepare(m);
+      if (prepared) ahead(motions, feeds, i);
+      const std::size_t written = written_;
+      if (!prepared) {
         emit(m, V3::Zero(), false, false, {}, false);
       } else if (m.kind == interp::MotionKind::rapid || !(*can_)[i]) {
         std::vector<Point> pts;
@@ -130,6 +153,8 @@ class Stream {
         const bool may_split = split_ && (*split_)[i];
         piece(m, 0.0, 1.0, may_split);
       }
+      // What was evaluated ahead assumed this motion ran as written.
+      if (written_ != written + 1 || !prev_.isZero()) drop_ahead();
       if (progress_ && (done_ % 4096 == 0))
         progress_("compensating", total_ ? static_cast<double>(done_) / static_cast<double>(total_) : 0.0);
     }
@@ -145,6 +170,10 @@ class Stream {
  private:
   // One CL sample of motion m moved by (a, b).
   Point probe(const interp::Motion& m, const V3& a, const V3& b, int k, const std::vector<engage::Point3>* v = nullptr) {
+    if (const Point* p = ahead_point(m, a, b, k)) {
+      ++evaluations_;
+      return *p;
+    }
     const interp::Motion mm = moved(m, a, b);
     std::vector<engage::Point3> own;
     if (!v) {
@@ -155,6 +184,71 @@ class Stream {
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
     return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, feed_limits(ph_, s_), rev_);
+  }
+
+  // The motion the mirror pass probes for motion i of the piece at no
+  // offset: a plain cut's whole part (piece()), else the motion itself.
+  interp::Motion probed(const interp::Motion& m, std::size_t i) const {
+    const bool plain_cut = m.kind == interp::MotionKind::linear && (*can_)[i] && !m.corner &&
+                           !(m.comp && !m.moves_xy());
+    return plain_cut ? part_of(m, 0.0, 1.0) : m;
+  }
+
+  // Where the pass stands at no offset, the points of the motions ahead as
+  // they run as written, evaluated at once (Simulator::probe_ahead) rather
+  // than one probe at a time: every motion the pass leaves as written - most
+  // of a program - then costs no sequential evaluation. A motion that moves
+  // or splits drops what was evaluated past it (the stock changed), and the
+  // window shrinks, growing again while the guesses hold.
+  void ahead(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds, std::size_t i) {
+    if (!prev_.isZero() || (done_ >= ahead_first_ && done_ < ahead_first_ + ahead_.size())) return;
+    ahead_.clear();
+    ahead_design_.clear();
+    ahead_first_ = done_;
+    std::vector<interp::Motion> run;
+    for (std::size_t j = i; j < motions.size() && run.size() < window_; ++j) {
+      interp::Motion m = motions[j];
+      m.feed_mm_per_min = feeds[j];
+      if (!run_.keeps(m)) break;
+      ahead_design_.push_back(probed(m, j));
+      run.push_back(moved(ahead_design_.back(), V3::Zero(), V3::Zero()));
+      const std::size_t n = engage::motion_vertices(run.back(), run_.sim().options().path).size() - 1;
+      ahead_.emplace_back(m.kind == interp::MotionKind::rapid ? 0 : n);
+    }
+    const FeedLimits limits = feed_limits(ph_, s_);
+    const std::size_t covered = run_.sim().probe_ahead(
+        run, [&](std::size_t j, int k, const engage::CLSample& cl, const engage::Metrics& mt,
+                 const force::Engagement& eng) {
+          thread_local std::vector<force::Vec3> rev;
+          try {
+            ahead_[j][static_cast<std::size_t>(k - 1)] = point_of(cl, mt, eng, run_.tool(), run[j], ahead_design_[j],
+                                                                  done_ + j, V3::Zero(), V3::Zero(), normals_, ph_.k,
+                                                                  limits, rev);
+          } catch (...) {  // probe() reports it in order when the pass gets there
+          }
+        });
+    ahead_.resize(covered);
+    ahead_design_.resize(covered);
+  }
+
+  // Motion done_ did not run as written: the points evaluated past it are stale.
+  void drop_ahead() {
+    const std::size_t next = done_ + 1;
+    if (next < ahead_first_ + ahead_.size()) window_ = std::max<std::size_t>(1, window_ / 4);
+    else if (!ahead_.empty()) window_ = std::min(kMaxWindow, window_ * 2);
+    ahead_.clear();
+    ahead_design_.clear();
+  }
+
+  // The point evaluated ahead for sample k (0: the last) of m at no offset, if
+  // m is the move evaluated for the current motion.
+  const Point* ahead_point(const interp::Motion& m, const V3& a, const V3& b, int k) const {
+    if (!a.isZero() || !b.isZero() || done_ < ahead_first_ || done_ >= ahead_first_ + ahead_.size()) return nullptr;
+    const std::size_t j = done_ - ahead_first_;
+    if (!same_move(m, ahead_design_[j])) return nullptr;
+    const std::vector<std::optional<Point>>& pts = ahead_[j];
+    const std::size_t kk = k == 0 ? pts.size() : static_cast<std::size_t>(k);
+    return kk >= 1 && kk <= pts.size() && pts[kk - 1] ? &*pts[kk - 1] : nullptr;
   }
 
   // Samples 1..count of motion m moved by (a, b), but the one at `skip` (0: none).
@@ -220,12 +314,7 @@ class Stream {
   void piece(const interp::Motion& m, double u0, double u1, bool may_split, bool inserted = false) {
     const bool last = u1 == 1.0 && !inserted;
     for (;;) {
-      interp::Motion part = m;
-      for (int c = 0; c < 3; ++c) {
-        part.start_mm[c] = m.start_mm[c] + u0 * (m.end_mm[c] - m.start_mm[c]);
-        if (u1 != 1.0) part.end_mm[c] = m.start_mm[c] + u1 * (m.end_mm[c] - m.start_mm[c]);
-      }
-      if (m.comp && u1 != 1.0) part.contour_end_mm = contour_point(m, part.end_mm);
+      const interp::Motion part = part_of(m, u0, u1);
       Point end;
       const V3 off = solve(part, end);
       std::vector<Point> pts = samples(part, prev_, off, end.count);
@@ -353,6 +442,14 @@ class Stream {
   int splits_ = 0;
   int max_updates_ = 0;
   std::size_t evaluations_ = 0;
+  // The points evaluated ahead: ahead_[j] samples 1..n of motion
+  // ahead_first_ + j as run as written (ahead_design_[j] the move), empty
+  // where the evaluation failed; window_ motions are evaluated at once.
+  static constexpr std::size_t kMaxWindow = 64;
+  std::size_t ahead_first_ = 0;
+  std::vector<std::vector<std::optional<Point>>> ahead_;
+  std::vector<interp::Motion> ahead_design_;
+  std::size_t window_ = kMaxWindow;
 };
 
 }  // namespace

@@ -259,4 +259,79 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
   return mt;
 }
 
+std::size_t Simulator::probe_ahead(std::span<const interp::Motion> ms, const AheadWork& work) {
+  if (sink_) throw Error(ErrorKind::internal, "simulation: probe_ahead() with a sink");
+  // The samples as run() would batch them, the sweeps pending before each
+  // put on the list for the call (and taken off again): the same views
+  // probe() builds one at a time.
+  struct Ahead {
+    std::size_t i;
+    int k;
+    Sample s;
+  };
+  std::vector<Ahead> todo;
+  const std::size_t keep = pend_.size();
+  std::array<double, 2> feed = feed_;
+  double s = s_;
+  const stock::ToolProfile& tool = eng_.tool();
+  std::size_t covered = 0;
+  for (std::size_t i = 0; i < ms.size(); ++i) {
+    const interp::Motion& m = ms[i];
+    const std::vector<Point3> v = motion_vertices(m, o_.path);
+    const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+    const bool sampled = m.kind != interp::MotionKind::rapid;
+    const int n = static_cast<int>(v.size()) - 1;
+    if (covered > 0 && sampled && todo.size() + static_cast<std::size_t>(n) > o_.max_batch) break;
+    for (int k = 1; k <= n; ++k) {
+      const Point3& vk = v[static_cast<std::size_t>(k)];
+      const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
+      CLSample cl = cl_sample(m, v, static_cast<std::size_t>(k), feed);
+      if (sampled) {
+        cl.motion = motions_ + i;
+        todo.push_back({i, k, Sample{cl, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()}});
+      }
+      s += dist(v[static_cast<std::size_t>(k - 1)], vk);
+      if (!line) pend_.emplace_back(tool, v[static_cast<std::size_t>(k - 1)], vk);
+    }
+    if (line) pend_.emplace_back(tool, v[0], v.back());
+    ++covered;
+    if (s - batch_start_s_ >= batch_mm_) break;  // run() would commit after this one
+  }
+  if (commit_running_ && !todo.empty()) {
+    TileBox reads = read_box(todo[0].s.cl.point.tip_mm);
+    for (const Ahead& a : todo) reads.join(read_box(a.s.cl.point.tip_mm));
+    wait_commit_if(reads);
+  }
+  const double t0 = now_s();
+  auto one = [&](const Ahead& a) {
+    thread_local force::Engagement eng;
+    const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), a.s.pending), &a.s.current};
+    Metrics mt;
+    try {
+      mt = eng_.evaluate(view, a.s.cl.point, proc_, eng);
+    } catch (...) {
+      return;  // probe() reports it when the driver gets there
+    }
+    work(a.i, a.k, a.s.cl, mt, eng);
+  };
+  try {
+    if (o_.threads == 1 || todo.size() < 4) {
+      for (const Ahead& a : todo) one(a);
+    } else {
+      in_arena(arena_.get(), [&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            for (std::size_t j = r.begin(); j != r.end(); ++j) one(todo[j]);
+                          });
+      });
+    }
+  } catch (...) {
+    pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
+    throw;
+  }
+  pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
+  t_engage_ += now_s() - t0;
+  return covered;
+}
+
 }  // namespace deflex::engage

@@ -34,6 +34,28 @@ force::Cutter cutter(stock::EndShape t, double D = 10) {
 
 interp::Motion line(stock::Point3 a, stock::Point3 b) { return test::linear_motion(a, b, 1000); }
 
+// A zig-zag of `rows` rows, 0.6 mm apart, of `steps` short wavy segments
+// `dx` mm long each, from (-6, 3, -0.4).
+std::vector<interp::Motion> wavy_zigzag(int rows, int steps, double dx) {
+  std::vector<interp::Motion> path;
+  stock::Point3 p{-6, 3, -0.4};
+  for (int k = 0; k < rows; ++k) {
+    const double y = 3 + 0.6 * k;
+    if (k > 0) {
+      const stock::Point3 q{p[0], y, p[2]};
+      path.push_back(line(p, q));
+      p = q;
+    }
+    for (int s = 0; s < steps; ++s) {
+      const double x = p[0] + (k % 2 == 0 ? dx : -dx);
+      const stock::Point3 q{x, y, -0.4 + 0.15 * std::sin(x / 3)};
+      path.push_back(line(p, q));
+      p = q;
+    }
+  }
+  return path;
+}
+
 struct Last {
   CLSample cl;
   Metrics m;
@@ -252,22 +274,7 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
 
 TEST_CASE("batched parallel evaluation and commits beside it give the same results on 1 thread and on all") {
   const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.05, 12);
-  std::vector<interp::Motion> path;
-  stock::Point3 p{-6, 3, -0.4};
-  for (int k = 0; k < 4; ++k) {  // zig-zag of short wavy segments, step-over 0.6 mm
-    const double y = 3 + 0.6 * k;
-    if (k > 0) {
-      const stock::Point3 q{p[0], y, p[2]};
-      path.push_back(line(p, q));
-      p = q;
-    }
-    for (int s = 0; s < 60; ++s) {
-      const double x = p[0] + (k % 2 == 0 ? 0.5 : -0.5);
-      const stock::Point3 q{x, y, -0.4 + 0.15 * std::sin(x / 3)};
-      path.push_back(line(p, q));
-      p = q;
-    }
-  }
+  const std::vector<interp::Motion> path = wavy_zigzag(4, 60, 0.5);
   // The reference: one thread, each commit done before anything goes on;
   // then commits beside the evaluations on one thread (run when waited for)
   // and on all, with the default and with a short keep (commits that the
@@ -309,6 +316,74 @@ TEST_CASE("batched parallel evaluation and commits beside it give the same resul
     CHECK(cells[ref] == cells[run_]);  // the stock as cut, cell for cell
   }
   CHECK(engaged > 4 * static_cast<int>(results[0].size()) / 2);
+}
+
+TEST_CASE("probe_ahead: each sample as probe() meets it after run() of the motions before, up to the first commit") {
+  // A wavy raster with an arc and a rapid, probed ahead from every motion on
+  // against probing one at a time and running each: the engagement bit for
+  // bit, the window ending at the motion whose run() commits.
+  const auto cs = force::make_slices(cutter(stock::EndShape::ball), 0.05, 12);
+  std::vector<interp::Motion> path = wavy_zigzag(3, 30, 0.7);
+  const stock::Point3 p = path.back().end_mm;
+  interp::Motion arc;
+  arc.kind = interp::MotionKind::arc_ccw;
+  arc.fixed = interp::Fixed::no;
+  arc.feed_mm_per_min = 1000;
+  arc.start_mm = p;
+  arc.center_mm = {p[0], p[1] + 2, p[2]};
+  arc.end_mm = {p[0], p[1] + 4, p[2]};
+  path.push_back(arc);
+  interp::Motion rapid = line(arc.end_mm, {arc.end_mm[0] + 3, arc.end_mm[1], arc.end_mm[2]});
+  rapid.kind = interp::MotionKind::rapid;
+  path.push_back(rapid);
+  path.push_back(line(rapid.end_mm, {rapid.end_mm[0] + 3, rapid.end_mm[1] - 1, rapid.end_mm[2]}));
+  for (int threads : {1, 0}) {
+    CAPTURE(threads);
+    auto z = stock::zmap_from_box(stock::parse_box("box:-10,0,-20,40,20,0"));
+    SimOptions o;
+    o.threads = threads;
+    o.batch_mm = 3;
+    Simulator sim(z, cs, {}, o);
+    int compared = 0, windows = 0;
+    for (std::size_t i = 0; i < path.size(); ++i) {
+      std::vector<std::vector<std::optional<Metrics>>> ahead(path.size() - i, std::vector<std::optional<Metrics>>(64));
+      const std::size_t covered = sim.probe_ahead(
+          std::span<const interp::Motion>(path).subspan(i),
+          [&](std::size_t j, int k, const CLSample&, const Metrics& m, const force::Engagement&) {
+            ahead[j][static_cast<std::size_t>(k)] = m;
+          });
+      REQUIRE(covered >= 1);
+      windows += covered > 1;
+      // One at a time: probe each sample, then run the motion.
+      Simulator* s = &sim;
+      for (std::size_t j = 0; j < covered; ++j) {
+        const interp::Motion& m = path[i + j];
+        if (m.kind != interp::MotionKind::rapid) {
+          const std::vector<Point3> v = motion_vertices(m, o.path);
+          for (int k = 1; k < static_cast<int>(v.size()); ++k) {
+            CLSample cl;
+            force::Engagement e;
+            const Metrics one = s->probe(m, v, k, cl, e);
+            REQUIRE(ahead[j][static_cast<std::size_t>(k)]);
+            const Metrics& a = *ahead[j][static_cast<std::size_t>(k)];
+            CHECK(a.ap_mm == one.ap_mm);
+            CHECK(a.ae_mm == one.ae_mm);
+            CHECK(a.cwe_area_mm2 == one.cwe_area_mm2);
+            CHECK(a.mrr_mm3_per_s == one.mrr_mm3_per_s);
+            ++compared;
+          }
+        }
+        // Only the window's last motion may commit: probing ahead of it
+        // would see a stock its run changes.
+        const std::size_t pending = s->pending_count();
+        s->run(m);
+        if (j + 1 < covered) CHECK(s->pending_count() > pending);
+      }
+      i += covered - 1;
+    }
+    CHECK(compared > 60);
+    CHECK(windows > 5);
+  }
 }
 
 TEST_CASE("CL samples: end points, spacing, arcs on the arc, plunge keeps the feed frame") {

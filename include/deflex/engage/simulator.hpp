@@ -51,6 +51,8 @@ struct SimOptions {
 };
 
 using PointSink = std::function<void(const CLSample&, const Metrics&, const force::Engagement&)>;
+// Work on sample k (1..) of motion i of a Simulator::probe_ahead call.
+using AheadWork = std::function<void(std::size_t i, int k, const CLSample&, const Metrics&, const force::Engagement&)>;
 // Work on one sample done in parallel right after its engagement, before the
 // sink sees the batch in program order (Simulator::set_sample_work). `slot`
 // is the sample's place in its batch, so that the work can leave its result
@@ -86,6 +88,17 @@ class Simulator {
   // method of deflex::compensate): probe, decide, then run() the chosen motion.
   // Sequential (one probe at a time); fills `cl` as run() would.
   Metrics probe(const interp::Motion& m, std::span<const Point3> v, int k, CLSample& cl, force::Engagement& out);
+  // probe() of every CL sample of ms[0], ms[1], ... at once, in parallel: each
+  // as run() of the motions in turn would meet it (the motions before it cut,
+  // its own up to it), nothing cut. A driver that runs the motions unchanged
+  // where it can (the mirror pass, where a point needs no offset) evaluates
+  // ahead instead of one probe at a time. Covers the motions up to the first
+  // whose run() would commit sweeps (the stock the later ones meet would
+  // change) and, past the first motion, at most max_batch samples; returns how
+  // many motions it covered. `work` is called concurrently, once per sample
+  // whose engagement evaluated (one that threw is left out: probe() it to
+  // get the error in order). Only for a simulator without a sink.
+  std::size_t probe_ahead(std::span<const interp::Motion> ms, const AheadWork& work);
   const SimOptions& options() const { return o_; }
   // What is computed from a sample's engagement alone (its forces, its
   // deflection) runs with the evaluations, on as many threads, instead of
