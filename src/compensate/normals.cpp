@@ -163,9 +163,13 @@ SurfaceNormal DesignNormals::at(const engage::CLSample& cl, const engage::Metric
   SurfaceNormal s;
   s.n = travel_normal(cl, mt, t, design);
   if (part_) {
-    // Flank cuts: search from the wall side at mid-flank; else from below.
+    // Flank cuts: search from the wall side at mid-flank (the wall lies
+    // against the travel rule's normal, which points from it to the tool:
+    // where the flat end also stands on a floor, the last level of a pocket
+    // wall, the floor is as near as the wall and only the side decides);
+    // else from below.
     V3 hint = V3::Zero();
-    if (flank_cut(mt, t)) hint = 0.5 * t.diameter_mm * s.n + 0.5 * mt.ap_mm * V3::UnitZ();
+    if (flank_cut(mt, t)) hint = -0.5 * t.diameter_mm * s.n + 0.5 * mt.ap_mm * V3::UnitZ();
     const part::Contact c = part_->contact(part::cutter_shape(t), design_tip_mm, hint);
     if (c.found && std::fabs(c.gap_mm) <= reach_mm_) {
       s.n = c.normal;

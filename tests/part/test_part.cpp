@@ -102,6 +102,29 @@ std::pair<V3, V3> drop_tip(const Surface& s, double x, double y, double R) {
   return {ball_tip(s, u, v, R), s.normal(u, v)};
 }
 
+// A vertical wall x <= wall_x (outward normal +X) on a floor z <= 0, as a
+// closed solid: x in [-20, wall_x] up to z = 10 (the wall), x in [wall_x, 20]
+// up to z = 0 (the floor), y in [-20, 20], base z = -10.
+std::vector<stock::Triangle> step_triangles(double wall_x) {
+  std::vector<stock::Triangle> box;
+  auto quad = [&](std::array<double, 3> a, std::array<double, 3> b, std::array<double, 3> c, std::array<double, 3> d) {
+    box.push_back({{a, b, c}});
+    box.push_back({{a, c, d}});
+  };
+  const double w = wall_x;
+  quad({-20, -20, 10}, {w, -20, 10}, {w, 20, 10}, {-20, 20, 10});   // top of the wall block
+  quad({w, -20, 10}, {w, -20, 0}, {w, 20, 0}, {w, 20, 10});         // the wall, normal +X
+  quad({w, -20, 0}, {20, -20, 0}, {20, 20, 0}, {w, 20, 0});         // the floor
+  quad({20, -20, 0}, {20, -20, -10}, {20, 20, -10}, {20, 20, 0});   // +X side
+  quad({-20, 20, 10}, {-20, 20, -10}, {-20, -20, -10}, {-20, -20, 10});  // -X side
+  quad({-20, -20, -10}, {20, -20, -10}, {20, -20, 0}, {-20, -20, 0});    // front (with the step)
+  quad({-20, -20, 0}, {w, -20, 0}, {w, -20, 10}, {-20, -20, 10});
+  quad({20, 20, -10}, {-20, 20, -10}, {-20, 20, 0}, {20, 20, 0});        // back
+  quad({w, 20, 0}, {-20, 20, 0}, {-20, 20, 10}, {w, 20, 10});
+  quad({-20, -20, -10}, {-20, 20, -10}, {20, 20, -10}, {20, -20, -10});  // base
+  return box;
+}
+
 std::vector<Surface> analytic() { return {plane_across(0), plane_across(20), plane_across(45), sphere(30), cylinder_along_x(25)}; }
 
 }  // namespace
@@ -132,23 +155,7 @@ TEST_CASE("part model: ball contacts on analytic surfaces give their normals wit
 }
 
 TEST_CASE("part model: flat and bull-nose flank and floor contacts") {
-  // A vertical wall x <= 0 (outward normal +X) on a floor z <= 0: a closed box.
-  std::vector<stock::Triangle> box;
-  auto quad = [&](std::array<double, 3> a, std::array<double, 3> b, std::array<double, 3> c, std::array<double, 3> d) {
-    box.push_back({{a, b, c}});
-    box.push_back({{a, c, d}});
-  };
-  // The step: x in [-20, 0] up to z = 10 (the wall), x in [0, 20] up to z = 0 (the floor), y in [-20, 20], base z = -10.
-  quad({-20, -20, 10}, {0, -20, 10}, {0, 20, 10}, {-20, 20, 10});   // top of the wall block
-  quad({0, -20, 10}, {0, -20, 0}, {0, 20, 0}, {0, 20, 10});         // the wall, normal +X
-  quad({0, -20, 0}, {20, -20, 0}, {20, 20, 0}, {0, 20, 0});         // the floor
-  quad({20, -20, 0}, {20, -20, -10}, {20, 20, -10}, {20, 20, 0});   // +X side
-  quad({-20, 20, 10}, {-20, 20, -10}, {-20, -20, -10}, {-20, -20, 10});  // -X side
-  quad({-20, -20, -10}, {20, -20, -10}, {20, -20, 0}, {-20, -20, 0});    // front (with the step)
-  quad({-20, -20, 0}, {0, -20, 0}, {0, -20, 10}, {-20, -20, 10});
-  quad({20, 20, -10}, {-20, 20, -10}, {-20, 20, 0}, {20, 20, 0});        // back
-  quad({0, 20, 0}, {-20, 20, 0}, {-20, 20, 10}, {0, 20, 10});
-  quad({-20, -20, -10}, {-20, 20, -10}, {20, 20, -10}, {20, -20, -10});  // base
+  const std::vector<stock::Triangle> box = step_triangles(0);
   const part::PartModel pm(box);
   for (auto type : {stock::EndShape::flat, stock::EndShape::bull}) {
     stiffness::Tool t;
@@ -462,6 +469,41 @@ TEST_CASE("a raster across a 20 deg slope: e = delta . n of the part, and compen
   }
   INFO("compensated: worst " << worst << " mm");
   CHECK(after == 0);
+}
+
+TEST_CASE("a flat end finishing a wall standing on the floor: the design normal is the wall's, not the floor's") {
+  // The last level of a pocket wall: T6 (flat D12) down-milling the wall
+  // x = 0 (0.3 mm left on it) with its tip on the floor z = 0. The floor and
+  // the wall are both where the cutter stands; the flank cut's search starts
+  // on the wall side (the side the engaged edge cuts), so the wall's normal
+  // +X is the one the flank's wall profile e(z) is taken along (its
+  // mid-range the point's error, micrometres), not the floor's +Z (along which
+  // the error would be delta_z, next to nothing).
+  const part::PartModel pm(step_triangles(0));
+  const stock::ZMap zmap = stock::zmap_from_triangles(step_triangles(0.3), 0.05);
+  compensate::Physics ph;
+  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
+  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
+  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "Al7075-T6").k;
+  ph.stock = &zmap;
+  ph.part = &pm;
+  compensate::Settings st;
+  st.threads = 1;
+  const test::Interpreted in =
+      test::interpret_text("G21 G90 G17\nT6 M6\nS8000 M3\nG0 X6. Y15. Z20.\nG1 Z0. F1000\nG1 Y-15. F1600\nG0 Z20.\nM30\n");
+  REQUIRE(in.errors == 0);
+  std::size_t on_wall = 0;
+  for (const compensate::Point& p : compensate::simulate(in.motions, {}, ph, st)) {
+    if (p.air || p.plunge || p.line != 6 || std::fabs(p.tip_mm.y()) > 10) continue;
+    ++on_wall;
+    CHECK(p.normal_source == compensate::NormalSource::part);
+    CHECK(angle_deg(p.normal, V3::UnitX()) < 1e-6);
+    CHECK(p.flank);
+    CHECK(p.error_mm == doctest::Approx(0.5 * (p.flank_min_mm + p.flank_max_mm)).epsilon(1e-12));
+    CHECK(p.error_mm > 1e-3);                           // the wall's error, micrometres
+    CHECK(std::fabs(p.delta_mm.z()) < 0.1 * p.error_mm);  // what the floor's normal would have seen
+  }
+  CHECK(on_wall > 30);
 }
 
 }  // TEST_SUITE
