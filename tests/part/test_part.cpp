@@ -125,6 +125,17 @@ std::vector<stock::Triangle> step_triangles(double wall_x) {
   return box;
 }
 
+// The samples' tools, machine and `material` on the stock and the part.
+compensate::Physics sample_physics(const stock::ZMap& zmap, const part::PartModel& pm, const std::string& material) {
+  compensate::Physics ph;
+  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
+  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
+  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), material).k;
+  ph.stock = &zmap;
+  ph.part = &pm;
+  return ph;
+}
+
 std::vector<Surface> analytic() { return {plane_across(0), plane_across(20), plane_across(45), sphere(30), cylinder_along_x(25)}; }
 
 }  // namespace
@@ -423,12 +434,7 @@ TEST_CASE("a raster across a 20 deg slope: e = delta . n of the part, and compen
     for (auto& v : tri.p) v[2] += 1.0;
   const stock::ZMap zmap = stock::zmap_from_triangles(raised, 0.05);
   const part::PartModel pm(surface);
-  compensate::Physics ph;
-  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
-  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
-  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "C35").k;
-  ph.stock = &zmap;
-  ph.part = &pm;
+  const compensate::Physics ph = sample_physics(zmap, pm, "C35");
   compensate::Settings st;
   st.tolerance_mm = 0.002;
   st.threads = 1;
@@ -481,12 +487,7 @@ TEST_CASE("a flat end finishing a wall standing on the floor: the design normal 
   // the error would be delta_z, next to nothing).
   const part::PartModel pm(step_triangles(0));
   const stock::ZMap zmap = stock::zmap_from_triangles(step_triangles(0.3), 0.05);
-  compensate::Physics ph;
-  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
-  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
-  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "Al7075-T6").k;
-  ph.stock = &zmap;
-  ph.part = &pm;
+  const compensate::Physics ph = sample_physics(zmap, pm, "Al7075-T6");
   compensate::Settings st;
   st.threads = 1;
   const test::Interpreted in =
