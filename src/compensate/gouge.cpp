@@ -33,6 +33,16 @@ part::Contact nearest(const part::PartModel& part, const stiffness::Tool& t, con
   return best;
 }
 
+// Whether a move with this travel runs along the face of normal n (within
+// 60 deg of it) rather than toward or away from it: the approach to a face,
+// a plunge to a floor and the retract from them stand off the face on purpose
+// until they arrive, and only a pass along the face that stands off it says
+// the part and the program disagree.
+bool along_face(const V3& travel, const V3& n) {
+  const double len = travel.norm();
+  return len < 1e-9 || std::fabs(travel.dot(n)) <= 0.5 * len;
+}
+
 }  // namespace
 
 PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartModel& part,
@@ -47,13 +57,15 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
     const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
     for (std::size_t k = 1; k < v.size(); ++k) {
       const V3 tip(v[k][0], v[k][1], v[k][2]), prev(v[k - 1][0], v[k - 1][1], v[k - 1][2]);
-      V3 d = tip - prev;
+      const V3 travel = tip - prev;
+      V3 d = travel;
       d.z() = 0;
       if (d.norm() > 1e-9) feed = d.normalized();
       const part::Contact c = nearest(part, it->second, tip, feed);
       ++g.points;
       if (c.gap_mm < -gap_mm) note(g.overcut, m.line, c.gap_mm, c.depth_at_least);
-      else if (c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face) note(g.standoff, m.line, c.gap_mm);
+      else if (c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face && along_face(travel, c.normal))
+        note(g.standoff, m.line, c.gap_mm);
     }
   }
   return g;

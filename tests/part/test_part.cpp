@@ -389,6 +389,12 @@ TEST_CASE("gouge check: a pass dug into the part and a pass standing off are nam
     return test::linear_motion({a.x(), a.y(), a.z()}, {b.x(), b.y(), b.z()});
   };
   std::vector<interp::Motion> m = {pass(0, 0), pass(2, -0.05), pass(4, 0.04)};
+  // An approach square to the slope ending on it (line 13) and a retract
+  // from it (line 14) stand off the face until they arrive: not a standoff.
+  const V3 on = ball_tip(s, 0, 6, R), n = s.normal(0, 6);
+  const V3 off = on + 3.0 * n;
+  m.push_back(test::linear_motion({off.x(), off.y(), off.z()}, {on.x(), on.y(), on.z()}));
+  m.push_back(test::linear_motion({on.x(), on.y(), on.z()}, {off.x(), off.y(), off.z()}));
   for (std::size_t i = 0; i < m.size(); ++i) m[i].line = static_cast<std::uint32_t>(10 + i);
   const compensate::PartGaps g = compensate::part_gaps(m, pm, lib, [&](const interp::Motion&) { return id; }, {}, 0.02, 1.0);
   REQUIRE(g.overcut.lines == std::vector<std::uint32_t>{11});
