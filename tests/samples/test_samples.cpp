@@ -30,7 +30,7 @@ using std::numbers::pi;
 namespace {
 
 const std::string kSamples = std::string(DEFLEX_SOURCE_DIR) + "/samples/";
-const char* const kPrograms[] = {"six_surfaces.nc", "side_wall.nc", "freeform.nc"};
+const char* const kPrograms[] = {"six_surfaces.nc", "side_wall.nc", "freeform.nc", "thin_wall.nc"};
 const char* const kStrategies[] = {"zigzag_0.nc", "zigzag_45.nc", "zigzag_90.nc", "contour.nc"};
 
 // `name` under samples/programs/, or `folder` (e.g. "strategies/").
@@ -121,7 +121,8 @@ TEST_CASE("samples: generate.sh reproduces the committed programs and stocks byt
   for (const char* f : {"programs/six_surfaces.nc", "programs/side_wall.nc", "programs/freeform.nc",
                         "stock/six_surfaces_stock.stl", "stock/freeform_stock.stl", "stock/side_wall.yaml",
                         "stock/six_surfaces.yaml", "stock/freeform.yaml", "strategies/zigzag_0.nc",
-                        "strategies/zigzag_45.nc", "strategies/zigzag_90.nc", "strategies/contour.nc"}) {
+                        "strategies/zigzag_45.nc", "strategies/zigzag_90.nc", "strategies/contour.nc",
+                        "programs/thin_wall.nc", "parts/thin_wall.stl", "stock/thin_wall.stl", "stock/thin_wall.yaml"}) {
     CAPTURE(f);
     CHECK(test::read_file((dir / f).string()) == test::read_file(kSamples + f));
   }
