@@ -51,6 +51,9 @@ const std::map<std::string, Get>& getters() {
       {"power_kW", [](const R& r) { return r.power_kW; }},
       {"torque_Nm", [](const R& r) { return r.torque_Nm; }},
       {"ap_limit_mm", [](const R& r) { return r.ap_limit_mm; }},
+      {"workpiece_dx_mm", [](const R& r) { return r.workpiece_delta_mm.x(); }},
+      {"workpiece_dy_mm", [](const R& r) { return r.workpiece_delta_mm.y(); }},
+      {"workpiece_dz_mm", [](const R& r) { return r.workpiece_delta_mm.z(); }},
   };
   return g;
 }

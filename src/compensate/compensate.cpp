@@ -1,5 +1,6 @@
 #include "deflex/compensate/compensate.hpp"
 
+#include "deflex/compensate/contact.hpp"
 #include "internal.hpp"
 
 #include <algorithm>
@@ -191,10 +192,27 @@ FeedLimits feed_limits(const Physics& ph, const Settings& s) {
   return {s.feed_limit_N, ph.spindle.set ? &ph.spindle : nullptr};
 }
 
+// The workpiece's share (workpiece.hpp): its displacement where the force
+// acts on it - the contact, or for a flank cut the wall at the height of the
+// force's resultant - under the force on it (-F) moves the landing by
+// -delta_w . n. A flank cut's e(z) shifts by it as a whole: the part's
+// compliance at one point, not how the wall bends between heights (a thin
+// wall's top gives way more than its foot under the same load).
+void add_workpiece(Point& p, const ToolModel& tm, const WorkpieceCompliance& w) {
+  const V3 at = p.flank ? flank_point(p, tm.tool, p.height_mm) : contact_point(p, tm.tool);
+  p.workpiece_delta_mm = w.at(at) * V3(-p.force_N);
+  const double shift = -p.workpiece_delta_mm.dot(p.normal);
+  p.error_mm += shift;
+  if (!p.flank) return;
+  p.flank_min_mm += shift;
+  p.flank_max_mm += shift;
+  for (force::FlankPoint& f : p.flank_profile) f.error_mm += shift;
+}
+
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
-               std::vector<force::Vec3>& rev, bool keep_profile) {
+               const WorkpieceCompliance* workpiece, std::vector<force::Vec3>& rev, bool keep_profile) {
   Point p = geometry_point(cl, design);
   p.ap_mm = mt.ap_mm;
   p.ae_mm = mt.ae_mm;
@@ -233,6 +251,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
   p.error_mm = p.delta_mm.dot(p.normal);
   if (tm.flank_c.n && flank_cut(mt, tm.tool)) flank_profile(p, cl, mt, eng, tm, k, fz, keep_profile);
+  if (workpiece) add_workpiece(p, tm, *workpiece);
   return p;
 }
 
@@ -327,8 +346,8 @@ struct Simulation::Impl {
         return;
       }
       thread_local std::vector<force::Vec3> rev;
-      r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, feed_limits(ph, s), rev,
-                     s.flank_profiles);
+      r.p = point_of(cl, mt, eng, *tm, it->design, it->design, gi, it->a, it->b, normals, ph.k, feed_limits(ph, s),
+                     ph.workpiece, rev, s.flank_profiles);
       r.p.motion = static_cast<std::uint32_t>(gi);
       const double above_mm = stock_above(run.zmap(), cl, 0.5 * tm->tool.diameter_mm);
       r.p.stock_depth_mm = std::max(0.0, above_mm);

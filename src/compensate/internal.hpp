@@ -62,7 +62,7 @@ FeedLimits feed_limits(const Physics& ph, const Settings& s);
 Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const force::Engagement& eng, const ToolModel& tm,
                const interp::Motion& m, const interp::Motion& design, std::size_t index, const V3& a, const V3& b,
                const DesignNormals& normals, const force::Coefficients& k, const FeedLimits& limits,
-               std::vector<force::Vec3>& rev, bool keep_profile = false);
+               const WorkpieceCompliance* workpiece, std::vector<force::Vec3>& rev, bool keep_profile = false);
 
 // A sample's point with its place alone (line, motion's tool, tip): the
 // point of a run without physics (Settings::geometry_only), and where

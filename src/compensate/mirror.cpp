@@ -183,7 +183,8 @@ class Stream {
     engage::CLSample cl;
     const engage::Metrics mt = run_.sim().probe(mm, *v, k == 0 ? static_cast<int>(v->size()) - 1 : k, cl, eng_);
     ++evaluations_;
-    return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, feed_limits(ph_, s_), rev_);
+    return point_of(cl, mt, eng_, run_.tool(), mm, m, done_, a, b, normals_, ph_.k, feed_limits(ph_, s_), ph_.workpiece,
+                    rev_);
   }
 
   // The motion the mirror pass probes for motion i of the piece at no
@@ -223,7 +224,7 @@ class Stream {
           try {
             ahead_[j][static_cast<std::size_t>(k - 1)] = point_of(cl, mt, eng, run_.tool(), run[j], ahead_design_[j],
                                                                   done_ + j, V3::Zero(), V3::Zero(), normals_, ph_.k,
-                                                                  limits, rev);
+                                                                  limits, ph_.workpiece, rev);
           } catch (...) {  // probe() reports it in order when the pass gets there
           }
         });
@@ -383,7 +384,7 @@ class Stream {
         const Point p1 = probe(m, prev_, s1 * n, 0);
         ++updates;
         // Flank: the mid-range of e(z) along p1.normal, which is n (the same design tip).
-        const double e1 = p1.flank ? p1.error_mm : p1.delta_mm.dot(n), h1 = s1 + g * e1;
+        const double e1 = p1.flank ? p1.error_mm : (p1.delta_mm - p1.workpiece_delta_mm).dot(n), h1 = s1 + g * e1;
         if (s1 != s0) slope_ = std::clamp((e1 - (h0 - s0) / g) / (s1 - s0), -0.8, 0.8);
         if (std::fabs(h1) < best) {
           best = std::fabs(h1);

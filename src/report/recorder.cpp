@@ -39,7 +39,8 @@ bool continuous(std::uint32_t a, std::uint32_t b) { return b - a <= 1; }
 const char* const kPointsCsvHeader =
     "line,x_mm,y_mm,z_mm,path_mm,ap_mm,ae_mm,d_eff_mm,cwe_area_mm2,mrr_mm3_per_s,Fx_N,Fy_N,Fz_N,dx_mm,dy_mm,"
     "dz_mm,surface_error_mm,surface_error_as_written_mm,offset_mm,nx,ny,nz,normal_source,part_gap_mm,"
-    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm,power_kW,torque_Nm,ap_limit_mm\n";
+    "flank_min_mm,flank_max_mm,flank_z_min_mm,flank_z_max_mm,stepover_mm,cusp_height_mm,power_kW,torque_Nm,ap_limit_mm,"
+    "workpiece_dx_mm,workpiece_dy_mm,workpiece_dz_mm\n";
 
 struct Recorder::Impl {
   explicit Impl(RecorderOptions o)
@@ -231,6 +232,7 @@ struct Recorder::Impl {
     r.stepover_mm = c.stepover_mm, r.cusp_height_mm = c.height_mm;
     r.power_kW = p.power_kW, r.torque_Nm = p.torque_Nm;
     if (p.ap_limit_mm > 0) r.ap_limit_mm = p.ap_limit_mm;
+    if (opt.workpiece) r.workpiece_delta_mm = p.workpiece_delta_mm;
     if (opt.rows) opt.rows(r);
     if (opt.points_csv) write_csv(r);
   }
@@ -258,6 +260,7 @@ struct Recorder::Impl {
     f(r.stepover_mm, 4), f(r.cusp_height_mm, 6);
     f(r.power_kW, 4), f(r.torque_Nm, 3);
     f(r.ap_limit_mm, 4);
+    for (int k = 0; k < 3; ++k) f(r.workpiece_delta_mm[k], 6);
     o << '\n';
   }
 

@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "deflex/compensate/normals.hpp"
+#include "deflex/compensate/workpiece.hpp"
 #include "deflex/force/coefficients.hpp"
 #include "deflex/force/flank.hpp"
 #include "deflex/interp/motion.hpp"
@@ -95,6 +96,9 @@ struct Physics {
   // simulation copies `stock`.
   stock::ZMap* consumable_stock = nullptr;
   const part::PartModel* part = nullptr;  // the design surface (may be null)
+  // The workpiece's compliance at the contact (workpiece.hpp); null: a rigid
+  // workpiece, the tool's deflection alone.
+  const WorkpieceCompliance* workpiece = nullptr;
   // The machine's spindle power and torque against speed (set: false, not
   // checked); with a feed limit the feeds keep within its S1 curve too.
   profile::SpindleRating spindle;
@@ -136,10 +140,14 @@ struct Point {
   double ap_limit_mm = 0;
   double height_mm = 0;         // where along the flutes the force acts
   V3 delta_mm = V3::Zero();     // deflection of the tool at that height
+  // With Physics::workpiece: the workpiece's displacement at the contact under
+  // the force on it (-force_N); the surface lands off by delta - this.
+  V3 workpiece_delta_mm = V3::Zero();
   V3 normal = V3::UnitZ();      // outward normal of the surface being generated
   NormalSource normal_source = NormalSource::travel;
   double part_gap_mm = 0;       // normal_source part: the programmed cutter's gap to the part
-  double error_mm = 0;          // delta . normal; flank: (flank_min_mm + flank_max_mm) / 2
+  // (delta - workpiece_delta) . normal; flank: (flank_min_mm + flank_max_mm) / 2
+  double error_mm = 0;
   // simulate(): the highest stock over the leading half of the tool's disc
   // above the tip (the Z-map as committed so far: it may lag the last few
   // moves by a batch), 0 where none; the plausibility checks' depth of cut,

@@ -66,6 +66,9 @@ struct PointRow {
   double stepover_mm = kNone, cusp_height_mm = kNone;
   double power_kW = 0, torque_Nm = 0;  // the spindle's load (compensate::Point)
   double ap_limit_mm = kNone;          // the stability limit (compensate::Point; none where not checked)
+  // The workpiece's displacement at the contact (compensate::Point; none
+  // without a workpiece model: a rigid part).
+  V3 workpiece_delta_mm = V3::Constant(kNone);
 };
 // The header of points.csv: its columns, in the order of PointRow's values.
 extern const char* const kPointsCsvHeader;
@@ -74,6 +77,7 @@ struct RecorderOptions {
   double tolerance_mm = 0.01;
   // compensate: as_written() gives the program as written beside the points.
   bool as_written = false;
+  bool workpiece = false;              // a workpiece model is in the run: its columns are filled
   std::ostream* points_csv = nullptr;  // null: no points.csv
   std::ostream* flank_csv = nullptr;   // null: no flank_profile.csv (the rows as written)
   std::function<void(const PointRow&)> rows;  // each points.csv row as it comes (null: none)
