@@ -6,11 +6,11 @@
 
 #include <cmath>
 
+#include "../sample_physics.hpp"
 #include "../support.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
 #include "deflex/compensate/contact.hpp"
-#include "deflex/force/material.hpp"
 #include "deflex/stock/build.hpp"
 
 using namespace deflex;
@@ -40,13 +40,10 @@ struct Run {
   test::Interpreted in = test::interpret_text(kProgram);
   stock::ZMap stock = stock::make_stock("box:0,0,-20,100,40,0", {});
   Field field;
-  compensate::Physics ph;
+  compensate::Physics ph = test::sample_physics("Al6082-T4");
   compensate::Settings s;
   Run() {
     REQUIRE(in.errors == 0);
-    ph.tools = stiffness::load_tool_library("samples/tools.yaml");
-    ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
-    ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), "Al6082-T4").k;
     ph.stock = &stock;
     s.threads = 1;
     s.tolerance_mm = 0.005;

@@ -13,6 +13,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "../sample_physics.hpp"
 #include "../support.hpp"
 #include "deflex/compensate/apply.hpp"
 #include "deflex/compensate/compensate.hpp"
@@ -127,10 +128,7 @@ std::vector<stock::Triangle> step_triangles(double wall_x) {
 
 // The samples' tools, machine and `material` on the stock and the part.
 compensate::Physics sample_physics(const stock::ZMap& zmap, const part::PartModel& pm, const std::string& material) {
-  compensate::Physics ph;
-  ph.tools = stiffness::load_tool_library("samples/tools.yaml");
-  ph.machine = stiffness::load_machine_stiffness("samples/machines/mill3.yaml");
-  ph.k = force::find_material(force::load_material_library("samples/materials.yaml"), material).k;
+  compensate::Physics ph = test::sample_physics(material);
   ph.stock = &zmap;
   ph.part = &pm;
   return ph;
