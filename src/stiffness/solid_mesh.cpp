@@ -111,14 +111,14 @@ TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_or
     int* dimtags = nullptr;
     std::size_t dimtags_n = 0;
     g.occ_import_shapes(brep_path.c_str(), &dimtags, &dimtags_n, 1, "brep", &ierr);
-    gmshrt::check(ierr, "gmsh: cannot import the tool solid");
+    gmshrt::check(ierr, "gmsh: cannot import the solid");
     std::vector<int> dt(dimtags, dimtags + dimtags_n);
     g.free(dimtags);
     g.occ_synchronize(&ierr);
     if (move_tip_to_origin) {
       double x0, y0, z0, x1, y1, z1;
       g.get_bounding_box(-1, -1, &x0, &y0, &z0, &x1, &y1, &z1, &ierr);
-      gmshrt::check(ierr, "gmsh: no bounding box of the tool solid");
+      gmshrt::check(ierr, "gmsh: no bounding box of the solid");
       g.occ_translate(dt.data(), dt.size(), 0, 0, -z0, &ierr);
       g.occ_synchronize(&ierr);
     }
@@ -127,7 +127,7 @@ TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_or
     g.option_set_number("Mesh.ElementOrder", 2, &ierr);
     g.option_set_number("Mesh.HighOrderOptimize", 0, &ierr);
     g.mesh_generate(3, &ierr);
-    gmshrt::check(ierr, "gmsh failed to mesh the tool solid");
+    gmshrt::check(ierr, "gmsh failed to mesh the solid");
     mesh = read_mesh(g);
   } catch (const Error&) {
     g.model_remove(&ierr);
@@ -142,7 +142,7 @@ TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_or
     throw Error(ErrorKind::internal, msg);
   }
   g.model_remove(&ierr);
-  if (mesh.tet.empty()) throw Error(ErrorKind::internal, "gmsh produced no tetrahedra for the tool solid");
+  if (mesh.tet.empty()) throw Error(ErrorKind::internal, "gmsh produced no tetrahedra for the solid");
   return mesh;
 }
 
