@@ -165,9 +165,10 @@ struct WorkpieceModel::Impl {
   solid::TetMesh mesh;
   std::unique_ptr<solid::ElasticSolver> fem;
 
-  solid::Patch patch(const V3& p) const {
-    check_on_part(part, p, opt.on_part_mm);
-    return solid::patch_weights(mesh, nearest_surface_point(part, p).point_mm, info.patch_radius_mm);
+  // The patch around the surface point nearest p (returned in surface).
+  solid::Patch patch(const V3& p, V3& surface) const {
+    surface = check_on_part(part, p, opt.on_part_mm).point_mm;
+    return solid::patch_weights(mesh, surface, info.patch_radius_mm);
   }
 };
 
@@ -209,17 +210,17 @@ WorkpieceModel& WorkpieceModel::operator=(WorkpieceModel&&) noexcept = default;
 WorkpieceModel::~WorkpieceModel() = default;
 
 PointCompliance WorkpieceModel::compliance_at(const V3& p) const {
-  const solid::Patch w = impl_->patch(p);
   PointCompliance r;
+  const solid::Patch w = impl_->patch(p, r.surface_mm);
   r.point_mm = p;
-  r.surface_mm = nearest_surface_point(impl_->part, p).point_mm;
   r.load_centroid_mm = w.centroid_mm;
   r.matrix_mm_per_N = impl_->fem->compliance(w);
   return r;
 }
 
 Compliance WorkpieceModel::transfer(const V3& load_mm, const V3& read_mm) const {
-  return impl_->fem->read(impl_->patch(read_mm), impl_->fem->solve(impl_->patch(load_mm)));
+  V3 at;
+  return impl_->fem->read(impl_->patch(read_mm, at), impl_->fem->solve(impl_->patch(load_mm, at)));
 }
 
 const WorkpieceInfo& WorkpieceModel::info() const { return impl_->info; }

@@ -190,7 +190,7 @@ void check_fixtures(const PartSurface& s, const std::vector<Fixture>& fixtures) 
                                            ": nothing would hold it");
 }
 
-void check_on_part(const PartSurface& s, const V3& p, double max_mm) {
+SurfacePoint check_on_part(const PartSurface& s, const V3& p, double max_mm) {
   const SurfacePoint q = nearest_surface_point(s, p);
   if (q.distance_mm > max_mm) {
     char b[96];
@@ -198,6 +198,7 @@ void check_on_part(const PartSurface& s, const V3& p, double max_mm) {
     throw Error(ErrorKind::settings, "the point " + fmt_point(p) + " is not on the part " + s.file +
                                          ": nearest surface point " + fmt_point(q.point_mm) + b);
   }
+  return q;
 }
 
 }  // namespace deflex::stiffness

@@ -63,9 +63,9 @@ Fixture parse_fixture(const std::string& spec);  // Error(ErrorKind::settings) w
 // touches no part of the surface. Error(ErrorKind::settings) naming the box as given.
 void check_fixtures(const PartSurface& s, const std::vector<Fixture>& fixtures);
 
-// Error(ErrorKind::settings) when p is farther than max_mm from the surface,
-// naming the nearest surface point and the distance.
-void check_on_part(const PartSurface& s, const Eigen::Vector3d& p_mm, double max_mm);
+// The surface point nearest p; Error(ErrorKind::settings) when it is farther
+// than max_mm, naming it and the distance.
+SurfacePoint check_on_part(const PartSurface& s, const Eigen::Vector3d& p_mm, double max_mm);
 
 struct WorkpieceOptions {
   double mesh_mm = 0;          // largest element edge; 0: default_workpiece_mesh_mm()
