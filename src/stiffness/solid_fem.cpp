@@ -7,6 +7,20 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "solid_internal.hpp"
+#ifdef DEFLEX_HAVE_CHOLMOD
+#include "cholmod_api.hpp"
+#include "deflex_plugin.hpp"
+#endif
+
+#ifdef DEFLEX_HAVE_CHOLMOD
+namespace deflex::stiffness {
+const cholmod::Api& cholmod::api() {
+  static const Api& a = plugin::api<Api>("deflex_cholmod", "deflex_cholmod_stiffness", "CHOLMOD: the solid models' factorisation");
+  return a;
+}
+
+}  // namespace deflex::stiffness
+#endif
 
 namespace deflex::stiffness::solid {
 
@@ -218,6 +232,23 @@ Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
   return p;
 }
 
+#ifdef DEFLEX_HAVE_CHOLMOD
+struct ElasticSolver::Factor {
+  std::unique_ptr<cholmod::Factor, void (*)(cholmod::Factor*)> f;
+  explicit Factor(const Eigen::SparseMatrix<double>& upper)
+      : f(cholmod::api().factorise(upper), cholmod::api().release) {}
+  bool ok() const { return f != nullptr; }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const { return cholmod::api().solve(f.get(), b); }
+};
+#else
+struct ElasticSolver::Factor {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt;
+  explicit Factor(const Eigen::SparseMatrix<double>& upper) : ldlt(upper) {}
+  bool ok() const { return ldlt.info() == Eigen::Success; }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const { return ldlt.solve(b); }
+};
+#endif
+
 ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& mat, const std::vector<char>& fixed)
     : free_index_(mesh.node_mm.size(), -1) {
   for (std::size_t a = 0; a < mesh.node_mm.size(); ++a)
@@ -233,12 +264,8 @@ ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& mat, const std
         if (fa >= 0 && fb >= 0 && fa <= fb) asm_.add_block(fa, fb, ke.block<3, 3>(3 * a, 3 * b));
       }
   }
-  factor_ = std::make_unique<std::remove_reference_t<decltype(*factor_)>>();
-#ifdef DEFLEX_HAVE_CHOLMOD
-  factor_->cholmod().print = 0;  // CHOLMOD prints its errors on stdout, deflex's output; info() reports them
-#endif
-  factor_->compute(asm_.matrix());
-  if (nfree_ == 0 || factor_->info() != Eigen::Success)
+  factor_ = std::make_shared<Factor>(asm_.matrix());
+  if (nfree_ == 0 || !factor_->ok())
     throw Error(ErrorKind::internal, "the solid's stiffness matrix of " + std::to_string(3 * nfree_) +
                                          " dofs could not be factorised (singular: is the solid held?)");
 }
@@ -248,9 +275,6 @@ Eigen::MatrixXd ElasticSolver::solve(const Patch& load) const {
   for (const auto& [a, w] : load.weight)
     if (free_index_[a] >= 0)
       for (int d = 0; d < 3; ++d) rhs(3 * free_index_[a] + d, d) = w;
-#ifdef DEFLEX_HAVE_CHOLMOD
-  const std::lock_guard<std::mutex> lock(*solving_);
-#endif
   return factor_->solve(rhs);
 }
 

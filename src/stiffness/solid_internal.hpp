@@ -2,16 +2,12 @@
 #pragma once
 #include <array>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
-#ifdef DEFLEX_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
 
 #include "deflex/stiffness/compliance.hpp"
 #include "deflex/stiffness/tool.hpp"
@@ -55,9 +51,9 @@ Patch patch_weights(const TetMesh& mesh, const Eigen::Vector3d& c, double r_mm);
 // symmetric positive definite once the body is held, and one factorisation
 // serves every load, where an iterative solver would start again for each.
 // CHOLMOD's supernodal LL^T (SuiteSparse, nested-dissection ordering, dense
-// BLAS kernels) where deflex was built with it: on a wall's mesh of 2.4e5 dofs
-// it factorises several times faster than Eigen's SimplicialLDLT (AMD ordering,
-// scalar kernels), the fallback.
+// BLAS kernels; in a plugin, cholmod_api.hpp) where deflex was built with it:
+// on a wall's mesh of 2.4e5 dofs it factorises 7 times faster than Eigen's
+// SimplicialLDLT (AMD ordering, scalar kernels), the fallback.
 class ElasticSolver {
  public:
   // fixed[a]: node a is held. Throws Error(ErrorKind::internal) when the
@@ -75,13 +71,8 @@ class ElasticSolver {
  private:
   std::vector<int> free_index_;
   int nfree_ = 0;
-#ifdef DEFLEX_HAVE_CHOLMOD
-  // CHOLMOD's solve writes to its common workspace: one at a time.
-  std::unique_ptr<std::mutex> solving_ = std::make_unique<std::mutex>();
-  std::unique_ptr<Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>> factor_;
-#else
-  std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper>> factor_;
-#endif
+  struct Factor;  // CHOLMOD's or Eigen's (solid_fem.cpp)
+  std::shared_ptr<Factor> factor_;
 };
 
 // Moves the mid-edge nodes of every element whose Jacobian is not positive at
