@@ -4,10 +4,8 @@
 // returns (src/stiffness/occt/tool_solid.cpp). Private to src/stiffness/.
 #pragma once
 #include <string>
-#include <vector>
 
 #include "deflex/stiffness/shape.hpp"
-#include "deflex/stock/build.hpp"
 
 namespace deflex::stiffness::occt {
 
@@ -21,15 +19,11 @@ struct Api {
   // A part's STEP (`step`) or IGES file as its closed solid(s) in a .brep
   // file; Error(ErrorKind::config) when it bounds no volume.
   void (*write_part_brep)(const std::string& path, bool step, const std::string& brep_path);
-  // A part's closed STL triangles (from `path`, for messages) sewn into a solid.
-  void (*write_triangles_brep)(const std::vector<stock::Triangle>& tris, const std::string& path,
-                               const std::string& brep_path);
 };
 
 // In the plugin: the part's solid (src/stiffness/occt/part_solid.cpp).
 void write_part_brep(const std::string& path, bool step, const std::string& brep_path);
-void write_triangles_brep(const std::vector<stock::Triangle>& tris, const std::string& path,
-                          const std::string& brep_path);
+
 
 // The plugin's table, loaded on first use; throws Error(ErrorKind::config)
 // when the plugin cannot be loaded (src/stiffness/solid_occt.cpp).

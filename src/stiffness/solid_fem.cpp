@@ -212,7 +212,11 @@ Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
     const Coords x = element_coords(m, e);
     const Eigen::Vector3d lo = x.colwise().minCoeff().transpose(), hi = x.colwise().maxCoeff().transpose();
     if ((c.cwiseMax(lo).cwiseMin(hi) - c).norm() >= r) continue;
-    integrate_subdivided(ref, 2, [&](const Eigen::Vector3d& p, double wq) {
+    // Children no larger than the patch radius: at least two levels, more
+    // where an element is over four radii across (a small patch on a coarse
+    // mesh would fall between the quadrature points).
+    const int levels = std::clamp(static_cast<int>(std::ceil(std::log2((hi - lo).norm() / r))), 2, 5);
+    integrate_subdivided(ref, levels, [&](const Eigen::Vector3d& p, double wq) {
       const Vec10 n = shape(p);
       const Eigen::Vector3d xp = x.transpose() * n;
       const double d2 = (xp - c).squaredNorm() / (r * r);

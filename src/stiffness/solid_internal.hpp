@@ -32,6 +32,9 @@ void write_tool_brep(const Tool& t, const std::string& brep_path);
 // Meshes a .brep with gmsh (quadratic tets, max edge mesh_size_mm); moves the
 // lowest point to z = 0 when move_tip_to_origin.
 TetMesh mesh_brep(const std::string& brep_path, double mesh_size_mm, bool move_tip_to_origin);
+// Meshes the volume a closed STL bounds, its surface remeshed at mesh_size_mm
+// (gmsh's classifySurfaces and createGeometry).
+TetMesh mesh_stl(const std::string& stl_path, double mesh_size_mm);
 
 // A load patch around a point c: the smooth weight phi = (1 - d^2/r^2)^2 for
 // d < r over the part of the ball inside the body, as nodal weights

@@ -9,10 +9,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <unistd.h>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "deflex/stock/mesh_out.hpp"
 #include "deflex/writer/temp_files.hpp"
 #include "occt_api.hpp"
 #include "solid_internal.hpp"
@@ -34,31 +36,47 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The part's solid as a .brep for gmsh, removed when it goes out of scope.
-struct PartBrep {
+// The part for gmsh in a temporary file, removed when it goes out of scope:
+// STEP and IGES as the .brep of their solid(s) (OpenCASCADE, in its plugin),
+// an STL as the triangles deflex read (binary STL).
+struct PartFile {
   std::string path;
   int slot = -1;
-  explicit PartBrep(const PartSurface& s) {
+  explicit PartFile(const PartSurface& s) {
     static int counter = 0;
-    path = (fs::temp_directory_path() /
-            ("deflex-part-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".brep"))
+    path = (fs::temp_directory_path() / ("deflex-part-" + std::to_string(::getpid()) + "-" +
+                                         std::to_string(counter++) + (s.stl ? ".stl" : ".brep")))
                .string();
     slot = writer::temp_files::add(path);
     std::string ext = fs::path(s.file).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (s.stl) occt::api().write_triangles_brep(s.triangles, s.file, path);
-    else occt::api().write_part_brep(s.file, ext == ".step" || ext == ".stp", path);
+    if (s.stl) {
+      std::ofstream out(path, std::ios::binary);
+      stock::write_binary_stl(out, s.triangles, "deflex workpiece");
+      if (!out) throw Error(ErrorKind::io, path + ": error: cannot write the temporary STL file");
+    } else {
+      occt::api().write_part_brep(s.file, ext == ".step" || ext == ".stp", path);
+    }
   }
-  ~PartBrep() {
+  ~PartFile() {
     std::error_code ec;
     fs::remove(path, ec);
     writer::temp_files::forget(slot);
   }
+  solid::TetMesh mesh(const PartSurface& s, double h_mm) const {
+    return s.stl ? solid::mesh_stl(path, h_mm) : solid::mesh_brep(path, h_mm, false);
+  }
 };
 
-// Nodes on the boundary: those of tet faces that belong to one tet only (the
-// corner triple sorted as the key; a face's mid-edge nodes come with it).
-std::vector<char> boundary_nodes(const solid::TetMesh& m) {
+// The mesh's boundary: the faces that belong to one tet only (the corner
+// triple sorted as the key), their nodes (a face's mid-edge nodes come with
+// it) and their corner triangles.
+struct Boundary {
+  std::vector<char> on;  // per node
+  PartSurface faces;
+};
+
+Boundary boundary_of(const solid::TetMesh& m) {
   static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
   std::map<std::array<int, 3>, std::pair<int, std::size_t>> faces;  // key -> (count, tet*4 + face)
   for (std::size_t e = 0; e < m.tet.size(); ++e)
@@ -68,9 +86,15 @@ std::vector<char> boundary_nodes(const solid::TetMesh& m) {
       auto& v = faces[k];
       v = {v.first + 1, 4 * e + f};
     }
-  std::vector<char> on(m.node_mm.size(), 0);
+  Boundary b;
+  std::vector<char>& on = b.on;
+  on.assign(m.node_mm.size(), 0);
   for (const auto& [k, v] : faces) {
     if (v.first != 1) continue;
+    stock::Triangle tri;
+    for (int c = 0; c < 3; ++c)
+      for (int i = 0; i < 3; ++i) tri.p[c][i] = m.node_mm[k[c]](i);
+    b.faces.triangles.push_back(tri);
     const auto& t = m.tet[v.second / 4];
     const int skip = static_cast<int>(v.second % 4);  // the corner opposite the face
     for (int a = 0; a < 10; ++a) {
@@ -79,7 +103,7 @@ std::vector<char> boundary_nodes(const solid::TetMesh& m) {
       if (corner || edge) on[t[a]] = 1;
     }
   }
-  return on;
+  return b;
 }
 
 bool inside(const stock::BoxSpec& b, const V3& p, double tol) {
@@ -90,9 +114,8 @@ bool inside(const stock::BoxSpec& b, const V3& p, double tol) {
 
 // Surface nodes inside any box are fixed. A box without a node, or fixed
 // nodes all in a line (the part could turn about it), is an error.
-std::vector<char> clamp(const solid::TetMesh& m, const std::vector<Fixture>& fixtures, double mesh_mm,
-                        std::size_t& fixed_count) {
-  const std::vector<char> on = boundary_nodes(m);
+std::vector<char> clamp(const solid::TetMesh& m, const std::vector<char>& on, const std::vector<Fixture>& fixtures,
+                        double mesh_mm, std::size_t& fixed_count) {
   std::vector<char> fixed(m.node_mm.size(), 0);
   const double tol = 1e-6 * std::max(1.0, mesh_mm);
   std::vector<V3> held;
@@ -128,8 +151,8 @@ std::vector<char> clamp(const solid::TetMesh& m, const std::vector<Fixture>& fix
 // A sparse Cholesky of a 3D mesh grows faster than its dofs (fill-in): past
 // a million dofs it outgrows the memory of a workstation. Quadratic tets of
 // size h give some 32 V / h^3 dofs (a 10 x 2 x 40 mm strip at 1 mm: 25,000),
-// so a size that would make too many is refused before meshing; an STL's
-// curved facets, which set the mesh however coarse it is asked, after it.
+// so a size that would make too many is refused before meshing, and a mesh
+// that came out larger (small features) after it.
 constexpr double kMaxDofs = 1e6;
 
 void check_size_before(const PartSurface& part, double mesh_mm, double wall_mm, bool given) {
@@ -150,10 +173,7 @@ void check_size_after(const solid::TetMesh& m, const PartSurface& part, double m
   char b[200];
   std::snprintf(b, sizeof b, "the mesh of %s has %zu dofs (elements of %.3g mm), more than deflex factorises (%.0e): ",
                 part.file.c_str(), 3 * m.node_mm.size(), mesh_mm, kMaxDofs);
-  throw Error(ErrorKind::settings,
-              std::string(b) + (part.stl ? "an STL's curved facets (" + std::to_string(part.triangles.size()) +
-                                               " triangles) set the mesh: give the part as STEP or IGES"
-                                         : "give larger elements"));
+  throw Error(ErrorKind::settings, std::string(b) + "give larger elements");
 }
 
 }  // namespace
@@ -163,12 +183,15 @@ struct WorkpieceModel::Impl {
   WorkpieceOptions opt;
   WorkpieceInfo info;
   solid::TetMesh mesh;
+  PartSurface mesh_surface;  // the mesh's boundary faces
   std::unique_ptr<solid::ElasticSolver> fem;
 
-  // The patch around the surface point nearest p (returned in surface).
+  // The patch around the surface point nearest p (returned in surface),
+  // centred on the mesh's own boundary: a remeshed curved surface lies off
+  // the part's facets by its chords, which may exceed a small patch.
   solid::Patch patch(const V3& p, V3& surface) const {
     surface = check_on_part(part, p, opt.on_part_mm).point_mm;
-    return solid::patch_weights(mesh, surface, info.patch_radius_mm);
+    return solid::patch_weights(mesh, nearest_surface_point(mesh_surface, surface).point_mm, info.patch_radius_mm);
   }
 };
 
@@ -184,21 +207,25 @@ WorkpieceModel::WorkpieceModel(const PartSurface& part, const std::vector<Fixtur
   WorkpieceInfo& inf = d.info;
   inf.thinnest_wall_mm = thinnest_wall_mm(part);
   inf.mesh_mm = o.mesh_mm > 0 ? o.mesh_mm : default_workpiece_mesh_mm(part, inf.thinnest_wall_mm);
+  // A quarter of the wall, and of an element: a patch smaller than the
+  // elements' chords off a curved surface could miss the mesh.
   inf.patch_radius_mm = o.patch_radius_mm > 0 ? o.patch_radius_mm
-                        : std::isfinite(inf.thinnest_wall_mm) ? inf.thinnest_wall_mm / 4
+                        : std::isfinite(inf.thinnest_wall_mm) ? std::max(inf.thinnest_wall_mm, inf.mesh_mm) / 4
                                                              : inf.mesh_mm / 2;
   check_size_before(part, inf.mesh_mm, inf.thinnest_wall_mm, o.mesh_mm > 0);
   auto t0 = std::chrono::steady_clock::now();
   {
-    const PartBrep brep(part);
-    d.mesh = solid::mesh_brep(brep.path, inf.mesh_mm, false);
+    const PartFile file(part);
+    d.mesh = file.mesh(part, inf.mesh_mm);
   }
   inf.straightened = solid::straighten_inverted(d.mesh);
   check_size_after(d.mesh, part, inf.mesh_mm);
   inf.mesh_seconds = seconds_since(t0);
   inf.nodes = d.mesh.node_mm.size();
   inf.elements = d.mesh.tet.size();
-  const std::vector<char> fixed = clamp(d.mesh, fixtures, inf.mesh_mm, inf.fixed_nodes);
+  Boundary boundary = boundary_of(d.mesh);
+  const std::vector<char> fixed = clamp(d.mesh, boundary.on, fixtures, inf.mesh_mm, inf.fixed_nodes);
+  d.mesh_surface = std::move(boundary.faces);
   t0 = std::chrono::steady_clock::now();
   d.fem = std::make_unique<solid::ElasticSolver>(d.mesh, m, fixed);
   inf.solve_seconds = seconds_since(t0);

@@ -69,7 +69,7 @@ SurfacePoint check_on_part(const PartSurface& s, const Eigen::Vector3d& p_mm, do
 
 struct WorkpieceOptions {
   double mesh_mm = 0;          // largest element edge; 0: default_workpiece_mesh_mm()
-  double patch_radius_mm = 0;  // load patch radius; 0: a quarter of the thinnest wall
+  double patch_radius_mm = 0;  // load patch radius; 0: a quarter of the thinnest wall or of mesh_mm, the larger
   double on_part_mm = 1.0;     // a point farther than this from the surface is refused
 };
 

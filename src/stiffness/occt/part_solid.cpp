@@ -1,19 +1,14 @@
 // The workpiece solid of its compliance model (src/stiffness/workpiece.cpp),
 // in deflex's OpenCASCADE plugin (src/stiffness/occt_api.hpp): a part's STEP
-// or IGES file, or its STL triangles, as one closed solid in a .brep file for
-// gmsh.
+// or IGES file as its closed solid(s) in a .brep file for gmsh.
 // OCCT 7.6 headers use std::iterator (deprecated in C++17).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wdeprecated-declarations"
 #pragma GCC diagnostic ignored "-Wdeprecated-enum-enum-conversion"
-#include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
-#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
-#include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <Standard_Failure.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -67,32 +62,6 @@ void write_part_brep(const std::string& path, bool step, const std::string& brep
     const TopoDS_Shape shape = stock::occt::read_shape(path, step);
     if (shape.IsNull()) throw Error(ErrorKind::config, path + ": error: the file holds no shape");
     write_brep(solids_of(shape, path), brep_path);
-  } catch (const Standard_Failure& e) {
-    throw Error(ErrorKind::io, path + ": error: OpenCASCADE: " + e.GetMessageString());
-  }
-}
-
-// STL triangles (closed: the caller checked every edge has two) sewn into a
-// shell, made a solid, and coplanar neighbours merged into one face, so gmsh
-// meshes a prismatic part's faces at the mesh size rather than at the STL's
-// triangles (a curved surface keeps its facets: the mesh is at least as fine
-// as the STL there).
-void write_triangles_brep(const std::vector<stock::Triangle>& tris, const std::string& path,
-                          const std::string& brep_path) {
-  try {
-    BRepBuilderAPI_Sewing sew(1e-6);
-    for (const auto& t : tris) {
-      const auto p = [&](int k) { return gp_Pnt(t.p[k][0], t.p[k][1], t.p[k][2]); };
-      BRepBuilderAPI_MakePolygon poly(p(0), p(1), p(2), true);
-      if (!poly.IsDone()) continue;  // a degenerate triangle bounds nothing
-      BRepBuilderAPI_MakeFace face(poly.Wire(), true);
-      if (face.IsDone()) sew.Add(face.Face());
-    }
-    sew.Perform();
-    const TopoDS_Shape solid = solids_of(sew.SewedShape(), path);
-    ShapeUpgrade_UnifySameDomain unify(solid, true, true, false);
-    unify.Build();
-    write_brep(unify.Shape(), brep_path);
   } catch (const Standard_Failure& e) {
     throw Error(ErrorKind::io, path + ": error: OpenCASCADE: " + e.GetMessageString());
   }
