@@ -1,7 +1,8 @@
 # deflex's plugins: shared objects loaded with dlopen() on first use
 # (src/plugin/load.cpp says why: start-up time), for what few runs need and
 # whose libraries are large: OpenCASCADE (STEP and IGES files, the solid
-# tool model) and Ceres (the machine fit).
+# tool model), Ceres (the machine fit) and CHOLMOD (the solid models'
+# factorisation).
 #
 #   deflex_plugin(NAME <name> FOR <module>... SOURCES <file>... LIBRARIES <lib>...)
 #

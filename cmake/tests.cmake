@@ -7,7 +7,7 @@ set(DEFLEX_SUITES gcode interp writer profile job cli diag plugin stiffness forc
 # --test installs it) are suites of their own, <module>_<what>: where the
 # program is missing the case carries doctest::skip(), the entry runs nothing
 # and ctest reports it skipped, not passed.
-set(DEFLEX_TOOL_SUITES report_browser cli_completion)
+set(DEFLEX_TOOL_SUITES report_browser cli_completion stiffness_calculix)
 foreach(suite ${DEFLEX_SUITES} ${DEFLEX_TOOL_SUITES})
   add_test(NAME ${suite} COMMAND deflex_tests --test-suite=${suite} --no-version)
   set_tests_properties(${suite} PROPERTIES WORKING_DIRECTORY ${CMAKE_SOURCE_DIR})

@@ -6,7 +6,8 @@
 #                                    the Python bindings in python/)
 #   scripts/install-deps.sh --test   also what the test suite needs: LinuxCNC's rs274, Chromium and
 #                                    libpng (report_browser), bash-completion (cli_completion),
-#                                    pytest and matplotlib (python: python/tests, examples/)
+#                                    pytest and matplotlib (python: python/tests, examples/),
+#                                    CalculiX (stiffness_calculix)
 #   scripts/install-deps.sh --bench  also hyperfine for bench/
 #   scripts/install-deps.sh --fuzz   also clang 14 and its runtimes (ASan, UBSan, libFuzzer)
 #   scripts/install-deps.sh --package  also what CPack's .deb needs (file, dpkg-shlibdeps)
@@ -18,7 +19,7 @@ libocct-data-exchange-dev libgmsh-dev libcgal-dev libssl-dev zlib1g-dev libjs-th
 pybind11-dev python3-dev python3-numpy"
 for a in "$@"; do
   case "$a" in
-    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion python3-pytest python3-matplotlib" ;;
+    --test)  pkgs="$pkgs linuxcnc-uspace chromium libpng-dev bash-completion python3-pytest python3-matplotlib calculix-ccx" ;;
     --bench) pkgs="$pkgs hyperfine time linuxcnc-uspace libbenchmark-dev" ;;
     --fuzz)  pkgs="$pkgs clang-14 libclang-rt-14-dev" ;;
     --package) pkgs="$pkgs file dpkg-dev" ;;

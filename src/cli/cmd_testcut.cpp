@@ -16,28 +16,6 @@ auto optional_value(std::optional<double>& dst) {
   return po::value<double>()->notifier([&dst](double v) { dst = v; });
 }
 
-// "1,2.5,5" as numbers; a settings Error naming `flag` on anything else.
-std::vector<double> numbers_of(const std::string& list, const char* flag) {
-  std::vector<double> v;
-  std::size_t at = 0;
-  while (at <= list.size()) {
-    const std::size_t comma = std::min(list.find(',', at), list.size());
-    const std::string item = list.substr(at, comma - at);
-    std::size_t used = 0;
-    double d = 0;
-    try {
-      d = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (item.empty() || used != item.size())
-      throw Error(ErrorKind::settings, std::string(flag) + " takes numbers separated by commas (mm), not '" + list + "'");
-    v.push_back(d);
-    at = comma + 1;
-  }
-  return v;
-}
-
 }  // namespace
 
 int cmd_testcut(const std::vector<std::string>& args, Io& io) {

@@ -1,5 +1,7 @@
 #include "common.hpp"
 
+#include <algorithm>
+#include <exception>
 #include <ostream>
 
 namespace deflex::cli {
@@ -170,5 +172,27 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
   add_material_options(d, a.material);
   add_read_options(d, a.read);
 }
+
+std::vector<double> numbers_of(const std::string& list, const char* flag) {
+  std::vector<double> v;
+  std::size_t at = 0;
+  while (at <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', at), list.size());
+    const std::string item = list.substr(at, comma - at);
+    std::size_t used = 0;
+    double d = 0;
+    try {
+      d = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (item.empty() || used != item.size())
+      throw Error(ErrorKind::settings, std::string(flag) + " takes numbers separated by commas (mm), not '" + list + "'");
+    v.push_back(d);
+    at = comma + 1;
+  }
+  return v;
+}
+
 
 }  // namespace deflex::cli

@@ -89,4 +89,7 @@ void time_line(Io& io, const process::MachiningTime& before, const process::Mach
 // The command line as a shell would take it back (for the provenance).
 std::string command_of(const char* cmd, const std::vector<std::string>& args);
 
+// "1,2.5,5" as numbers; a settings Error naming `flag` on anything else.
+std::vector<double> numbers_of(const std::string& list, const char* flag);
+
 }  // namespace deflex::cli

@@ -44,11 +44,23 @@ void read_coefficients(const yaml::Map& n, const std::string& model, MaterialEnt
   if (m.k.Ktc_N_per_mm2 <= 0) n.fail(n.node(), "the tangential cutting coefficient must be > 0");
 }
 
+// `elastic: {E_MPa, poisson}`, the form of a tool library's material.
+ElasticConstants read_elastic(const YAML::Node& node, const std::string& file) {
+  if (!node.IsMap()) yaml::fail(file, node.Mark(), "elastic must be a map {E_MPa: .., poisson: ..}");
+  const yaml::Map n(node, "elastic", file, {"E_MPa", "poisson"});
+  ElasticConstants e;
+  e.E_MPa = n.number("E_MPa", yaml::Range::positive());
+  e.poisson = n.number("poisson");
+  // Isotropic elasticity is positive definite only for -1 < nu < 0.5.
+  if (!(e.poisson > -1.0 && e.poisson < 0.5)) n.fail("poisson", "poisson must be in (-1, 0.5)");
+  return e;
+}
+
 MaterialEntry parse_entry(const YAML::Node& node, const std::string& name, const std::string& file) {
   const yaml::Map n(node, "material '" + name + "'", file,
                     {"aliases", "model", "source", "conditions", "notes", "K_tc_N_per_mm2", "K_rc_N_per_mm2",
                      "K_ac_N_per_mm2", "K_te_N_per_mm", "K_re_N_per_mm", "K_ae_N_per_mm", "K_T_N_per_mm2",
-                     "K_R_N_per_mm2", "K_A_N_per_mm2"});
+                     "K_R_N_per_mm2", "K_A_N_per_mm2", "elastic"});
   MaterialEntry m;
   m.name = name;
   m.location = yaml::where(file, node.Mark());
@@ -62,6 +74,7 @@ MaterialEntry parse_entry(const YAML::Node& node, const std::string& name, const
   if (m.source.empty()) n.fail("source", "source must not be empty");
   m.conditions = n.text("conditions", "");
   m.notes = n.text("notes", "");
+  if (n.has("elastic")) m.elastic = read_elastic(n.get("elastic"), file);
   read_coefficients(n, model, m);
   return m;
 }
@@ -142,6 +155,8 @@ std::string to_yaml(const MaterialEntry& m) {
   o << "    source: " << q(m.source) << "\n";
   if (!m.conditions.empty()) o << "    conditions: " << q(m.conditions) << "\n";
   if (!m.notes.empty()) o << "    notes: " << q(m.notes) << "\n";
+  if (m.elastic)
+    o << "    elastic: {E_MPa: " << num(m.elastic->E_MPa) << ", poisson: " << num(m.elastic->poisson) << "}\n";
   return o.str();
 }
 

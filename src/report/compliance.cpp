@@ -15,16 +15,20 @@ std::string fmt(const char* f, double v) {
 }
 }  // namespace
 
+Json compliance_matrix_json(const stiffness::Compliance& c) {
+  Json m = Json::array();
+  for (int i = 0; i < 3; ++i) {
+    Json row = Json::array();
+    for (int j = 0; j < 3; ++j) row.push_back(significant(c(i, j), 7));
+    m.push_back(row);
+  }
+  return m;
+}
+
 std::string compliance_json(const std::vector<stiffness::ComplianceRow>& rows) {
   Json list = Json::array();
   for (const auto& r : rows) {
-    Json m = Json::array();
-    for (int i = 0; i < 3; ++i) {
-      Json row = Json::array();
-      for (int j = 0; j < 3; ++j) row.push_back(significant(r.matrix_mm_per_N(i, j), 7));
-      m.push_back(row);
-    }
-    list.push_back({{"height_mm", significant(r.height_mm, 6)}, {"matrix_mm_per_N", m}});
+    list.push_back({{"height_mm", significant(r.height_mm, 6)}, {"matrix_mm_per_N", compliance_matrix_json(r.matrix_mm_per_N)}});
   }
   return line({{"compliance", list}});
 }

@@ -35,6 +35,13 @@ Api load() {
   sym(a.mesh_get_elements_by_type, "gmshModelMeshGetElementsByType");
   sym(a.mesh_get_element_properties, "gmshModelMeshGetElementProperties");
   sym(a.logger_get_last_error, "gmshLoggerGetLastError");
+  sym(a.merge, "gmshMerge");
+  sym(a.get_entities, "gmshModelGetEntities");
+  sym(a.mesh_classify_surfaces, "gmshModelMeshClassifySurfaces");
+  sym(a.mesh_create_geometry, "gmshModelMeshCreateGeometry");
+  sym(a.geo_add_surface_loop, "gmshModelGeoAddSurfaceLoop");
+  sym(a.geo_add_volume, "gmshModelGeoAddVolume");
+  sym(a.geo_synchronize, "gmshModelGeoSynchronize");
   sym(a.free, "gmshFree");
   return a;
 }

@@ -21,6 +21,14 @@ struct Api {
   decltype(&gmshModelMeshGetElementsByType) mesh_get_elements_by_type;
   decltype(&gmshModelMeshGetElementProperties) mesh_get_element_properties;
   decltype(&gmshLoggerGetLastError) logger_get_last_error;
+  // A closed STL as a volume (the workpiece model, solid_mesh.cpp: mesh_stl).
+  decltype(&gmshMerge) merge;
+  decltype(&gmshModelGetEntities) get_entities;
+  decltype(&gmshModelMeshClassifySurfaces) mesh_classify_surfaces;
+  decltype(&gmshModelMeshCreateGeometry) mesh_create_geometry;
+  decltype(&gmshModelGeoAddSurfaceLoop) geo_add_surface_loop;
+  decltype(&gmshModelGeoAddVolume) geo_add_volume;
+  decltype(&gmshModelGeoSynchronize) geo_synchronize;
   decltype(&gmshFree) free;
 };
 

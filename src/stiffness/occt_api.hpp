@@ -16,7 +16,14 @@ struct Api {
   void (*write_step_brep)(const std::string& step_path, const std::string& brep_path);
   // The revolved equivalent profile `s` as a STEP file.
   void (*write_shape_step)(const ToolShape& s, const std::string& step_path);
+  // A part's STEP (`step`) or IGES file as its closed solid(s) in a .brep
+  // file; Error(ErrorKind::config) when it bounds no volume.
+  void (*write_part_brep)(const std::string& path, bool step, const std::string& brep_path);
 };
+
+// In the plugin: the part's solid (src/stiffness/occt/part_solid.cpp).
+void write_part_brep(const std::string& path, bool step, const std::string& brep_path);
+
 
 // The plugin's table, loaded on first use; throws Error(ErrorKind::config)
 // when the plugin cannot be loaded (src/stiffness/solid_occt.cpp).

@@ -7,6 +7,20 @@
 
 #include "deflex/diag/diagnostics.hpp"
 #include "solid_internal.hpp"
+#ifdef DEFLEX_HAVE_CHOLMOD
+#include "cholmod_api.hpp"
+#include "deflex_plugin.hpp"
+#endif
+
+#ifdef DEFLEX_HAVE_CHOLMOD
+namespace deflex::stiffness {
+const cholmod::Api& cholmod::api() {
+  static const Api& a = plugin::api<Api>("deflex_cholmod", "deflex_cholmod_stiffness", "CHOLMOD: the solid models' factorisation");
+  return a;
+}
+
+}  // namespace deflex::stiffness
+#endif
 
 namespace deflex::stiffness::solid {
 
@@ -164,24 +178,45 @@ void integrate_subdivided(const std::array<Eigen::Vector3d, 4>& v, int levels, c
   for (const auto& k : kids) integrate_subdivided(k, levels - 1, f);
 }
 
-// Load patch around point c: weight phi = (1 - d^2/r^2)^2 for d < r (smooth, so
-// the patch integral converges with the mesh). Returns the nodal weights
-// w_a = int N_a phi dV / int phi dV (they sum to 1) and the centroid height.
-struct Patch {
-  std::vector<std::pair<int, double>> weight;  // (node, w_a)
-  double centroid_z_mm = 0;
-};
+bool valid(const Coords& x) {
+  for (const auto& q : gauss4())
+    if (!((x.transpose() * shape_grad_ref(q.p)).determinant() > 0)) return false;
+  return true;
+}
+
+}  // namespace
+
+std::size_t straighten_inverted(TetMesh& m) {
+  std::size_t straightened = 0;
+  for (int round = 0; round < 4; ++round) {
+    std::size_t now = 0;
+    for (std::size_t e = 0; e < m.tet.size(); ++e) {
+      if (valid(element_coords(m, e))) continue;
+      const auto& t = m.tet[e];
+      for (int k = 0; k < 6; ++k) m.node_mm[t[4 + k]] = 0.5 * (m.node_mm[t[kEdges[k][0]]] + m.node_mm[t[kEdges[k][1]]]);
+      ++now;
+    }
+    straightened += now;
+    if (now == 0) break;
+  }
+  return straightened;
+}
 
 Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
   std::vector<double> w(m.node_mm.size(), 0.0);
-  double total = 0, zsum = 0;
+  double total = 0;
+  Eigen::Vector3d xsum = Eigen::Vector3d::Zero();
   const std::array<Eigen::Vector3d, 4> ref{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
                                            Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)};
   for (std::size_t e = 0; e < m.tet.size(); ++e) {
     const Coords x = element_coords(m, e);
     const Eigen::Vector3d lo = x.colwise().minCoeff().transpose(), hi = x.colwise().maxCoeff().transpose();
     if ((c.cwiseMax(lo).cwiseMin(hi) - c).norm() >= r) continue;
-    integrate_subdivided(ref, 2, [&](const Eigen::Vector3d& p, double wq) {
+    // Children no larger than the patch radius: at least two levels, more
+    // where an element is over four radii across (a small patch on a coarse
+    // mesh would fall between the quadrature points).
+    const int levels = std::clamp(static_cast<int>(std::ceil(std::log2((hi - lo).norm() / r))), 2, 5);
+    integrate_subdivided(ref, levels, [&](const Eigen::Vector3d& p, double wq) {
       const Vec10 n = shape(p);
       const Eigen::Vector3d xp = x.transpose() * n;
       const double d2 = (xp - c).squaredNorm() / (r * r);
@@ -190,60 +225,83 @@ Patch patch_weights(const TetMesh& m, const Eigen::Vector3d& c, double r) {
       const double dv = wq * (x.transpose() * shape_grad_ref(p)).determinant();
       for (int a = 0; a < 10; ++a) w[m.tet[e][a]] += n(a) * phi * dv;
       total += phi * dv;
-      zsum += xp(2) * phi * dv;
+      xsum += xp * phi * dv;
     });
   }
-  if (!(total > 0)) throw Error(ErrorKind::internal, "load patch lies outside the tool solid");
+  if (!(total > 0)) throw Error(ErrorKind::internal, "load patch lies outside the solid");
   Patch p;
-  p.centroid_z_mm = zsum / total;
+  p.centroid_mm = xsum / total;
   for (std::size_t a = 0; a < w.size(); ++a)
     if (w[a] != 0) p.weight.emplace_back(static_cast<int>(a), w[a] / total);
   return p;
 }
 
-}  // namespace
+#ifdef DEFLEX_HAVE_CHOLMOD
+struct ElasticSolver::Factor {
+  std::unique_ptr<cholmod::Factor, void (*)(cholmod::Factor*)> f;
+  explicit Factor(const Eigen::SparseMatrix<double>& upper)
+      : f(cholmod::api().factorise(upper), cholmod::api().release) {}
+  bool ok() const { return f != nullptr; }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const { return cholmod::api().solve(f.get(), b); }
+};
+#else
+struct ElasticSolver::Factor {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt;
+  explicit Factor(const Eigen::SparseMatrix<double>& upper) : ldlt(upper) {}
+  bool ok() const { return ldlt.info() == Eigen::Success; }
+  Eigen::MatrixXd solve(const Eigen::MatrixXd& b) const { return ldlt.solve(b); }
+};
+#endif
 
-FemStats solve_stations(const TetMesh& mesh, const Material& mat, double clamp_z_mm,
-                        double patch_radius_mm, std::vector<Station>& stations) {
-  // Rigid clamp: every node at or above the holder face is fixed.
-  std::vector<int> free_index(mesh.node_mm.size(), -1);
-  int nfree = 0;
-  const double tol = 1e-6 * std::max(1.0, clamp_z_mm);
+ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& mat, const std::vector<char>& fixed)
+    : free_index_(mesh.node_mm.size(), -1) {
   for (std::size_t a = 0; a < mesh.node_mm.size(); ++a)
-    if (mesh.node_mm[a](2) < clamp_z_mm - tol) free_index[a] = nfree++;
-
+    if (!fixed[a]) free_index_[a] = nfree_++;
   const double E = mat.E_MPa, nu = mat.poisson;
   const double lambda = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
-  UpperAssembler asm_(mesh, free_index, nfree);
+  UpperAssembler asm_(mesh, free_index_, nfree_);
   for (std::size_t e = 0; e < mesh.tet.size(); ++e) {
     const auto ke = element_stiffness(element_coords(mesh, e), lambda, mu);
     for (int a = 0; a < 10; ++a)
       for (int b = 0; b < 10; ++b) {
-        const int fa = free_index[mesh.tet[e][a]], fb = free_index[mesh.tet[e][b]];
+        const int fa = free_index_[mesh.tet[e][a]], fb = free_index_[mesh.tet[e][b]];
         if (fa >= 0 && fb >= 0 && fa <= fb) asm_.add_block(fa, fb, ke.block<3, 3>(3 * a, 3 * b));
       }
   }
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Upper> ldlt(asm_.matrix());
-  if (ldlt.info() != Eigen::Success)
-    throw Error(ErrorKind::internal, "solid stiffness matrix is singular (is the tool clamped?)");
+  factor_ = std::make_shared<Factor>(asm_.matrix());
+  if (nfree_ == 0 || !factor_->ok())
+    throw Error(ErrorKind::internal, "the solid's stiffness matrix of " + std::to_string(3 * nfree_) +
+                                         " dofs could not be factorised (singular: is the solid held?)");
+}
 
-  // One column per station and force direction: the patch weights as a load.
-  const int n = 3 * nfree;
-  std::vector<Patch> patches;
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3 * static_cast<Eigen::Index>(stations.size()));
-  for (std::size_t s = 0; s < stations.size(); ++s) {
-    patches.push_back(patch_weights(mesh, Eigen::Vector3d(0, 0, stations[s].centre_z_mm), patch_radius_mm));
-    for (const auto& [a, w] : patches.back().weight)
-      if (free_index[a] >= 0)
-        for (int d = 0; d < 3; ++d) rhs(3 * free_index[a] + d, 3 * s + d) = w;
+Eigen::MatrixXd ElasticSolver::solve(const Patch& load) const {
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(nfree_), 3);
+  for (const auto& [a, w] : load.weight)
+    if (free_index_[a] >= 0)
+      for (int d = 0; d < 3; ++d) rhs(3 * free_index_[a] + d, d) = w;
+  return factor_->solve(rhs);
+}
+
+Compliance ElasticSolver::read(const Patch& at, const Eigen::MatrixXd& u) const {
+  Compliance c = Compliance::Zero();
+  for (const auto& [a, w] : at.weight)
+    if (free_index_[a] >= 0) c += w * u.middleRows(3 * free_index_[a], 3);
+  return c;
+}
+
+FemStats solve_stations(const TetMesh& mesh, const Material& mat, double clamp_z_mm,
+                        double patch_radius_mm, std::vector<Station>& stations) {
+  // Rigid clamp: every node at or above the holder face is fixed.
+  std::vector<char> fixed(mesh.node_mm.size(), 0);
+  const double tol = 1e-6 * std::max(1.0, clamp_z_mm);
+  for (std::size_t a = 0; a < mesh.node_mm.size(); ++a) fixed[a] = mesh.node_mm[a](2) >= clamp_z_mm - tol;
+  const ElasticSolver fem(mesh, mat, fixed);
+  for (auto& s : stations) {
+    const Patch p = patch_weights(mesh, Eigen::Vector3d(0, 0, s.centre_z_mm), patch_radius_mm);
+    s.height_mm = p.centroid_mm(2);
+    s.c = fem.compliance(p);
   }
-  const Eigen::MatrixXd u = ldlt.solve(rhs);
-  // Read back the displacement with the same weights: C = W^T K^-1 W, symmetric.
-  for (std::size_t s = 0; s < stations.size(); ++s) {
-    stations[s].height_mm = patches[s].centroid_z_mm;
-    stations[s].c = rhs.middleCols(3 * s, 3).transpose() * u.middleCols(3 * s, 3);
-  }
-  return {static_cast<std::size_t>(n)};
+  return {fem.dofs()};
 }
 
 }  // namespace deflex::stiffness::solid

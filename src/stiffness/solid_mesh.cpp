@@ -100,34 +100,26 @@ TetMesh read_mesh(const gmshrt::Api& g) {
 
 }  // namespace
 
-TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_origin) {
+namespace {
+
+// Builds a model with `geometry`, meshes it with quadratic tets of at most
+// h_mm and reads the mesh; gmsh's own messages join deflex's error.
+template <class F>
+TetMesh mesh_model(double h_mm, const F& geometry) {
   std::lock_guard<std::mutex> lock(gmsh_mutex());
   const gmshrt::Api& g = ensure_gmsh();
   int ierr = 0;
-  g.model_add("deflex_tool", &ierr);
+  g.model_add("deflex_solid", &ierr);
   TetMesh mesh;
   try {
     gmshrt::check(ierr, "gmsh: cannot add a model");
-    int* dimtags = nullptr;
-    std::size_t dimtags_n = 0;
-    g.occ_import_shapes(brep_path.c_str(), &dimtags, &dimtags_n, 1, "brep", &ierr);
-    gmshrt::check(ierr, "gmsh: cannot import the tool solid");
-    std::vector<int> dt(dimtags, dimtags + dimtags_n);
-    g.free(dimtags);
-    g.occ_synchronize(&ierr);
-    if (move_tip_to_origin) {
-      double x0, y0, z0, x1, y1, z1;
-      g.get_bounding_box(-1, -1, &x0, &y0, &z0, &x1, &y1, &z1, &ierr);
-      gmshrt::check(ierr, "gmsh: no bounding box of the tool solid");
-      g.occ_translate(dt.data(), dt.size(), 0, 0, -z0, &ierr);
-      g.occ_synchronize(&ierr);
-    }
+    geometry(g);
     g.option_set_number("Mesh.MeshSizeMax", h_mm, &ierr);
     g.option_set_number("Mesh.MeshSizeMin", 0.05 * h_mm, &ierr);
     g.option_set_number("Mesh.ElementOrder", 2, &ierr);
     g.option_set_number("Mesh.HighOrderOptimize", 0, &ierr);
     g.mesh_generate(3, &ierr);
-    gmshrt::check(ierr, "gmsh failed to mesh the tool solid");
+    gmshrt::check(ierr, "gmsh failed to mesh the solid");
     mesh = read_mesh(g);
   } catch (const Error&) {
     g.model_remove(&ierr);
@@ -142,8 +134,57 @@ TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_or
     throw Error(ErrorKind::internal, msg);
   }
   g.model_remove(&ierr);
-  if (mesh.tet.empty()) throw Error(ErrorKind::internal, "gmsh produced no tetrahedra for the tool solid");
+  if (mesh.tet.empty()) throw Error(ErrorKind::internal, "gmsh produced no tetrahedra for the solid");
   return mesh;
+}
+
+}  // namespace
+
+TetMesh mesh_brep(const std::string& brep_path, double h_mm, bool move_tip_to_origin) {
+  return mesh_model(h_mm, [&](const gmshrt::Api& g) {
+    int ierr = 0;
+    int* dimtags = nullptr;
+    std::size_t dimtags_n = 0;
+    g.occ_import_shapes(brep_path.c_str(), &dimtags, &dimtags_n, 1, "brep", &ierr);
+    gmshrt::check(ierr, "gmsh: cannot import the solid");
+    std::vector<int> dt(dimtags, dimtags + dimtags_n);
+    g.free(dimtags);
+    g.occ_synchronize(&ierr);
+    if (move_tip_to_origin) {
+      double x0, y0, z0, x1, y1, z1;
+      g.get_bounding_box(-1, -1, &x0, &y0, &z0, &x1, &y1, &z1, &ierr);
+      gmshrt::check(ierr, "gmsh: no bounding box of the solid");
+      g.occ_translate(dt.data(), dt.size(), 0, 0, -z0, &ierr);
+      g.occ_synchronize(&ierr);
+    }
+  });
+}
+
+TetMesh mesh_stl(const std::string& stl_path, double h_mm) {
+  return mesh_model(h_mm, [&](const gmshrt::Api& g) {
+    int ierr = 0;
+    g.merge(stl_path.c_str(), &ierr);
+    gmshrt::check(ierr, "gmsh: cannot read the STL");
+    // Facets meeting at more than 40 degrees bound separate patches, each
+    // split until one map parametrises it, so gmsh remeshes the surface at
+    // h_mm instead of keeping the STL's triangles (gmsh's tutorial t13).
+    constexpr double kPi = 3.14159265358979323846;
+    g.mesh_classify_surfaces(40 * kPi / 180, 1, 1, kPi, 1, &ierr);
+    gmshrt::check(ierr, "gmsh: cannot split the STL into surfaces");
+    g.mesh_create_geometry(nullptr, 0, &ierr);
+    gmshrt::check(ierr, "gmsh: cannot parametrise the STL's surfaces");
+    int* dimtags = nullptr;
+    std::size_t n = 0;
+    g.get_entities(&dimtags, &n, 2, &ierr);
+    std::vector<int> surfaces;
+    for (std::size_t i = 1; i < n; i += 2) surfaces.push_back(dimtags[i]);
+    g.free(dimtags);
+    int loop = g.geo_add_surface_loop(surfaces.data(), surfaces.size(), -1, &ierr);
+    gmshrt::check(ierr, "gmsh: the STL's surfaces close no volume");
+    g.geo_add_volume(&loop, 1, -1, &ierr);
+    gmshrt::check(ierr, "gmsh: the STL's surfaces close no volume");
+    g.geo_synchronize(&ierr);
+  });
 }
 
 }  // namespace deflex::stiffness::solid

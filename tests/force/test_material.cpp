@@ -44,6 +44,30 @@ TEST_CASE("samples/materials.yaml: the paper sets, each entry with its source") 
   CHECK(error_of([&] { find_material(lib, "unobtainium"); }, ErrorKind::settings).find("C35") != std::string::npos);
 }
 
+TEST_CASE("elastic: a material's elastic constants, read, written back, located when malformed") {
+  const MaterialLibrary lib = load_material_library(src + "/samples/materials.yaml");
+  for (const auto& e : lib.entries) CHECK(e.elastic.has_value());
+  const MaterialEntry& al = find_material(lib, "Al7075-T6");
+  CHECK(al.elastic->E_MPa == 71700);
+  CHECK(al.elastic->poisson == 0.33);
+  const MaterialLibrary back = parse_material_library(to_yaml(al), "back.yaml");
+  CHECK(back.entries[0].elastic->E_MPa == 71700);
+  CHECK(back.entries[0].elastic->poisson == 0.33);
+
+  const std::string head = "materials:\n  X:\n    model: mechanistic\n    K_tc_N_per_mm2: 700\n    K_rc_N_per_mm2: 200\n"
+                           "    source: test\n";
+  std::string m = error_of([&] { parse_material_library(head + "    elastic: {E_MPa: 0, poisson: 0.3}\n", "m.yaml"); },
+                           ErrorKind::config);
+  CHECK(m.rfind("m.yaml:7:", 0) == 0);
+  CHECK(m.find("error: ") != std::string::npos);
+  m = error_of([&] { parse_material_library(head + "    elastic: {E_MPa: 70000, poisson: 0.5}\n", "m.yaml"); },
+               ErrorKind::config);
+  CHECK(m.rfind("m.yaml:7:", 0) == 0);
+  CHECK(m.find("poisson must be in (-1, 0.5)") != std::string::npos);
+  m = error_of([&] { parse_material_library(head + "    elastic: 70000\n", "m.yaml"); }, ErrorKind::config);
+  CHECK(m.find("elastic must be a map") != std::string::npos);
+}
+
 TEST_CASE("material YAML errors are file:line:col diagnostics of class config") {
   const std::string bad_syntax = "materials:\n  X:\n    model: [mechanistic\n";
   const std::string m1 = error_of([&] { parse_material_library(bad_syntax, "m.yaml"); }, ErrorKind::config);

@@ -12,13 +12,24 @@
 //       source: "where the numbers come from"   # required
 //       conditions: "tool and cutting conditions of the identification"  # optional
 //       notes: "..."                             # optional
+//       elastic: {E_MPa: 71700, poisson: 0.33}   # optional: the workpiece's
+//       #   elastic constants (stiffness/workpiece.hpp), as a tool library
+//       #   writes a tool's material; E > 0, -1 < poisson < 0.5
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "deflex/force/coefficients.hpp"
 
 namespace deflex::force {
+
+// Isotropic elastic constants of a work material, for the workpiece's own
+// compliance (stiffness/workpiece.hpp).
+struct ElasticConstants {
+  double E_MPa = 0;
+  double poisson = 0;
+};
 
 struct MaterialEntry {
   std::string name;
@@ -28,6 +39,7 @@ struct MaterialEntry {
   std::string source;
   std::string conditions;
   std::string notes;
+  std::optional<ElasticConstants> elastic;  // none: the entry has no `elastic:`
   std::string location;  // "file:line:col" of the entry, for messages
 };
 

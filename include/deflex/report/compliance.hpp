@@ -4,9 +4,14 @@
 #include <string>
 #include <vector>
 
+#include "deflex/report/json.hpp"
 #include "deflex/stiffness/compliance.hpp"
 
 namespace deflex::report {
+
+// [[..],[..],[..]]: rows displacement x, y, z; columns force x, y, z; mm/N,
+// 7 significant digits.
+Json compliance_matrix_json(const stiffness::Compliance& c);
 
 // {"compliance": [{"height_mm": H, "matrix_mm_per_N": [[..],[..],[..]]}, ...]}
 // rows = displacement x, y, z; columns = force x, y, z.

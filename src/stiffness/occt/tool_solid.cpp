@@ -127,6 +127,6 @@ void write_shape_step(const ToolShape& s, const std::string& step_path) {
 
 extern "C" __attribute__((visibility("default"))) const void* deflex_occt_stiffness() {
   using namespace deflex::stiffness::occt;
-  static const Api api{&write_shape_brep, &write_step_brep, &write_shape_step};
+  static const Api api{&write_shape_brep, &write_step_brep, &write_shape_step, &write_part_brep};
   return &api;
 }

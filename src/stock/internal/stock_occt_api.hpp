@@ -9,6 +9,8 @@
 
 #include "deflex/stock/build.hpp"
 
+class TopoDS_Shape;
+
 namespace deflex::stock::occt {
 
 struct Api {
@@ -25,5 +27,7 @@ const Api& api();
 
 // In the plugin, for its other readers (src/stiffness/occt/).
 void route_messages();
+// A STEP (`step`) or IGES file's shape; Error(ErrorKind::io) when unreadable.
+TopoDS_Shape read_shape(const std::string& path, bool step);
 
 }  // namespace deflex::stock::occt

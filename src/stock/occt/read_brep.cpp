@@ -55,24 +55,11 @@ void append(const Handle(Poly_Triangulation) & tri, const gp_Trsf* trsf, bool re
   }
 }
 
-TopoDS_Shape read_brep(const std::string& path, bool step) {
-  if (step) {
-    STEPControl_Reader r;
-    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as STEP");
-    r.TransferRoots();
-    return r.OneShape();
-  }
-  IGESControl_Reader r;
-  if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as IGES");
-  r.TransferRoots();
-  return r.OneShape();
-}
-
 std::vector<Triangle> read_brep_triangles(const std::string& path, bool step, double mesh_deflection_mm) {
   route_messages();
   std::vector<Triangle> out;
   try {
-    const TopoDS_Shape shape = read_brep(path, step);
+    const TopoDS_Shape shape = read_shape(path, step);
     if (shape.IsNull()) throw Error(ErrorKind::config, path + ": the file holds no shape");
     // Relative deflection off; angular deflection 0.2 rad keeps small fillets round.
     BRepMesh_IncrementalMesh mesh(shape, mesh_deflection_mm, false, 0.2, false);
@@ -91,6 +78,19 @@ std::vector<Triangle> read_brep_triangles(const std::string& path, bool step, do
 }
 
 }  // namespace
+
+TopoDS_Shape read_shape(const std::string& path, bool step) {
+  if (step) {
+    STEPControl_Reader r;
+    if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as STEP");
+    r.TransferRoots();
+    return r.OneShape();
+  }
+  IGESControl_Reader r;
+  if (r.ReadFile(path.c_str()) != IFSelect_RetDone) throw Error(ErrorKind::io, path + ": cannot read as IGES");
+  r.TransferRoots();
+  return r.OneShape();
+}
 
 // OCCT's readers print progress and errors on stdout, which is deflex's
 // output (a compensated program): its messages go to stderr instead, failures
