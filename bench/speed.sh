@@ -48,6 +48,10 @@ new=build/deflex
 prev_rev=$(git rev-parse --short "${PREV:-$(cat bench/prev-revision)}")
 git show "$prev_rev:samples/machines/mill3.yaml" > bench/out/prev-mill3.yaml
 old_machine="--machine bench/out/prev-mill3.yaml"
+# Its material and tool libraries too (a work material's elastic: is newer).
+git show "$prev_rev:samples/materials.yaml" > bench/out/prev-materials.yaml
+git show "$prev_rev:samples/tools.yaml" > bench/out/prev-tools.yaml
+old_libs="--material-file bench/out/prev-materials.yaml --tool-file bench/out/prev-tools.yaml"
 echo "machine: $(nproc) cores, $(uname -m), $(sed -n 's/^model name[^:]*: //p' /proc/cpuinfo | head -n 1)"
 echo "this build: $($new --version 2>&1 | head -n 1); earlier: $($prev --version 2>&1 | head -n 1)"
 
@@ -89,14 +93,14 @@ row() {
   echo "$line" | tee -a "$table"
 }
 
-row "simulate six-surface sample" earlier "$prev" simulate $six $old_machine
+row "simulate six-surface sample" earlier "$prev" simulate $six $old_machine $old_libs
 row "simulate six-surface sample" this "$new" simulate $six
-row "compensate six-surface sample" earlier "$prev" compensate $six $old_machine -o bench/out/speed_out.nc
+row "compensate six-surface sample" earlier "$prev" compensate $six $old_machine $old_libs -o bench/out/speed_out.nc
 row "compensate six-surface sample" this "$new" compensate $six -o bench/out/speed_out.nc
 if [ -z "${QUICK:-}" ]; then
-  row "compensate raster $n" earlier "$prev" compensate $raster $old_machine -o bench/out/speed_out.nc
+  row "compensate raster $n" earlier "$prev" compensate $raster $old_machine $old_libs -o bench/out/speed_out.nc
   row "compensate raster $n" this "$new" compensate $raster -o bench/out/speed_out.nc
-  row "simulate raster $n" earlier "$prev" simulate $raster $old_machine
+  row "simulate raster $n" earlier "$prev" simulate $raster $old_machine $old_libs
   row "simulate raster $n" this "$new" simulate $raster
   row "compensate raster $n, --threads 1" this "$new" compensate $raster --threads 1 -o bench/out/speed_out.nc
   row "compensate raster $n, --threads 2" this "$new" compensate $raster --threads 2 -o bench/out/speed_out.nc
