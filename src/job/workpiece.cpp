@@ -58,7 +58,7 @@ WorkpieceResult workpiece_compliance(const WorkpieceSettings& s) {
   o.mesh_mm = s.mesh_mm;
   for (const auto& p : s.points_mm) st::check_on_part(surface, p, o.on_part_mm);
   const st::WorkpieceModel model(surface, fixtures, r.elastic, o);
-  for (const auto& p : s.points_mm) r.points.push_back(model.compliance_at(p));
+  r.points = model.compliance_at(s.points_mm);
   r.mesh = model.info();
   return r;
 }

@@ -274,15 +274,19 @@ ElasticSolver::ElasticSolver(const TetMesh& mesh, const Material& mat, const std
                                          " dofs could not be factorised (singular: is the solid held?)");
 }
 
-Eigen::MatrixXd ElasticSolver::solve(const Patch& load) const {
-  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(nfree_), 3);
-  for (const auto& [a, w] : load.weight)
-    if (free_index_[a] >= 0)
-      for (int d = 0; d < 3; ++d) rhs(3 * free_index_[a] + d, d) = w;
+Eigen::MatrixXd ElasticSolver::solve(const Patch& load) const { return solve(std::vector<Patch>{load}); }
+
+Eigen::MatrixXd ElasticSolver::solve(const std::vector<Patch>& loads) const {
+  const auto n = static_cast<Eigen::Index>(loads.size());
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(nfree_), 3 * n);
+  for (Eigen::Index k = 0; k < n; ++k)
+    for (const auto& [a, w] : loads[static_cast<std::size_t>(k)].weight)
+      if (free_index_[a] >= 0)
+        for (int d = 0; d < 3; ++d) rhs(3 * free_index_[a] + d, 3 * k + d) = w;
   return factor_->solve(rhs);
 }
 
-Compliance ElasticSolver::read(const Patch& at, const Eigen::MatrixXd& u) const {
+Compliance ElasticSolver::read(const Patch& at, const Eigen::Ref<const Eigen::MatrixXd>& u) const {
   Compliance c = Compliance::Zero();
   for (const auto& [a, w] : at.weight)
     if (free_index_[a] >= 0) c += w * u.middleRows(3 * free_index_[a], 3);

@@ -245,6 +245,23 @@ PointCompliance WorkpieceModel::compliance_at(const V3& p) const {
   return r;
 }
 
+std::vector<PointCompliance> WorkpieceModel::compliance_at(const std::vector<V3>& points_mm) const {
+  std::vector<PointCompliance> r(points_mm.size());
+  for (std::size_t b = 0; b < points_mm.size(); b += kBatchPoints) {
+    const std::size_t e = std::min(points_mm.size(), b + kBatchPoints);
+    std::vector<solid::Patch> w;
+    for (std::size_t i = b; i < e; ++i) {
+      w.push_back(impl_->patch(points_mm[i], r[i].surface_mm));
+      r[i].point_mm = points_mm[i];
+      r[i].load_centroid_mm = w.back().centroid_mm;
+    }
+    const Eigen::MatrixXd u = impl_->fem->solve(w);
+    for (std::size_t i = b; i < e; ++i)
+      r[i].matrix_mm_per_N = impl_->fem->read(w[i - b], u.middleCols(3 * static_cast<Eigen::Index>(i - b), 3));
+  }
+  return r;
+}
+
 Compliance WorkpieceModel::transfer(const V3& load_mm, const V3& read_mm) const {
   V3 at;
   return impl_->fem->read(impl_->patch(read_mm, at), impl_->fem->solve(impl_->patch(load_mm, at)));

@@ -57,6 +57,18 @@ TEST_CASE("workpiece: a narrow strip 10 x 2 x 40 mm clamped at its base is an Eu
   MESSAGE("strip: C_xx ", c.matrix_mm_per_N(0, 0), " mm/N, Euler-Bernoulli ", expected_x);
   CHECK(c.matrix_mm_per_N(0, 0) == doctest::Approx(expected_x).epsilon(0.05));
   CHECK(symmetric_positive_definite(c.matrix_mm_per_N, 1e-8));
+  // Several points solved together (more than one batch) give each point's
+  // own matrix, patch and surface point.
+  std::vector<V3> pts;
+  for (int k = 0; k < 20; ++k) pts.push_back(V3(1 + 0.4 * k, 2, 10 + 1.5 * k));
+  const std::vector<PointCompliance> all = model.compliance_at(pts);
+  REQUIRE(all.size() == pts.size());
+  for (std::size_t k = 0; k < pts.size(); k += 3) {
+    const PointCompliance one = model.compliance_at(pts[k]);
+    CHECK((all[k].surface_mm - one.surface_mm).norm() < 1e-12);
+    CHECK((all[k].load_centroid_mm - one.load_centroid_mm).norm() < 1e-12);
+    CHECK((all[k].matrix_mm_per_N - one.matrix_mm_per_N).norm() <= 1e-9 * one.matrix_mm_per_N.norm());
+  }
 }
 
 TEST_CASE("workpiece: a wide plate 100 x 2 x 40 mm under a load along its free edge bends as a plate strip, L^3 (1 - nu^2) / (3 E I)") {

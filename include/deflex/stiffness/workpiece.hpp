@@ -115,6 +115,10 @@ class WorkpieceModel {
   // The compliance at the surface point nearest p (check_on_part first).
   // Thread-safe (const).
   PointCompliance compliance_at(const Eigen::Vector3d& p_mm) const;
+  // The same at several points, their loads solved together (kBatchPoints at
+  // a time): the same matrices, far less time per point than one by one.
+  std::vector<PointCompliance> compliance_at(const std::vector<Eigen::Vector3d>& points_mm) const;
+  static constexpr std::size_t kBatchPoints = 16;  // 48 right-hand sides: 115 MB at 300,000 dofs
   // The displacement at the patch of read_mm under a unit force at the patch
   // of load_mm (columns: force x, y, z): transfer(a, b) = transfer(b, a)^T.
   Compliance transfer(const Eigen::Vector3d& load_mm, const Eigen::Vector3d& read_mm) const;
