@@ -32,6 +32,20 @@ Point3 trimmed(const Point3& a, const Point3& b, double trim) {
   return {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1]), a[2] + t * (b[2] - a[2])};
 }
 
+// A line is one sweep from its start, an arc one per chord.
+bool is_line(const interp::Motion& m) {
+  return m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+}
+
+// The sweep of motion m (vertices v) up to just before its sample k, the
+// stock's "current" part when k is evaluated: run(), probe() and probe_ahead()
+// must build the same one for their points to agree bit for bit.
+stock::LineSweep sweep_before(const stock::ToolProfile& tool, const interp::Motion& m, std::span<const Point3> v,
+                              std::size_t k, double trim_mm) {
+  const Point3& from = is_line(m) ? v[0] : v[k - 1];
+  return stock::LineSweep(tool, from, trimmed(from, v[k], trim_mm));
+}
+
 // The simulator's arena (SimOptions::threads > 0), made once: an arena made
 // per batch costs TBB a thread each time (55,000 threads created and ended in
 // 45 s of a 1M-block compensation, a quarter of its time in the kernel).
@@ -195,20 +209,18 @@ void Simulator::finish() {
 
 void Simulator::run(const interp::Motion& m) {
   const std::vector<Point3> v = motion_vertices(m, o_.path);
-  const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+  const bool line = is_line(m);
   const bool sample = sink_ && (m.kind != interp::MotionKind::rapid || o_.sample_rapids);
   const stock::ToolProfile& tool = eng_.tool();
   const std::size_t motion_index = motions_++;
   const int n = static_cast<int>(v.size()) - 1;
   for (int k = 1; k <= n; ++k) {
     const Point3& vk = v[static_cast<std::size_t>(k)];
-    // A line is one sweep from its start; an arc one per chord.
-    const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
     // The XY feed direction is carried across plunges whether sampled or not
     // (probe() reads it).
     const CLSample cl = cl_sample(m, v, static_cast<std::size_t>(k), feed_);
     if (sample) {
-      batch_.push_back(Sample{cl, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()});
+      batch_.push_back(Sample{cl, sweep_before(tool, m, v, static_cast<std::size_t>(k), o_.trim_mm), pend_.size()});
       batch_.back().cl.motion = motion_index;
     }
     s_ += dist(v[static_cast<std::size_t>(k - 1)], vk);
@@ -229,11 +241,9 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
                          force::Engagement& out) {
   const int n = static_cast<int>(v.size()) - 1;
   if (k < 1 || k > n) throw Error(ErrorKind::internal, "simulation: probe of a sample outside the motion");
-  const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+  const bool line = is_line(m);
   const stock::ToolProfile& tool = eng_.tool();
-  const Point3& vk = v[static_cast<std::size_t>(k)];
-  const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
-  const stock::LineSweep current(tool, from, trimmed(from, vk, o_.trim_mm));
+  const stock::LineSweep current = sweep_before(tool, m, v, static_cast<std::size_t>(k), o_.trim_mm);
   // An arc's chords before the sample are pending while it is evaluated; they
   // go on the pending list for the call and come off again.
   const std::size_t keep = pend_.size();
@@ -278,20 +288,19 @@ std::size_t Simulator::probe_ahead(std::span<const interp::Motion> ms, const Ahe
   for (std::size_t i = 0; i < ms.size(); ++i) {
     const interp::Motion& m = ms[i];
     const std::vector<Point3> v = motion_vertices(m, o_.path);
-    const bool line = m.kind == interp::MotionKind::rapid || m.kind == interp::MotionKind::linear;
+    const bool line = is_line(m);
     const bool sampled = m.kind != interp::MotionKind::rapid;
     const int n = static_cast<int>(v.size()) - 1;
     if (covered > 0 && sampled && todo.size() + static_cast<std::size_t>(n) > o_.max_batch) break;
     for (int k = 1; k <= n; ++k) {
-      const Point3& vk = v[static_cast<std::size_t>(k)];
-      const Point3& from = line ? v[0] : v[static_cast<std::size_t>(k - 1)];
-      CLSample cl = cl_sample(m, v, static_cast<std::size_t>(k), feed);
+      const auto kk = static_cast<std::size_t>(k);
+      CLSample cl = cl_sample(m, v, kk, feed);
       if (sampled) {
         cl.motion = motions_ + i;
-        todo.push_back({i, k, Sample{cl, stock::LineSweep(tool, from, trimmed(from, vk, o_.trim_mm)), pend_.size()}});
+        todo.push_back({i, k, Sample{cl, sweep_before(tool, m, v, kk, o_.trim_mm), pend_.size()}});
       }
-      s += dist(v[static_cast<std::size_t>(k - 1)], vk);
-      if (!line) pend_.emplace_back(tool, v[static_cast<std::size_t>(k - 1)], vk);
+      s += dist(v[kk - 1], v[kk]);
+      if (!line) pend_.emplace_back(tool, v[kk - 1], v[kk]);
     }
     if (line) pend_.emplace_back(tool, v[0], v.back());
     ++covered;
