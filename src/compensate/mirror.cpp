@@ -203,6 +203,8 @@ class Stream {
   // window shrinks, growing again while the guesses hold.
   void ahead(const std::vector<interp::Motion>& motions, const std::vector<double>& feeds, std::size_t i) {
     if (!prev_.isZero() || (done_ >= ahead_first_ && done_ < ahead_first_ + ahead_.size())) return;
+    // The last window held to its end: the next may be larger.
+    if (!ahead_.empty() && done_ == ahead_first_ + ahead_.size()) window_ = std::min(kMaxWindow, 2 * window_);
     ahead_.clear();
     ahead_design_.clear();
     ahead_first_ = done_;
@@ -232,11 +234,10 @@ class Stream {
     ahead_design_.resize(covered);
   }
 
-  // Motion done_ did not run as written: the points evaluated past it are stale.
+  // Motion done_ did not run as written: the points evaluated past it are
+  // stale, and where there were some the window shrinks.
   void drop_ahead() {
-    const std::size_t next = done_ + 1;
-    if (next < ahead_first_ + ahead_.size()) window_ = std::max<std::size_t>(1, window_ / 4);
-    else if (!ahead_.empty()) window_ = std::min(kMaxWindow, window_ * 2);
+    if (done_ + 1 < ahead_first_ + ahead_.size()) window_ = std::max<std::size_t>(1, window_ / 4);
     ahead_.clear();
     ahead_design_.clear();
   }
