@@ -96,16 +96,19 @@ Interference interference(const engage::StockView& stock, const V3& tip_mm, cons
   Interference r;
   double rmax = 0;
   for (const Frustum& f : a.frusta) rmax = std::max({rmax, f.r0_mm, f.r1_mm});
-  // The uncommitted sweeps whose footprint reaches the assembly's.
+  // The uncommitted sweeps whose footprint reaches the assembly's, in the
+  // order they were cut (the pending oldest first, then the sample's own
+  // move): whether one cuts a cell depends on the height the ones before it
+  // left there (cut_by).
   thread_local std::vector<const stock::LineSweep*> near;
   near.clear();
   auto reaches = [&](const stock::LineSweep& l) {
     return l.x_min() <= tip_mm.x() + rmax && l.x_max() >= tip_mm.x() - rmax && l.y_min() <= tip_mm.y() + rmax &&
            l.y_max() >= tip_mm.y() - rmax;
   };
-  if (stock.current && reaches(*stock.current)) near.push_back(stock.current);
   for (const stock::LineSweep& l : stock.pending)
     if (reaches(l)) near.push_back(&l);
+  if (stock.current && reaches(*stock.current)) near.push_back(stock.current);
   for (const Frustum& f : a.frusta) {
     const double d = deepest(*stock.zmap, near, a.flute_top_mm, tip_mm, f);
     if (d > r.depth_mm) r = {d, f.part};
