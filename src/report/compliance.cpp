@@ -7,13 +7,22 @@
 
 namespace deflex::report {
 
-namespace {
-std::string fmt(const char* f, double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, f, v == 0 ? 0.0 : v);  // no "-0"
+std::string formatted(const char* format, double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, format, v == 0 ? 0.0 : v);  // no "-0"
   return b;
 }
-}  // namespace
+
+std::string compliance_matrix_text(const stiffness::Compliance& c) {
+  std::string o;
+  const char* axis[3] = {"  dx", "  dy", "  dz"};
+  for (int i = 0; i < 3; ++i) {
+    o += axis[i];
+    for (int j = 0; j < 3; ++j) o += "  " + formatted("% .4e", c(i, j));
+    o += "\n";
+  }
+  return o;
+}
 
 Json compliance_matrix_json(const stiffness::Compliance& c) {
   Json m = Json::array();
@@ -40,14 +49,9 @@ std::string compliance_text(const std::vector<stiffness::ComplianceRow>& rows, c
        "      rows: displacement x, y, z; columns: force Fx, Fy, Fz\n";
   for (const auto& r : rows) {
     const auto& c = r.matrix_mm_per_N;
-    o << "\nh = " << fmt("%.3f", r.height_mm) << " mm    k_x = " << fmt("%.2f", 1e-3 / c(0, 0))
-      << " N/um, k_y = " << fmt("%.2f", 1e-3 / c(1, 1)) << " N/um\n";
-    const char* axis[3] = {"  dx", "  dy", "  dz"};
-    for (int i = 0; i < 3; ++i) {
-      o << axis[i];
-      for (int j = 0; j < 3; ++j) o << "  " << fmt("% .4e", c(i, j));
-      o << "\n";
-    }
+    o << "\nh = " << formatted("%.3f", r.height_mm) << " mm    k_x = " << formatted("%.2f", 1e-3 / c(0, 0))
+      << " N/um, k_y = " << formatted("%.2f", 1e-3 / c(1, 1)) << " N/um\n"
+      << compliance_matrix_text(c);
   }
   return o.str();
 }

@@ -33,13 +33,7 @@ std::vector<Principal> principal(const stiffness::Compliance& c) {
   return out;
 }
 
-std::string fmt(const char* f, double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, f, v == 0 ? 0.0 : v);
-  return b;
-}
-
-std::string point(const V3& p) { return "(" + fmt("%.3f", p(0)) + ", " + fmt("%.3f", p(1)) + ", " + fmt("%.3f", p(2)) + ")"; }
+std::string point(const V3& p) { return "(" + formatted("%.3f", p(0)) + ", " + formatted("%.3f", p(1)) + ", " + formatted("%.3f", p(2)) + ")"; }
 
 Json mesh_json(const stiffness::WorkpieceInfo& m) {
   return {{"nodes", m.nodes},
@@ -82,27 +76,22 @@ std::string workpiece_json(const WorkpieceTitle& t, const stiffness::WorkpieceIn
 std::string workpiece_text(const WorkpieceTitle& t, const stiffness::WorkpieceInfo& m,
                            const std::vector<stiffness::PointCompliance>& points) {
   std::ostringstream o;
-  o << "part " << t.part << ", material " << t.material << " (E " << fmt("%g", t.elastic.E_MPa) << " MPa, nu "
-    << fmt("%g", t.elastic.poisson) << "), held by";
+  o << "part " << t.part << ", material " << t.material << " (E " << formatted("%g", t.elastic.E_MPa) << " MPa, nu "
+    << formatted("%g", t.elastic.poisson) << "), held by";
   for (const auto& f : t.fixtures) o << " " << f;
   o << "\nmesh: " << m.nodes << " nodes, " << m.elements << " quadratic tets, " << m.dofs << " dofs, "
-    << m.fixed_nodes << " nodes held; elements " << fmt("%.3g", m.mesh_mm) << " mm (thinnest wall "
-    << fmt("%.3g", m.thinnest_wall_mm) << " mm), load patch radius " << fmt("%.3g", m.patch_radius_mm)
-    << " mm; meshed in " << fmt("%.1f", m.mesh_seconds) << " s, solved in " << fmt("%.1f", m.solve_seconds) << " s";
+    << m.fixed_nodes << " nodes held; elements " << formatted("%.3g", m.mesh_mm) << " mm (thinnest wall "
+    << formatted("%.3g", m.thinnest_wall_mm) << " mm), load patch radius " << formatted("%.3g", m.patch_radius_mm)
+    << " mm; meshed in " << formatted("%.1f", m.mesh_seconds) << " s, solved in " << formatted("%.1f", m.solve_seconds) << " s";
   if (m.straightened) o << "; " << m.straightened << " elements folded on curved faces made straight-sided";
   o << "\n";
   for (const auto& p : points) {
     o << "\npoint " << point(p.point_mm) << " mm, on the surface at " << point(p.surface_mm) << "\n"
       << "C, mm/N (rows: displacement x, y, z; columns: force Fx, Fy, Fz; machine axes):\n";
-    const char* axis[3] = {"  dx", "  dy", "  dz"};
-    for (int i = 0; i < 3; ++i) {
-      o << axis[i];
-      for (int j = 0; j < 3; ++j) o << "  " << fmt("% .4e", p.matrix_mm_per_N(i, j));
-      o << "\n";
-    }
+    o << compliance_matrix_text(p.matrix_mm_per_N);
     o << "principal compliances (um/N along the direction):\n";
     for (const auto& q : principal(p.matrix_mm_per_N))
-      o << "  " << fmt("%10.4g", 1e3 * q.compliance_mm_per_N) << " along " << point(q.direction) << "\n";
+      o << "  " << formatted("%10.4g", 1e3 * q.compliance_mm_per_N) << " along " << point(q.direction) << "\n";
   }
   return o.str();
 }

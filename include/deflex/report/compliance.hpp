@@ -13,6 +13,13 @@ namespace deflex::report {
 // 7 significant digits.
 Json compliance_matrix_json(const stiffness::Compliance& c);
 
+// The same as three text rows "  dx  ...", "  dy", "  dz" of 4-digit
+// mantissas, each ending in a newline.
+std::string compliance_matrix_text(const stiffness::Compliance& c);
+
+// `v` by a printf format of one double conversion ("%.3f"), never "-0".
+std::string formatted(const char* format, double v);
+
 // {"compliance": [{"height_mm": H, "matrix_mm_per_N": [[..],[..],[..]]}, ...]}
 // rows = displacement x, y, z; columns = force x, y, z.
 std::string compliance_json(const std::vector<stiffness::ComplianceRow>& rows);
