@@ -355,7 +355,6 @@ TEST_CASE("probe_ahead: each sample as probe() meets it after run() of the motio
       REQUIRE(covered >= 1);
       windows += covered > 1;
       // One at a time: probe each sample, then run the motion.
-      Simulator* s = &sim;
       for (std::size_t j = 0; j < covered; ++j) {
         const interp::Motion& m = path[i + j];
         if (m.kind != interp::MotionKind::rapid) {
@@ -363,7 +362,7 @@ TEST_CASE("probe_ahead: each sample as probe() meets it after run() of the motio
           for (int k = 1; k < static_cast<int>(v.size()); ++k) {
             CLSample cl;
             force::Engagement e;
-            const Metrics one = s->probe(m, v, k, cl, e);
+            const Metrics one = sim.probe(m, v, k, cl, e);
             REQUIRE(ahead[j][static_cast<std::size_t>(k)]);
             const Metrics& a = *ahead[j][static_cast<std::size_t>(k)];
             CHECK(a.ap_mm == one.ap_mm);
@@ -375,9 +374,9 @@ TEST_CASE("probe_ahead: each sample as probe() meets it after run() of the motio
         }
         // Only the window's last motion may commit: probing ahead of it
         // would see a stock its run changes.
-        const std::size_t pending = s->pending_count();
-        s->run(m);
-        if (j + 1 < covered) CHECK(s->pending_count() > pending);
+        const std::size_t pending = sim.pending_count();
+        sim.run(m);
+        if (j + 1 < covered) CHECK(sim.pending_count() > pending);
       }
       i += covered - 1;
     }
