@@ -110,6 +110,26 @@ Field stock_from_field() {
           }};
 }
 
+// fixture: one "box:X0,Y0,Z0,X1,Y1,Z1" or a list of them.
+Field fixture_field() {
+  return {"fixture",
+          [](Settings& s, py::handle v) {
+            std::vector<std::string>& f = s.workholding.fixtures;
+            f.clear();
+            if (py::isinstance<py::str>(v)) {
+              f.push_back(text("fixture", v));
+              return;
+            }
+            if (!py::isinstance<py::sequence>(v)) wrong_type("fixture", "a box:X0,Y0,Z0,X1,Y1,Z1 or a list of them", v);
+            for (py::handle e : v) f.push_back(text("fixture", e));
+          },
+          [](const Settings& s) {
+            py::list l;
+            for (const std::string& b : s.workholding.fixtures) l.append(b);
+            return py::object(l);
+          }};
+}
+
 // block_delete: True/False, or the command line's "on"/"off".
 Field block_delete_field() {
   return {"block_delete",
@@ -146,6 +166,9 @@ const std::vector<Field>& fields() {
       optional_field("kae_N_per_mm", DEFLEX_REF(material.kae)),
       path_field("part", DEFLEX_REF(part.part)),
       optional_field("part_gap_mm", DEFLEX_REF(part.gap_mm)),
+      fixture_field(),
+      number_field("workpiece_mesh_mm", DEFLEX_REF(workholding.mesh_mm)),
+      number_field("workpiece_spacing_mm", DEFLEX_REF(workholding.spacing_mm)),
       path_field("tool_file", DEFLEX_REF(tool_file)),
       path_field("tool", DEFLEX_REF(tool)),
       path_field("stock", DEFLEX_REF(stock)),

@@ -169,6 +169,16 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
       ("measured-reach", po::value(&a.measured_reach_mm)->default_value(0.5, "0.5"),
        "a measured point farther than this from the surface the program cuts has no prediction, mm");
   add_part_options(d, a.part);
+  d.add_options()
+      ("fixture", po::value(&a.workholding.fixtures)->composing()->value_name("box:X0,Y0,Z0,X1,Y1,Z1"),
+       "the workpiece bends too: where it is held (mm, work frame; repeatable). The part's surface inside each box is "
+       "clamped; its compliance (FEM of --part with the material's elastic constants) adds to the tool's at every "
+       "contact (docs/physics.md)")
+      ("workpiece-mesh", po::value(&a.workholding.mesh_mm)->value_name("MM"),
+       "the part's element size with --fixture, mm (default: half its thinnest wall)")
+      ("workpiece-spacing", po::value(&a.workholding.spacing_mm)->value_name("MM"),
+       "with --fixture: the part's compliance is solved at nodes this far apart on the surface the program reaches "
+       "and interpolated between them, mm (default 3)");
   add_material_options(d, a.material);
   add_read_options(d, a.read);
 }

@@ -200,7 +200,7 @@ FeedLimits feed_limits(const Physics& ph, const Settings& s) {
 // wall's top gives way more than its foot under the same load).
 void add_workpiece(Point& p, const ToolModel& tm, const WorkpieceCompliance& w) {
   const V3 at = p.flank ? flank_point(p, tm.tool, p.height_mm) : contact_point(p, tm.tool);
-  p.workpiece_delta_mm = w.at(at) * V3(-p.force_N);
+  p.workpiece_delta_mm = w.at(at, p.normal) * V3(-p.force_N);
   const double shift = -p.workpiece_delta_mm.dot(p.normal);
   p.error_mm += shift;
   if (!p.flank) return;

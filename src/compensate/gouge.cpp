@@ -1,6 +1,7 @@
 #include "deflex/compensate/gouge.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace deflex::compensate {
 
@@ -55,16 +56,32 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
     auto it = tools.tools.find(tool_of(m));
     if (it == tools.tools.end()) continue;  // the simulation reports a missing tool
     const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
+    struct Sample {
+      part::Contact c;
+      V3 travel;
+    };
+    std::vector<Sample> at;
+    double gap_lo = std::numeric_limits<double>::infinity(), gap_hi = -gap_lo;
     for (std::size_t k = 1; k < v.size(); ++k) {
       const V3 tip(v[k][0], v[k][1], v[k][2]), prev(v[k - 1][0], v[k - 1][1], v[k - 1][2]);
       const V3 travel = tip - prev;
       V3 d = travel;
       d.z() = 0;
       if (d.norm() > 1e-9) feed = d.normalized();
-      const part::Contact c = nearest(part, it->second, tip, feed);
+      at.push_back({nearest(part, it->second, tip, feed), travel});
+      gap_lo = std::min(gap_lo, at.back().c.gap_mm);
+      gap_hi = std::max(gap_hi, at.back().c.gap_mm);
+    }
+    // A move whose gap closes or opens along it by more than half its
+    // largest is a lead-in or lead-out (a tangential arc onto a face stands
+    // off it on purpose until it arrives); a pass that stands off a face
+    // keeps its gap.
+    const bool approach = gap_hi - gap_lo > 0.5 * gap_hi;
+    for (const Sample& sm : at) {
+      const part::Contact& c = sm.c;
       ++g.points;
       if (c.gap_mm < -gap_mm) note(g.overcut, m.line, c.gap_mm, c.depth_at_least);
-      else if (c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face && along_face(travel, c.normal))
+      else if (!approach && c.gap_mm > gap_mm && c.gap_mm <= reach_mm && c.on_face && along_face(sm.travel, c.normal))
         note(g.standoff, m.line, c.gap_mm);
     }
   }

@@ -334,14 +334,7 @@ namespace {
 // (the part model is read after the checks).
 compensate::PartGaps gouges_in_pieces(Run& j, const std::function<compensate::PartGaps(const std::vector<interp::Motion>&)>& gaps_of) {
   compensate::PartGaps g;
-  std::vector<interp::Motion> piece;
-  interp::MotionList c(piece);
-  Diagnostics quiet(nullptr, 0);
-  const interp::Options opt = j.setup.interp();
-  interp::Interpreter it(opt, quiet, c);
-  j.pieces->each([&](const gcode::Program& p, bool last) {
-    it.feed(p, last);
-    for (interp::Motion& m : piece) fill_cut_defaults(j.given, m);
+  each_piece(j, [&](std::vector<interp::Motion>& piece) {
     const compensate::PartGaps pg = gaps_of(piece);
     compensate::merge(g, pg);
     // The check pass counted these moves as compensable: count them as left.
@@ -352,12 +345,25 @@ compensate::PartGaps gouges_in_pieces(Run& j, const std::function<compensate::Pa
         leave_gouge(m, j.gouge_lines);
         if (m.fixed == interp::Fixed::gouge) j.count_left(m);
       }
-    piece.clear();
   });
   return g;
 }
 
 }  // namespace
+
+void each_piece(Run& j, const std::function<void(std::vector<interp::Motion>&)>& fn) {
+  std::vector<interp::Motion> piece;
+  interp::MotionList c(piece);
+  Diagnostics quiet(nullptr, 0);
+  const interp::Options opt = j.setup.interp();
+  interp::Interpreter it(opt, quiet, c);
+  j.pieces->each([&](const gcode::Program& p, bool last) {
+    it.feed(p, last);
+    for (interp::Motion& m : piece) fill_cut_defaults(j.given, m);
+    fn(piece);
+    piece.clear();
+  });
+}
 
 void check_gouges(Run& j, Diagnostics& diags) {
   // The gouge check runs before the simulation: it needs no stock and no

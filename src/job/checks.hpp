@@ -2,7 +2,9 @@
 // program checked whole or in pieces, the stock and the part model checked
 // against it. Internal to src/job.
 #pragma once
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/job/run.hpp"
@@ -31,6 +33,10 @@ void check_stock_reached(const Run& j, Diagnostics& diags);
 // The gouge check against the part model: warnings, and the moves that cut
 // into the part stay as written (Run::gouge_lines).
 void check_gouges(Run& j, Diagnostics& diags);
+// The cutting moves of a program read in pieces, piece by piece in program
+// order, interpreted again (a pass of its own; --spindle and --feed filled in).
+void each_piece(Run& j, const std::function<void(std::vector<interp::Motion>&)>& fn);
+
 // Verbose: the files and settings of a run, before it starts.
 void print_setup(const Run& j, Io& io);
 

@@ -7,6 +7,7 @@
 
 #include "checks.hpp"
 #include "internal.hpp"
+#include "workpiece_run.hpp"
 #include "deflex/engage/engagement.hpp"
 #include "deflex/engage/sweep_program.hpp"
 #include "deflex/force/tool.hpp"
@@ -179,6 +180,8 @@ Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const R
   if (!j.pieces) detail::subprograms(j, io);
   j.stock_spec = stock_spec(s.stock, j.setup.config);
   resolve_physics(j);
+  // The workpiece's part, material and fixtures checked before the program.
+  const std::optional<detail::WorkpiecePlan> plan = shared ? std::nullopt : detail::plan_workpiece(j);
   Diagnostics diags = io.diagnostics(j.setup.max_errors);
   stage("checking", 0);
   if (j.pieces) detail::check_in_pieces(j, diags, progress);
@@ -199,6 +202,9 @@ Run open(const Settings& s, Purpose purpose, Io& io, Observer* observer, const R
   if (j.physics.part) stage("gouge check", 0);
   detail::check_gouges(j, diags);
   for (const interp::Motion& m : j.motions) j.count_left(m);  // in pieces: the check pass counted them
+  // The workpiece's FEM last: every check that can fail has run.
+  j.workpiece = shared ? shared->workpiece : plan ? detail::build_workpiece(j, *plan, io, progress) : nullptr;
+  j.physics.workpiece = j.workpiece.get();
   if (io.verbose) detail::print_setup(j, io);
   return j;
 }

@@ -15,6 +15,7 @@ Recording::Recording(const Run& j, bool as_written, Observer* obs) : dir(j.given
   o.as_written = as_written;
   o.tool_of = tool_of(j);
   o.spindle = &j.physics.spindle;
+  o.workpiece = j.physics.workpiece != nullptr;
   // The summary's percentiles of |e| and its cusp heights always, report or
   // not: a summary is the same document whoever asks for it (the |e| go to a
   // spill file in the temporary folder, 8 bytes a point).

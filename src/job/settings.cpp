@@ -32,13 +32,22 @@ std::vector<EarlierOp> earlier_of_job(const yaml::Map& job, const std::function<
   return ops;
 }
 
+// `fixture:` of a job: one box:X0,Y0,Z0,X1,Y1,Z1, or a list of them.
+std::vector<std::string> fixtures_of_job(const yaml::Map& job) {
+  const YAML::Node n = job.get("fixture");
+  if (!n.IsSequence()) return {job.text("fixture")};
+  std::vector<std::string> boxes;
+  for (const YAML::Node& b : n) boxes.push_back(yaml::text(b, "fixture", job.file()));
+  return boxes;
+}
+
 }  // namespace
 
 void apply_job_file(const std::string& file, Settings& a, std::vector<std::string>& files) {
   const YAML::Node root = yaml::load_text(yaml::read_file(file), file);
   const yaml::Map m(root, "job", file,
                     {"program", "machine", "dialect", "tool_file", "tool", "material", "material_file", "stock",
-                     "stock_from", "part", "tolerance_mm", "gain", "output", "report", "measured", "probe_program"});
+                     "stock_from", "part", "fixture", "workpiece_mesh_mm", "workpiece_spacing_mm", "tolerance_mm", "gain", "output", "report", "measured", "probe_program"});
   const fs::path dir = fs::path(file).parent_path();
   // A path of the job is relative to the job's folder (the file sits beside
   // the program); a box, a built-in name or an absolute path is taken as is.
@@ -61,6 +70,11 @@ void apply_job_file(const std::string& file, Settings& a, std::vector<std::strin
   }
   if (a.stock_from.empty() && m.has("stock_from")) a.stock_from = earlier_of_job(m, path);
   text("part", a.part.part, true);
+  Workholding& w = a.workholding;
+  if (w.fixtures.empty() && m.has("fixture")) w.fixtures = fixtures_of_job(m);
+  if (w.mesh_mm == 0 && m.has("workpiece_mesh_mm")) w.mesh_mm = m.number("workpiece_mesh_mm", yaml::Range::positive());
+  if (w.spacing_mm == 0 && m.has("workpiece_spacing_mm"))
+    w.spacing_mm = m.number("workpiece_spacing_mm", yaml::Range::positive());
   if (!a.tolerance_mm && m.has("tolerance_mm")) a.tolerance_mm = m.number("tolerance_mm", yaml::Range::positive());
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);

@@ -4,11 +4,32 @@
 #include <cmath>
 
 #include "deflex/diag/diagnostics.hpp"
+#include "workpiece_run.hpp"
 #include "deflex/force/material.hpp"
 #include "deflex/job/setup.hpp"
 #include "deflex/profile/profile.hpp"
 
 namespace deflex::job {
+
+namespace detail {
+
+// The named entry's elastic constants; an entry without them is a config
+// error at its line.
+stiffness::Material elastic_of(const std::string& name, const std::string& library) {
+  if (name.empty()) throw Error(ErrorKind::settings, "give {material} M: the workpiece's material, with its elastic constants");
+  const force::MaterialLibrary lib = force::load_material_library(library);
+  const force::MaterialEntry& m = force::find_material(lib, name);
+  if (!m.elastic)
+    throw Error(ErrorKind::config, m.location + ": error: material '" + m.name +
+                                       "' has no elastic: {E_MPa: .., poisson: ..}: the workpiece's compliance needs them");
+  stiffness::Material e;
+  e.name = m.name;
+  e.E_MPa = m.elastic->E_MPa;
+  e.poisson = m.elastic->poisson;
+  return e;
+}
+
+}  // namespace detail
 
 namespace {
 
@@ -26,21 +47,11 @@ void check_settings(const WorkpieceSettings& s) {
     throw Error(ErrorKind::settings, "the workpiece's mesh size must be >= 0 mm (0: half the thinnest wall)");
 }
 
-// The entry's elastic constants; an entry without them is a config error at its line.
 void read_material(const WorkpieceSettings& s, WorkpieceResult& r) {
   const profile::Config cfg = profile::load_config();
   r.material_file = material_library_path(s.material_file, cfg);
-  const std::string name = !s.material.empty() ? s.material : config_string(cfg, "material");
-  if (name.empty()) throw Error(ErrorKind::settings, "give {material} M: the workpiece's material, with its elastic constants");
-  const force::MaterialLibrary lib = force::load_material_library(r.material_file);
-  const force::MaterialEntry& m = force::find_material(lib, name);
-  if (!m.elastic)
-    throw Error(ErrorKind::config, m.location + ": error: material '" + m.name +
-                                       "' has no elastic: {E_MPa: .., poisson: ..}: the workpiece's compliance needs them");
-  r.material = m.name;
-  r.elastic.name = m.name;
-  r.elastic.E_MPa = m.elastic->E_MPa;
-  r.elastic.poisson = m.elastic->poisson;
+  r.elastic = detail::elastic_of(!s.material.empty() ? s.material : config_string(cfg, "material"), r.material_file);
+  r.material = r.elastic.name;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "deflex/stiffness/workpiece_field.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -24,19 +25,34 @@ WorkpieceField::Key WorkpieceField::key(const V3& p) const {
              static_cast<std::int64_t>(std::floor(p.z() / h_)));
 }
 
-WorkpieceField::WorkpieceField(const WorkpieceModel& model, const std::vector<V3>& points_mm, double spacing_mm)
+namespace {
+const double kSameFace = std::cos(WorkpieceField::kSameFaceDeg * 3.14159265358979323846 / 180);
+}  // namespace
+
+WorkpieceField::WorkpieceField(const WorkpieceModel& model, const std::vector<V3>& points_mm,
+                               const std::vector<V3>& normals, double spacing_mm,
+                               const std::function<void(double)>& progress)
     : h_(spacing_mm) {
   if (!(spacing_mm > 0)) throw Error(ErrorKind::settings, "workpiece field: the node spacing must be > 0 mm");
-  for (const V3& p : points_mm) {
-    std::vector<std::size_t>& cell = cells_[key(p)];
-    if (!cell.empty()) continue;
+  if (normals.size() != points_mm.size()) throw Error(ErrorKind::internal, "workpiece field: a normal per point");
+  for (std::size_t i = 0; i < points_mm.size(); ++i) {
+    std::vector<std::size_t>& cell = cells_[key(points_mm[i])];
+    const bool face_has_one = std::any_of(cell.begin(), cell.end(), [&](std::size_t n) { return normal_[n].dot(normals[i]) >= kSameFace; });
+    if (face_has_one) continue;
     cell.push_back(node_mm_.size());
-    node_mm_.push_back(p);
+    node_mm_.push_back(points_mm[i]);
+    normal_.push_back(normals[i]);
   }
-  for (const PointCompliance& pc : model.compliance_at(node_mm_)) c_.push_back(pc.matrix_mm_per_N);
+  // In chunks of a few batches, for the progress.
+  const std::size_t chunk = 4 * WorkpieceModel::kBatchPoints;
+  for (std::size_t b = 0; b < node_mm_.size(); b += chunk) {
+    const std::vector<V3> some(node_mm_.begin() + b, node_mm_.begin() + std::min(node_mm_.size(), b + chunk));
+    for (const PointCompliance& pc : model.compliance_at(some)) c_.push_back(pc.matrix_mm_per_N);
+    if (progress) progress(double(c_.size()) / node_mm_.size());
+  }
 }
 
-Compliance WorkpieceField::at(const V3& p) const {
+Compliance WorkpieceField::at(const V3& p, const V3& normal, bool* covered) const {
   if (node_mm_.empty()) throw Error(ErrorKind::internal, "workpiece field: no nodes");
   const double r = 2 * h_;
   const auto i0 = static_cast<std::int64_t>(std::floor(p.x() / h_)), j0 = static_cast<std::int64_t>(std::floor(p.y() / h_)),
@@ -49,24 +65,30 @@ Compliance WorkpieceField::at(const V3& p) const {
         const auto it = cells_.find(key(i, j, k));
         if (it == cells_.end()) continue;
         for (std::size_t n : it->second)
-          if ((node_mm_[n] - p).norm() <= r) near.push_back(n);
+          if ((node_mm_[n] - p).norm() <= r && normal_[n].dot(normal) >= kSameFace) near.push_back(n);
       }
+  if (covered) *covered = !near.empty();
   std::size_t best = 0;
   double best_d = std::numeric_limits<double>::infinity();
   for (std::size_t n : near)
     if ((node_mm_[n] - p).norm() < best_d) best_d = (node_mm_[n] - p).norm(), best = n;
   if (near.size() < 4) {
-    if (near.empty())  // far from every node: the nearest of all
+    // Far from every node of the face: its nearest, else the nearest of all.
+    for (int pass = 0; pass < 2 && near.empty() && best_d == std::numeric_limits<double>::infinity(); ++pass)
       for (std::size_t n = 0; n < node_mm_.size(); ++n)
-        if ((node_mm_[n] - p).norm() < best_d) best_d = (node_mm_[n] - p).norm(), best = n;
+        if ((pass == 1 || normal_[n].dot(normal) >= kSameFace) && (node_mm_[n] - p).norm() < best_d)
+          best_d = (node_mm_[n] - p).norm(), best = n;
     return c_[best];
   }
   if (best_d < 1e-9 * h_) return c_[best];
   // Weighted least squares of C = a + b . (x - p) over the nodes near, each
-  // of the nine entries alike; nodes on a surface leave the normal's slope
-  // undetermined, which the minimum-norm solution sets to zero.
+  // of the nine entries alike, the slopes b held toward zero by a ridge of a
+  // hundredth of the weights: nodes on a surface leave the normal's slope
+  // undetermined, and nodes along a narrow face (the top of a thin wall) its
+  // slope across nearly so, which unheld would extrapolate without bound.
   const auto m = static_cast<Eigen::Index>(near.size());
-  Eigen::MatrixXd A(m, 4), B(m, 9);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m + 3, 4), B = Eigen::MatrixXd::Zero(m + 3, 9);
+  double w2 = 0;
   for (Eigen::Index q = 0; q < m; ++q) {
     const std::size_t n = near[static_cast<std::size_t>(q)];
     const V3 d = node_mm_[n] - p;
@@ -74,11 +96,19 @@ Compliance WorkpieceField::at(const V3& p) const {
     A(q, 0) = w;
     A.block<1, 3>(q, 1) = w * d.transpose() / h_;
     B.row(q) = w * Eigen::Map<const Eigen::Matrix<double, 1, 9>>(c_[n].data());
+    w2 += w * w;
   }
+  for (int k = 0; k < 3; ++k) A(m + k, 1 + k) = std::sqrt(0.01 * w2);
   const Eigen::MatrixXd x = A.completeOrthogonalDecomposition().solve(B);
   Compliance c;
   Eigen::Map<Eigen::Matrix<double, 1, 9>>(c.data()) = x.row(0);
   return c;
+}
+
+double WorkpieceField::largest_entry_mm_per_N() const {
+  double m = 0;
+  for (const Compliance& c : c_) m = std::max(m, c.cwiseAbs().maxCoeff());
+  return m;
 }
 
 }  // namespace deflex::stiffness

@@ -511,4 +511,22 @@ TEST_CASE("a flat end finishing a wall standing on the floor: the design normal 
   CHECK(on_wall > 30);
 }
 
+TEST_CASE("gouge check: a tangential arc onto a wall and off it is a lead-in, not a standoff; a pass beside the wall is") {
+  // T6 (flat D12) along the wall x = 0 (the part at x < 0), its tip 1 mm
+  // over the floor: quarter arcs of radius 6 in (line 6) and out (line 8) of
+  // the exact pass (line 7) stand off the wall by up to 6 mm on purpose;
+  // the pass 0.5 mm off the wall (line 11) is what the check is for.
+  const part::PartModel pm(step_triangles(0));
+  const stiffness::ToolLibrary lib = stiffness::load_tool_library("samples/tools.yaml");
+  const test::Interpreted in = test::interpret_text(
+      "G21 G90 G17\nT6 M6\nS8000 M3\nG0 X12. Y-20. Z20.\nG1 Z1. F1000\nG2 X6. Y-14. I0. J6. F1600\nG1 Y14.\n"
+      "G2 X12. Y20. I6. J0.\nG0 Z20.\nX6.5 Y-14. Z1.\nG1 Y14. F1600\nM30\n");
+  REQUIRE(in.errors == 0);
+  const compensate::PartGaps g =
+      compensate::part_gaps(in.motions, pm, lib, [](const interp::Motion&) { return std::string("T6"); }, {}, 0.02, 1.0);
+  CHECK(g.overcut.lines.empty());
+  CHECK(g.standoff.lines == std::vector<std::uint32_t>{11});
+  CHECK(g.standoff.worst_mm == doctest::Approx(0.5).epsilon(1e-3));
+}
+
 }  // TEST_SUITE

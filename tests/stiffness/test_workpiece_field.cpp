@@ -31,15 +31,15 @@ TEST_CASE("workpiece field: exact at its nodes, within 1 % of the FEM between th
   for (int i = 1; i <= 9; ++i)
     for (int k = 20; k <= 40; ++k) pts.push_back(V3(i, 2, k));
   pts.push_back(V3(1.2, 2, 20.3));  // a second point in a node's cell is not a node
-  const WorkpieceField field(model, pts, 1.0);
+  const WorkpieceField field(model, pts, std::vector<V3>(pts.size(), V3::UnitY()), 1.0);
   CHECK(field.nodes() == 9 * 21);
-  const Compliance at_node = field.at(V3(5, 2, 30));
+  const Compliance at_node = field.at(V3(5, 2, 30), V3::UnitY());
   CHECK((at_node - model.compliance_at(V3(5, 2, 30)).matrix_mm_per_N).norm() <= 1e-12 * at_node.norm());
   // Between nodes: the fit against the FEM asked there, and the nearest
   // node's value against it (what the fit is there to beat).
   double worst = 0, worst_nearest = 0;
   for (const V3& q : {V3(2.5, 2, 24.37), V3(5.5, 2, 31.5), V3(7.3, 2, 38.6), V3(4.1, 2, 35.55), V3(8.5, 2, 22.5)}) {
-    const double direct = model.compliance_at(q).matrix_mm_per_N(1, 1), interpolated = field.at(q)(1, 1);
+    const double direct = model.compliance_at(q).matrix_mm_per_N(1, 1), interpolated = field.at(q, V3::UnitY())(1, 1);
     const V3 nearest(std::round(q.x()), q.y(), std::round(q.z()));
     const double at_nearest = model.compliance_at(nearest).matrix_mm_per_N(1, 1);
     worst = std::max(worst, std::fabs(interpolated / direct - 1));

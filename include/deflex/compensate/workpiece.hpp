@@ -12,13 +12,16 @@
 namespace deflex::compensate {
 
 // How far the workpiece gives way at a point of its surface under a unit force
-// there: a 3x3 compliance in mm/N, machine axes. Asked from the simulation's
-// threads at once (const, thread-safe). The workpiece FEM implements it
-// (stiffness/workpiece.hpp); the tests give closed forms.
+// there: a 3x3 compliance in mm/N, machine axes. `normal` is the part's
+// outward unit normal there: it tells the faces of a thin wall apart, whose
+// points lie a wall's thickness apart and give way alike but not the same.
+// Asked from the simulation's threads at once (const, thread-safe). The
+// workpiece FEM implements it (stiffness/workpiece.hpp); the tests give
+// closed forms.
 class WorkpieceCompliance {
  public:
   virtual ~WorkpieceCompliance() = default;
-  virtual Eigen::Matrix3d at(const Eigen::Vector3d& point_mm) const = 0;
+  virtual Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal) const = 0;
 };
 
 }  // namespace deflex::compensate

@@ -19,6 +19,7 @@
 #include "deflex/job/io.hpp"
 #include "deflex/job/settings.hpp"
 #include "deflex/job/setup.hpp"
+#include "deflex/job/workpiece.hpp"
 #include "deflex/part/part.hpp"
 #include "deflex/process/machining_time.hpp"
 #include "deflex/stiffness/tool.hpp"
@@ -47,6 +48,9 @@ struct Run {
   compensate::Settings settings;  // the simulation's and the mirror's, resolved and checked
   std::unique_ptr<stock::ZMap> stock;
   std::unique_ptr<part::PartModel> part;
+  // Settings::workholding: the workpiece's compliance in the cut, built last
+  // in open() (physics.workpiece points to it); null: a rigid workpiece.
+  std::shared_ptr<const WorkpieceInCut> workpiece;
   // Settings::measured read (before anything is built): the points the
   // prediction is held against.
   std::vector<fit::Observation> measured;

@@ -34,6 +34,17 @@ struct PartSettings {
   std::optional<double> gap_mm;   // default: config part_gap_mm, else 0.02
 };
 
+// How the workpiece is held, for its own compliance in the cut
+// (stiffness/workpiece.hpp): none, a rigid workpiece (the tool's deflection
+// alone). With fixtures the part model and a material with elastic constants
+// are required.
+struct Workholding {
+  std::vector<std::string> fixtures;  // box:X0,Y0,Z0,X1,Y1,Z1 each, mm: the part's surface inside is held
+  double mesh_mm = 0;                 // the part's element size (0: half its thinnest wall)
+  double spacing_mm = 0;              // between the nodes of the compliance field (0: kDefaultFieldSpacingMm)
+};
+inline constexpr double kDefaultFieldSpacingMm = 3;
+
 // An earlier program swept into the stock, and its tool library ("": the job's).
 struct EarlierOp {
   std::string program, tool_file;
@@ -53,6 +64,7 @@ struct Settings {
   ReadSettings read;
   MaterialSettings material;
   PartSettings part;
+  Workholding workholding;
   std::string tool_file;   // the tool library ("": config tool_file, else the installed samples/tools.yaml)
   std::string tool;        // one tool for every cut ("": the program's T words, as T<n>)
   std::string stock;       // box:X0,Y0,Z0,X1,Y1,Z1, a solid, a .zmap or auto[:MARGIN] ("": config stock)
@@ -71,7 +83,8 @@ struct Settings {
 
 // Fills what `s` leaves out from the job file `file` (YAML: program, machine,
 // dialect, tool_file, tool, material, material_file, stock, stock_from, part,
-// tolerance_mm, gain, output, report, measured, probe_program). Paths in it are relative to its folder.
+// fixture, workpiece_mesh_mm, workpiece_spacing_mm, tolerance_mm, gain,
+// output, report, measured, probe_program). Paths in it are relative to its folder.
 // `programs` gets the job's program when it holds none. Throws a config Error
 // at line:col of a bad key or value.
 void apply_job_file(const std::string& file, Settings& s, std::vector<std::string>& programs);

@@ -2,10 +2,13 @@
 // points of its surface, held by fixture boxes (stiffness/workpiece.hpp).
 #pragma once
 #include <Eigen/Core>
+#include <atomic>
 #include <string>
 #include <vector>
 
+#include "deflex/compensate/workpiece.hpp"
 #include "deflex/stiffness/workpiece.hpp"
+#include "deflex/stiffness/workpiece_field.hpp"
 
 namespace deflex::job {
 
@@ -33,5 +36,43 @@ struct WorkpieceResult {
 // each fixture box touching its surface, each point within 1 mm of it; then
 // one mesh and one factorisation for all the points.
 WorkpieceResult workpiece_compliance(const WorkpieceSettings& s);
+
+// The workpiece in a simulation or compensation (Settings::workholding):
+// how it was modelled, for the report.
+struct WorkpieceFigures {
+  std::vector<std::string> fixtures;
+  std::string material;          // the entry's name
+  stiffness::Material elastic;
+  stiffness::WorkpieceInfo mesh;
+  std::size_t reached_points = 0;  // surface points the program's tools reach
+  std::size_t nodes = 0;           // where the FEM was solved
+  double spacing_mm = 0;
+  double nodes_seconds = 0;        // solving the nodes
+  double largest_mm_per_N = 0;  // the field's largest entry
+  // The field held against the FEM at the reached points farthest from
+  // every node: the largest difference of an entry, where it was.
+  std::size_t checked = 0;
+  double check_max_mm_per_N = 0;
+  Eigen::Vector3d check_worst_mm = Eigen::Vector3d::Zero();
+  double check_rel() const { return largest_mm_per_N > 0 ? check_max_mm_per_N / largest_mm_per_N : 0; }
+};
+
+// The workpiece's compliance at a contact: the field's (stiffness/
+// workpiece_field.hpp), built from the FEM over the surface the program reaches.
+class WorkpieceInCut final : public compensate::WorkpieceCompliance {
+ public:
+  WorkpieceInCut(stiffness::WorkpieceField field, WorkpieceFigures figures)
+      : field_(std::move(field)), figures_(std::move(figures)) {}
+  Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal) const override;
+  const WorkpieceFigures& figures() const { return figures_; }
+  // Contacts asked farther than twice the spacing from every node (their
+  // compliance was the nearest node's), since the model was built.
+  std::size_t uncovered() const { return uncovered_.load(std::memory_order_relaxed); }
+
+ private:
+  stiffness::WorkpieceField field_;
+  WorkpieceFigures figures_;
+  mutable std::atomic<std::size_t> uncovered_{0};
+};
 
 }  // namespace deflex::job

@@ -7,6 +7,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -17,18 +18,32 @@ namespace deflex::stiffness {
 
 class WorkpieceField {
  public:
-  // One node per occupied cell of spacing_mm among `points_mm` (the first
-  // point in it), its compliance from the model (check_on_part is the
-  // caller's: every point must lie within the model's on_part_mm).
-  WorkpieceField(const WorkpieceModel& model, const std::vector<Eigen::Vector3d>& points_mm, double spacing_mm);
+  // One node per occupied cell of spacing_mm and face among `points_mm`
+  // (the first point in it; `normals`: the part's outward unit normal at
+  // each; a face: normals within kSameFaceDeg), its compliance from the model
+  // (check_on_part is the caller's: every point must lie within the model's
+  // on_part_mm). `progress` (may be empty) gets the fraction of the nodes solved.
+  WorkpieceField(const WorkpieceModel& model, const std::vector<Eigen::Vector3d>& points_mm,
+                 const std::vector<Eigen::Vector3d>& normals, double spacing_mm,
+                 const std::function<void(double)>& progress = {});
+  // Nodes interpolate only among their face: the two faces of a thin wall lie
+  // in one cell, and a wall's foot beside the floor; across them the
+  // compliance jumps (the off-diagonal terms change sign across a wall).
+  static constexpr double kSameFaceDeg = 30;
 
-  // The compliance at p: a weighted linear fit (moving least squares) of the
-  // nodes within twice the spacing - exact at a node, and on a smooth field
-  // second-order accurate between nodes; the nearest node's where fewer than
-  // four are near. Thread-safe (const).
-  Compliance at(const Eigen::Vector3d& p_mm) const;
+  // The compliance at p on the face of outward normal n: a weighted linear
+  // fit (moving least squares) of the nodes of that face within twice the
+  // spacing - exact at a node, and on a smooth field second-order accurate
+  // between nodes; the nearest node's where fewer than four are near.
+  // `covered` (may be null): whether a node lies within twice the spacing;
+  // where none does the nearest of the face (else of all) is taken. Thread-safe (const).
+  Compliance at(const Eigen::Vector3d& p_mm, const Eigen::Vector3d& n, bool* covered = nullptr) const;
+  // The nodes, where the compliance is the FEM's.
+  const std::vector<Eigen::Vector3d>& node_points() const { return node_mm_; }
 
   std::size_t nodes() const { return node_mm_.size(); }
+  // The largest |entry| over the nodes, mm/N.
+  double largest_entry_mm_per_N() const;
   double spacing_mm() const { return h_; }
 
  private:
@@ -36,7 +51,7 @@ class WorkpieceField {
   Key key(const Eigen::Vector3d& p) const;
   Key key(std::int64_t i, std::int64_t j, std::int64_t k) const;
   double h_ = 1;
-  std::vector<Eigen::Vector3d> node_mm_;
+  std::vector<Eigen::Vector3d> node_mm_, normal_;
   std::vector<Compliance> c_;
   std::unordered_map<Key, std::vector<std::size_t>> cells_;  // nodes by cell of h_
 };

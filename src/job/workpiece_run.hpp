@@ -1,0 +1,40 @@
+// The workpiece's own compliance in a run (Settings::workholding): what
+// job::open() reads and checks before the program, and the model it builds
+// after every check. Internal to src/job.
+#pragma once
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "deflex/job/run.hpp"
+#include "deflex/job/workpiece.hpp"
+
+namespace deflex::job::detail {
+
+// The named material's elastic constants from the library; a config Error at
+// the entry's line when it has none.
+stiffness::Material elastic_of(const std::string& name, const std::string& library);
+
+// What the workpiece model is built from, each part checked.
+struct WorkpiecePlan {
+  stiffness::PartSurface surface;
+  std::vector<stiffness::Fixture> fixtures;
+  stiffness::Material elastic;
+  stiffness::WorkpieceOptions options;
+  double spacing_mm = kDefaultFieldSpacingMm;
+};
+
+// The settings' checks, then the material's elastic constants, the part's
+// surface (closed) and each fixture box touching it: nullopt without a fixture.
+std::optional<WorkpiecePlan> plan_workpiece(const Run& j);
+
+// The model (mesh, clamp, factorisation), its field over the surface the
+// program's tools reach, checked against the FEM where the field is least
+// sure; the model's memory is freed on return. `progress` gets the stage
+// "workpiece". Null, with a warning, where no tool reaches the part.
+std::shared_ptr<const WorkpieceInCut> build_workpiece(Run& j, const WorkpiecePlan& plan, Io& io,
+                                                      const compensate::Progress& progress);
+
+}  // namespace deflex::job::detail

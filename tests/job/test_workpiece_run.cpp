@@ -1,0 +1,139 @@
+// The workpiece's own compliance in simulate and compensate (--fixture): each
+// refusal before the program is simulated, named by the setting, and on the
+// thin-wall sample the error as the sum of the tool's and the workpiece's
+// share, point by point.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include "support.hpp"
+
+using namespace deflex;
+
+namespace {
+
+const char* const kFixture = "box:-1,-1,-41,101,61,-39.9";  // the sample's bottom face
+
+job::Settings thin_wall() {
+  job::Settings s;
+  s.program = "samples/programs/thin_wall.nc";
+  s.read.machine = "samples/machines/mill3.yaml";
+  s.tool_file = "samples/tools.yaml";
+  s.material.material = "Al7075-T6";
+  s.material.material_file = "samples/materials.yaml";
+  s.stock = "samples/stock/thin_wall.stl";
+  s.part.part = "samples/parts/thin_wall.stl";
+  s.workholding.fixtures = {kFixture};
+  return s;
+}
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// points.csv as columns by name, one row per point.
+std::vector<std::map<std::string, std::string>> read_points(const std::string& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
+    b = std::min(line.find(',', a), line.size());
+    names.push_back(line.substr(a, b - a));
+  }
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::map<std::string, std::string> r;
+    std::size_t k = 0;
+    for (std::size_t a = 0, b; a <= line.size() && k < names.size(); a = b + 1, ++k) {
+      b = std::min(line.find(',', a), line.size());
+      r[names[k]] = line.substr(a, b - a);
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST_SUITE("job") {
+  TEST_CASE("--fixture: the part, a material by name with elastic constants, and boxes that hold it, or a located refusal") {
+    job::Settings s = thin_wall();
+    s.part.part.clear();
+    auto o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+    CHECK(has(o.what, "fixture: "));  // the job's keywords name the settings (the command line: its flags)
+    CHECK(has(o.what, "part P"));
+
+    s = thin_wall();
+    s.material = {};
+    s.material.kt = 800, s.material.kr = 300, s.material.ka = 100;
+    o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+    CHECK(has(o.what, "coefficients alone"));
+
+    s = thin_wall();
+    s.workholding.fixtures.push_back("box:200,200,200,210,210,210");
+    o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+    CHECK(has(o.what, "box:200,200,200,210,210,210"));
+
+    s = thin_wall();
+    s.workholding.fixtures = {"box:1,2,3"};
+    o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+
+    s = thin_wall();
+    s.workholding.spacing_mm = -1;
+    o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+    CHECK(has(o.what, "workpiece_spacing_mm"));
+
+    // A material entry without elastic: a config error at its line.
+    const test::TempDir dir("workpiece-run");
+    const std::string lib = (dir.p / "materials.yaml").string();
+    test::write_file(lib, "materials:\n  soft:\n    model: mechanistic\n    source: a test\n    K_tc_N_per_mm2: 800\n    K_rc_N_per_mm2: 300\n    K_ac_N_per_mm2: 100\n");
+    s = thin_wall();
+    s.material.material = "soft";
+    s.material.material_file = lib;
+    o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::config);
+    CHECK(has(o.what, lib + ":3:5: error: material 'soft' has no elastic"));  // the entry's first key
+  }
+
+  TEST_CASE("thin-wall sample: the workpiece's share is what a rigid part misses, point by point") {
+    // A coarse mesh and field, enough to see the wall bend: the share is
+    // exactly -delta_w . n on each point, the forces being the same.
+    const test::TempDir dir("workpiece-share");
+    job::Settings rigid = thin_wall();
+    rigid.workholding = {};
+    rigid.report_dir = (dir.p / "rigid").string();
+    job::Settings held = thin_wall();
+    held.workholding.mesh_mm = 4;
+    held.workholding.spacing_mm = 6;
+    held.report_dir = (dir.p / "held").string();
+    const auto a = test::simulate_job(rigid), b = test::simulate_job(held);
+    REQUIRE_MESSAGE(a.ok(), a.what);
+    REQUIRE_MESSAGE(b.ok(), b.what);
+    CHECK(has(b.err, "workpiece: "));
+    const auto ra = read_points(rigid.report_dir + "/points.csv"), rb = read_points(held.report_dir + "/points.csv");
+    REQUIRE(ra.size() == rb.size());
+    double largest_share = 0;
+    for (std::size_t i = 0; i < ra.size(); ++i) {
+      CHECK(ra[i].at("workpiece_dy_mm").empty());  // no workpiece model: no column values
+      if (rb[i].at("workpiece_dy_mm").empty()) continue;  // a point in the air
+      const double wx = std::stod(rb[i].at("workpiece_dx_mm")), wy = std::stod(rb[i].at("workpiece_dy_mm")),
+                   wz = std::stod(rb[i].at("workpiece_dz_mm"));
+      const double nx = std::stod(rb[i].at("nx")), ny = std::stod(rb[i].at("ny")), nz = std::stod(rb[i].at("nz"));
+      const double share = -(wx * nx + wy * ny + wz * nz);
+      const double ea = std::stod(ra[i].at("surface_error_mm")), eb = std::stod(rb[i].at("surface_error_mm"));
+      CHECK(std::fabs(eb - (ea + share)) < 3e-6);  // points.csv's 6 decimals
+      largest_share = std::max(largest_share, share);
+    }
+    // The wall (2 mm, 35 mm high) gives way more than the tool: tens of um.
+    MESSAGE("thin wall: the workpiece's largest share ", 1000 * largest_share, " um");
+    CHECK(largest_share > 0.01);
+    CHECK(b.result->figures.error.max_abs > a.result->figures.error.max_abs + 0.005);
+  }
+}
