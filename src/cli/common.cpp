@@ -178,7 +178,8 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
        "the part's element size with --fixture, mm (default: half its thinnest wall)")
       ("workpiece-spacing", po::value(&a.workholding.spacing_mm)->value_name("MM"),
        "with --fixture: the part's compliance is solved at nodes this far apart on the surface the program reaches "
-       "and interpolated between them, mm (default 3)");
+       "and interpolated between them, mm (default: the coarsest of 12, 6 and 3 whose field is within 2 % of the "
+       "FEM where least sure)");
   add_material_options(d, a.material);
   add_read_options(d, a.read);
 }

@@ -82,6 +82,21 @@ bool ToolReach::reaches(const V3& p, const V3& normal) const {
 
 std::vector<FacetPoint> ToolReach::reached_points(const std::vector<stock::Triangle>& surface, double spacing_mm) const {
   std::vector<FacetPoint> out;
+  // One point per cell of spacing_mm and face (normals within 30 deg): a
+  // finely faceted surface gives every vertex once per facet round it.
+  std::unordered_map<std::size_t, std::vector<std::size_t>> kept;
+  const double same_face = std::cos(30 * 3.14159265358979323846 / 180);
+  auto keep = [&](const V3& p, const V3& n) {
+    const std::size_t h = (static_cast<std::size_t>(cell(p.x(), spacing_mm)) * 73856093u) ^
+                          (static_cast<std::size_t>(cell(p.y(), spacing_mm)) * 19349663u) ^
+                          (static_cast<std::size_t>(cell(p.z(), spacing_mm)) * 83492791u);
+    std::vector<std::size_t>& in = kept[h];
+    for (std::size_t i : in)
+      if (out[i].normal.dot(n) >= same_face) return;
+    if (!reaches(p, n)) return;
+    in.push_back(out.size());
+    out.push_back({p, n});
+  };
   for (const stock::Triangle& tr : surface) {
     const V3 a(tr.p[0].data()), b(tr.p[1].data()), c(tr.p[2].data());
     const V3 normal = (b - a).cross(c - a);
@@ -92,7 +107,7 @@ std::vector<FacetPoint> ToolReach::reached_points(const std::vector<stock::Trian
     for (int i = 0; i <= n; ++i)
       for (int j = 0; i + j <= n; ++j) {
         const V3 p = a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n);
-        if (reaches(p, normal.normalized())) out.push_back({p, normal.normalized()});
+        keep(p, normal.normalized());
       }
   }
   return out;

@@ -7,6 +7,7 @@
 #include "deflex/compensate/pipeline.hpp"
 #include "deflex/report/summary.hpp"
 #include "internal.hpp"
+#include "workpiece_run.hpp"
 
 namespace deflex::job {
 namespace {
@@ -92,13 +93,14 @@ report::Json summary_of(const Run& j, const CompensateResult& c) {
   js["warnings"] = detail::warnings_json(c.plausibility);
   js["left_alone"] = detail::left_alone_json(f);
   js["used"] = c.used.json;
+  js["workpiece"] = detail::workpiece_json(j, f);
   return js;
 }
 
 // The key figures at the top of report.html, each with its summary.json key.
-std::vector<std::vector<std::string>> facts_of(const CompensateResult& c) {
+std::vector<std::vector<std::string>> facts_of(const Run& j, const CompensateResult& c) {
   const compensate::Result& r = c.result;
-  return {{"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(c.figures.error.points),
+  std::vector<std::vector<std::string>> facts = {{"points compensated", std::to_string(r.compensated_points) + " of " + std::to_string(c.figures.error.points),
            "compensated_points"},
           {"points at the offset cap", std::to_string(r.capped_lines.size()), "capped_points"},
           {"blocks inserted to split moves", std::to_string(c.written.blocks_inserted), "inserted_blocks"},
@@ -106,6 +108,8 @@ std::vector<std::vector<std::string>> facts_of(const CompensateResult& c) {
           {"machining time as written / compensated",
            report::clock(c.time_as_written.program.total_s) + " / " + report::clock(c.time_compensated.program.total_s),
            "machining_time"}};
+  for (auto& w : detail::workpiece_facts(j, c.figures)) facts.push_back(std::move(w));
+  return facts;
 }
 
 }  // namespace
@@ -167,6 +171,7 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
   c.plausibility = scan.finish(true);
   detail::print_left_alone(j, c.figures, io);
   detail::print_compensation(j, c.result, c.plausibility, io);
+  detail::print_workpiece_shares(j, c.figures, io);
   c.used = used(j);
   c.summary = summary_of(j, c);
   if (nearest) {
@@ -176,7 +181,7 @@ CompensateResult compensate(Run& j, std::ostream& out, Io& io, Observer* obs, co
     if (!rec.dir.empty()) detail::write_measured_csv(rec.dir, *c.measured);
   }
   if (!rec.dir.empty())
-    rec.finish(j, c.figures, c.summary, facts_of(c), "compensate", command, c.measured ? &*c.measured : nullptr);
+    rec.finish(j, c.figures, c.summary, facts_of(j, c), "compensate", command, c.measured ? &*c.measured : nullptr);
   return c;
 }
 

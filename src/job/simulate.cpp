@@ -4,6 +4,7 @@
 #include "deflex/compensate/pipeline.hpp"
 #include "deflex/report/summary.hpp"
 #include "internal.hpp"
+#include "workpiece_run.hpp"
 
 namespace deflex::job {
 namespace {
@@ -55,6 +56,7 @@ report::Json summary_of(const Run& j, const SimulateResult& s) {
   js["stability"] = detail::stability_json(s.figures);
   js["warnings"] = detail::warnings_json(s.plausibility);
   js["used"] = s.used.json;
+  js["workpiece"] = detail::workpiece_json(j, s.figures);
   return js;
 }
 
@@ -100,6 +102,7 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
   s.figures = rec.rec->finish();
   s.plausibility = scan.finish(false);
   detail::print_plausibility(j, s.plausibility, io);
+  detail::print_workpiece_shares(j, s.figures, io);
   s.time = j.pieces ? j.time_as_written : process::machining_time(j.motions, j.setup.machine->axis_limits);
   s.used = used(j);
   s.summary = summary_of(j, s);
@@ -113,6 +116,7 @@ SimulateResult simulate(Run& j, Io& io, Observer* obs, const std::string& comman
     std::vector<std::vector<std::string>> facts = {
         {"CL points in material", std::to_string(s.figures.error.points), "cl_points"},
         {"machining time", report::clock(s.time.program.total_s), "machining_time"}};
+    for (auto& w : detail::workpiece_facts(j, s.figures)) facts.push_back(std::move(w));
     rec.finish(j, s.figures, s.summary, std::move(facts), "simulate", command, s.measured ? &*s.measured : nullptr);
   }
   return s;

@@ -10,6 +10,8 @@
 
 #include "deflex/job/run.hpp"
 #include "deflex/job/workpiece.hpp"
+#include "deflex/report/json.hpp"
+#include "deflex/report/recorder.hpp"
 
 namespace deflex::job::detail {
 
@@ -23,7 +25,8 @@ struct WorkpiecePlan {
   std::vector<stiffness::Fixture> fixtures;
   stiffness::Material elastic;
   stiffness::WorkpieceOptions options;
-  double spacing_mm = kDefaultFieldSpacingMm;
+  double spacing_mm = kDefaultFieldSpacingMm;  // the finest spacing tried
+  bool spacing_given = false;                  // given: the only one tried
 };
 
 // The settings' checks, then the material's elastic constants, the part's
@@ -36,5 +39,13 @@ std::optional<WorkpiecePlan> plan_workpiece(const Run& j);
 // "workpiece". Null, with a warning, where no tool reaches the part.
 std::shared_ptr<const WorkpieceInCut> build_workpiece(Run& j, const WorkpiecePlan& plan, Io& io,
                                                       const compensate::Progress& progress);
+
+// summary.json's "workpiece" (null without one): the model, its field and
+// check, the contacts outside the field, the tool's and the workpiece's
+// largest share of the error; and the note that says them after a run.
+report::Json workpiece_json(const Run& j, const report::RunFigures& f);
+void print_workpiece_shares(const Run& j, const report::RunFigures& f, Io& io);
+// report.html's key figures of the workpiece (none without one).
+std::vector<std::vector<std::string>> workpiece_facts(const Run& j, const report::RunFigures& f);
 
 }  // namespace deflex::job::detail

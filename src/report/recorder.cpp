@@ -199,6 +199,11 @@ struct Recorder::Impl {
     peak_force_N = std::max(peak_force_N, p.peak_N);
     force_sum += f;
     peak_deflection_mm = std::max(peak_deflection_mm, p.delta_mm.norm());
+    if (opt.workpiece) {
+      const double w = -p.workpiece_delta_mm.dot(p.normal);
+      keep_larger(workpiece_share, w, p.line);
+      keep_larger(tool_share, p.error_mm - w, p.line);
+    }
     peak_mrr = std::max(peak_mrr, p.mrr_mm3_per_s);
     peak_power_kW = std::max(peak_power_kW, p.power_kW);
     peak_torque_Nm = std::max(peak_torque_Nm, p.torque_Nm);
@@ -211,6 +216,10 @@ struct Recorder::Impl {
     d_eff_sum += p.d_eff_mm;
     area_sum += p.cwe_area_mm2;
     if (page) page->add(p, contact(p), path_mm, error, as_written, c);
+  }
+
+  static void keep_larger(RunFigures::Share& s, double v_mm, std::uint32_t line) {
+    if (std::fabs(v_mm) > std::fabs(s.largest_mm)) s.largest_mm = v_mm, s.line = line;
   }
 
   void csv_row(const compensate::Point& p, double error, double as_written, double on, const process::CuspResult& c) {
@@ -298,6 +307,8 @@ struct Recorder::Impl {
     f.cusp = cusp_stats.stats();
     f.peak_force_N = peak_force_N;
     f.peak_deflection_mm = peak_deflection_mm;
+    f.workpiece_share = workpiece_share;
+    f.tool_share = tool_share;
     f.peak_mrr_mm3_per_s = peak_mrr;
     f.peak_power_kW = peak_power_kW;
     f.peak_torque_Nm = peak_torque_Nm;
@@ -342,6 +353,7 @@ struct Recorder::Impl {
   std::size_t cutting = 0;
   double peak_force_N = 0, force_sum = 0, peak_deflection_mm = 0, peak_mrr = 0, d_eff_sum = 0, area_sum = 0;
   double peak_power_kW = 0, peak_torque_Nm = 0, worst_ap_over_limit = 0;
+  RunFigures::Share workpiece_share, tool_share;
   std::size_t above_limit = 0, stability_checked = 0;
   bool any_flank = false;
   std::map<interp::Fixed, RunFigures::LeftAlone> left_alone;

@@ -29,9 +29,30 @@ namespace {
 const double kSameFace = std::cos(WorkpieceField::kSameFaceDeg * 3.14159265358979323846 / 180);
 }  // namespace
 
+std::vector<Compliance> compliances(const WorkpieceModel& model, const std::vector<V3>& points_mm,
+                                    SolvedCompliances* solved, const std::function<void(double)>& progress) {
+  auto key = [](const V3& p) { return std::make_tuple(p.x(), p.y(), p.z()); };
+  std::vector<V3> todo;
+  for (const V3& p : points_mm)
+    if (!solved || !solved->count(key(p))) todo.push_back(p);
+  SolvedCompliances local;
+  SolvedCompliances& into = solved ? *solved : local;
+  // In chunks of a few batches, for the progress.
+  const std::size_t chunk = 4 * WorkpieceModel::kBatchPoints;
+  for (std::size_t b = 0; b < todo.size(); b += chunk) {
+    const std::vector<V3> some(todo.begin() + static_cast<std::ptrdiff_t>(b),
+                               todo.begin() + static_cast<std::ptrdiff_t>(std::min(todo.size(), b + chunk)));
+    for (const PointCompliance& pc : model.compliance_at(some)) into[key(pc.point_mm)] = pc.matrix_mm_per_N;
+    if (progress) progress(double(std::min(todo.size(), b + chunk)) / todo.size());
+  }
+  std::vector<Compliance> c;
+  for (const V3& p : points_mm) c.push_back(into.at(key(p)));
+  return c;
+}
+
 WorkpieceField::WorkpieceField(const WorkpieceModel& model, const std::vector<V3>& points_mm,
                                const std::vector<V3>& normals, double spacing_mm,
-                               const std::function<void(double)>& progress)
+                               const std::function<void(double)>& progress, SolvedCompliances* solved)
     : h_(spacing_mm) {
   if (!(spacing_mm > 0)) throw Error(ErrorKind::settings, "workpiece field: the node spacing must be > 0 mm");
   if (normals.size() != points_mm.size()) throw Error(ErrorKind::internal, "workpiece field: a normal per point");
@@ -43,21 +64,13 @@ WorkpieceField::WorkpieceField(const WorkpieceModel& model, const std::vector<V3
     node_mm_.push_back(points_mm[i]);
     normal_.push_back(normals[i]);
   }
-  // In chunks of a few batches, for the progress.
-  const std::size_t chunk = 4 * WorkpieceModel::kBatchPoints;
-  for (std::size_t b = 0; b < node_mm_.size(); b += chunk) {
-    const std::vector<V3> some(node_mm_.begin() + b, node_mm_.begin() + std::min(node_mm_.size(), b + chunk));
-    for (const PointCompliance& pc : model.compliance_at(some)) c_.push_back(pc.matrix_mm_per_N);
-    if (progress) progress(double(c_.size()) / node_mm_.size());
-  }
+  c_ = compliances(model, node_mm_, solved, progress);
 }
 
-Compliance WorkpieceField::at(const V3& p, const V3& normal, bool* covered) const {
-  if (node_mm_.empty()) throw Error(ErrorKind::internal, "workpiece field: no nodes");
+void WorkpieceField::near_nodes(const V3& p, const V3& normal, std::vector<std::size_t>& near) const {
   const double r = 2 * h_;
   const auto i0 = static_cast<std::int64_t>(std::floor(p.x() / h_)), j0 = static_cast<std::int64_t>(std::floor(p.y() / h_)),
              k0 = static_cast<std::int64_t>(std::floor(p.z() / h_));
-  thread_local std::vector<std::size_t> near;
   near.clear();
   for (std::int64_t i = i0 - 2; i <= i0 + 2; ++i)
     for (std::int64_t j = j0 - 2; j <= j0 + 2; ++j)
@@ -67,6 +80,21 @@ Compliance WorkpieceField::at(const V3& p, const V3& normal, bool* covered) cons
         for (std::size_t n : it->second)
           if ((node_mm_[n] - p).norm() <= r && normal_[n].dot(normal) >= kSameFace) near.push_back(n);
       }
+}
+
+double WorkpieceField::node_distance_mm(const V3& p, const V3& normal) const {
+  thread_local std::vector<std::size_t> near;
+  near_nodes(p, normal, near);
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t n : near) d = std::min(d, (node_mm_[n] - p).norm());
+  return d;
+}
+
+Compliance WorkpieceField::at(const V3& p, const V3& normal, bool* covered) const {
+  if (node_mm_.empty()) throw Error(ErrorKind::internal, "workpiece field: no nodes");
+  const double r = 2 * h_;
+  thread_local std::vector<std::size_t> near;
+  near_nodes(p, normal, near);
   if (covered) *covered = !near.empty();
   std::size_t best = 0;
   double best_d = std::numeric_limits<double>::infinity();

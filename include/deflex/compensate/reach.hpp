@@ -48,7 +48,8 @@ class ToolReach {
 
   // Points on the triangles at most spacing_mm apart (each triangle's
   // vertices, and a grid over it), those a tool reaches, with their facet's
-  // normal (outward: the triangles counter-clockwise seen from outside).
+  // normal (outward: the triangles counter-clockwise seen from outside); one
+  // per cell of spacing_mm and face.
   std::vector<FacetPoint> reached_points(const std::vector<stock::Triangle>& surface, double spacing_mm) const;
 
   std::size_t tips() const { return tips_; }

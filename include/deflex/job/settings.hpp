@@ -41,7 +41,8 @@ struct PartSettings {
 struct Workholding {
   std::vector<std::string> fixtures;  // box:X0,Y0,Z0,X1,Y1,Z1 each, mm: the part's surface inside is held
   double mesh_mm = 0;                 // the part's element size (0: half its thinnest wall)
-  double spacing_mm = 0;              // between the nodes of the compliance field (0: kDefaultFieldSpacingMm)
+  double spacing_mm = 0;              // between the nodes of the compliance field (0: the coarsest of
+                                      // 4, 2 and 1 x kDefaultFieldSpacingMm whose field holds against the FEM)
 };
 inline constexpr double kDefaultFieldSpacingMm = 3;
 

@@ -45,7 +45,8 @@ struct WorkpieceFigures {
   stiffness::Material elastic;
   stiffness::WorkpieceInfo mesh;
   std::size_t reached_points = 0;  // surface points the program's tools reach
-  std::size_t nodes = 0;           // where the FEM was solved
+  std::size_t nodes = 0;           // of the field kept
+  std::size_t solved = 0;          // points the FEM was solved at: the nodes of every spacing tried, the checks
   double spacing_mm = 0;
   double nodes_seconds = 0;        // solving the nodes
   double largest_mm_per_N = 0;  // the field's largest entry

@@ -117,6 +117,14 @@ struct RunFigures {
     double largest_mm = 0;  // the largest |error| among them
   };
   std::map<interp::Fixed, LeftAlone> left_alone;
+  // With a workpiece model (RecorderOptions::workpiece): the deflection
+  // along the normal split into the workpiece's share (-delta_w . n) and the
+  // tool's (the rest), each's largest magnitude (signed) and its line.
+  struct Share {
+    double largest_mm = 0;
+    std::uint32_t line = 0;
+  };
+  Share workpiece_share, tool_share;
 };
 
 // A grid of the top view: per cell the design surface's height and, per map,
