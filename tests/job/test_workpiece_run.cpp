@@ -117,6 +117,15 @@ TEST_SUITE("job") {
     REQUIRE_MESSAGE(a.ok(), a.what);
     REQUIRE_MESSAGE(b.ok(), b.what);
     CHECK(has(b.err, "workpiece: "));
+    {
+      // Read in pieces (the program walked once more for the reach): the same points.
+      const test::PieceLines pieces("8");
+      job::Settings in_pieces = held;
+      in_pieces.report_dir = (dir.p / "pieces").string();
+      const auto c = test::simulate_job(in_pieces);
+      REQUIRE_MESSAGE(c.ok(), c.what);
+      CHECK(test::read_file(in_pieces.report_dir + "/points.csv") == test::read_file(held.report_dir + "/points.csv"));
+    }
     const auto ra = read_points(rigid.report_dir + "/points.csv"), rb = read_points(held.report_dir + "/points.csv");
     REQUIRE(ra.size() == rb.size());
     double largest_share = 0;
