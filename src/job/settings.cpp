@@ -7,6 +7,7 @@
 
 #include "deflex/job/setup.hpp"
 #include "deflex/profile/yaml.hpp"
+#include "deflex/stiffness/workpiece.hpp"
 
 namespace deflex::job {
 namespace fs = std::filesystem;
@@ -32,12 +33,25 @@ std::vector<EarlierOp> earlier_of_job(const yaml::Map& job, const std::function<
   return ops;
 }
 
-// `fixture:` of a job: one box:X0,Y0,Z0,X1,Y1,Z1, or a list of them.
+// `fixture:` of a job: one box:X0,Y0,Z0,X1,Y1,Z1, or a list of them, each
+// parsed here to fail at its line (in a flow list [..] an unquoted box's
+// commas split it into items).
 std::vector<std::string> fixtures_of_job(const yaml::Map& job) {
   const YAML::Node n = job.get("fixture");
-  if (!n.IsSequence()) return {job.text("fixture")};
+  std::vector<YAML::Node> items;
+  if (n.IsSequence())
+    for (const YAML::Node& b : n) items.push_back(b);
+  else
+    items.push_back(n);
   std::vector<std::string> boxes;
-  for (const YAML::Node& b : n) boxes.push_back(yaml::text(b, "fixture", job.file()));
+  for (const YAML::Node& b : items) {
+    boxes.push_back(yaml::text(b, "fixture", job.file()));
+    try {
+      stiffness::parse_fixture(boxes.back());
+    } catch (const Error& e) {
+      job.fail(b, std::string(e.what()) + " (quote a box in a [..] list: 'box:0,0,0,1,1,1')");
+    }
+  }
   return boxes;
 }
 

@@ -67,4 +67,27 @@ TEST_SUITE("job") {
     test::write_file(d / "bad.yaml", "program: x.nc\nstokc: box:0,0,0,1,1,1\n");
     CHECK(job_error(d / "bad.yaml").find(d / "bad.yaml" + ":2:1: error: unknown key 'stokc' in job") != std::string::npos);
   }
+
+  TEST_CASE("job file: fixture as one box or a list, and the workpiece's mesh and spacing; a negative size at its line") {
+    test::TempDir d("job");
+    test::write_file(d / "one.yaml", "program: x.nc\nfixture: box:0,0,0,1,1,1\n");
+    CHECK(from_job(d / "one.yaml").workholding.fixtures == std::vector<std::string>{"box:0,0,0,1,1,1"});
+    test::write_file(d / "two.yaml",
+                     "program: x.nc\nfixture: ['box:0,0,0,1,1,1', 'box:2,2,2,3,3,3']\nworkpiece_mesh_mm: 2\nworkpiece_spacing_mm: 5\n");
+    const job::Settings s = from_job(d / "two.yaml");
+    CHECK(s.workholding.fixtures == std::vector<std::string>{"box:0,0,0,1,1,1", "box:2,2,2,3,3,3"});
+    CHECK(s.workholding.mesh_mm == 2);
+    CHECK(s.workholding.spacing_mm == 5);
+    // Given before the job is read: the given fixtures win.
+    job::Settings given;
+    given.workholding.fixtures = {"box:9,9,9,10,10,10"};
+    CHECK(from_job(d / "two.yaml", given).workholding.fixtures == given.workholding.fixtures);
+    test::write_file(d / "bad.yaml", "program: x.nc\nfixture: box:0,0,0,1,1,1\nworkpiece_mesh_mm: -1\n");
+    CHECK(job_error(d / "bad.yaml").find(d / "bad.yaml" + ":3:") != std::string::npos);
+    // A box unquoted in a flow list falls apart at its commas: an error at the list.
+    test::write_file(d / "flow.yaml", "program: x.nc\nfixture: [box:0,0,0,1,1,1]\n");
+    const std::string e = job_error(d / "flow.yaml");
+    CHECK(e.find(d / "flow.yaml" + ":2:") != std::string::npos);
+    CHECK(e.find("quote a box") != std::string::npos);
+  }
 }
