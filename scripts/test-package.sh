@@ -21,6 +21,9 @@ echo "== deflex compensate the installed sample"
 deflex compensate /usr/share/deflex/samples/programs/six_surfaces.nc \
   --stock /usr/share/deflex/samples/stock/six_surfaces_stock.stl -o /tmp/six_surfaces_comp.nc
 test -s /tmp/six_surfaces_comp.nc
+echo "== the workpiece's compliance (gmsh and the CHOLMOD plugin as installed)"
+deflex stiffness --part /usr/share/deflex/samples/parts/thin_wall.stl --fixture box:-1,-1,-41,101,61,-39.9 \
+  --at 50,2,0 --material Al7075-T6 --mesh-mm 4 | grep 'principal' -A1
 echo "== import deflex (Debian's python3 finds /usr/lib/python3/dist-packages)"
 /usr/bin/python3 -c "import deflex; print(deflex.data_dir()); print(deflex.compliance('T5', machine='mill3', heights_mm=[0]).matrix_mm_per_N[0, 0, 0], 'mm/N')"
 echo "== man deflex-compensate"
