@@ -37,6 +37,12 @@ ToolReach::ToolReach(double margin_mm) : margin_(margin_mm) {
 
 ToolReach::Key ToolReach::column(std::int64_t i, std::int64_t j) const { return (i + kSpan / 2) * kSpan + (j + kSpan / 2); }
 
+// Cells within +-2^20 of the origin (at 0.5 mm, half a kilometre) pack into one key.
+ToolReach::Key ToolReach::cell_key(std::int64_t i, std::int64_t j, std::int64_t k) {
+  constexpr std::int64_t span = std::int64_t{1} << 21;
+  return ((i + span / 2) * span + (j + span / 2)) * span + (k + span / 2);
+}
+
 void ToolReach::add(const std::vector<interp::Motion>& motions, const stiffness::ToolLibrary& tools,
                     const std::function<std::string(const interp::Motion&)>& tool_of, const engage::PathOptions& path) {
   const double q = 0.5 * margin_;
@@ -49,12 +55,10 @@ void ToolReach::add(const std::vector<interp::Motion>& motions, const stiffness:
     const auto r = static_cast<float>(0.5 * t.diameter_mm);
     const auto l = static_cast<float>(std::min(t.flute_length_mm, t.stickout_mm));
     reach_mm_ = std::max(reach_mm_, r + margin_);
-    const std::size_t tool_hash = std::hash<std::string>()(id);
+    std::unordered_set<Key>& seen = seen_[id];
     for (const engage::Point3& v : engage::motion_vertices(m, path)) {
-      const std::size_t h = tool_hash ^ (static_cast<std::size_t>(cell(v[0], q)) * 73856093u) ^
-                            (static_cast<std::size_t>(cell(v[1], q)) * 19349663u) ^
-                            (static_cast<std::size_t>(cell(v[2], q)) * 83492791u);
-      if (!seen_.insert(h).second) continue;  // a tip (of this tool) this close is in already
+      const Key h = cell_key(cell(v[0], q), cell(v[1], q), cell(v[2], q));
+      if (!seen.insert(h).second) continue;  // a tip of this tool this close is in already
       columns_[column(cell(v[0], kColumnMm), cell(v[1], kColumnMm))].push_back(
           {Eigen::Vector3f(static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])), r, l,
            t.type == stock::EndShape::ball});
@@ -84,13 +88,10 @@ std::vector<FacetPoint> ToolReach::reached_points(const std::vector<stock::Trian
   std::vector<FacetPoint> out;
   // One point per cell of spacing_mm and face (normals within 30 deg): a
   // finely faceted surface gives every vertex once per facet round it.
-  std::unordered_map<std::size_t, std::vector<std::size_t>> kept;
+  std::unordered_map<Key, std::vector<std::size_t>> kept;
   const double same_face = std::cos(30 * 3.14159265358979323846 / 180);
   auto keep = [&](const V3& p, const V3& n) {
-    const std::size_t h = (static_cast<std::size_t>(cell(p.x(), spacing_mm)) * 73856093u) ^
-                          (static_cast<std::size_t>(cell(p.y(), spacing_mm)) * 19349663u) ^
-                          (static_cast<std::size_t>(cell(p.z(), spacing_mm)) * 83492791u);
-    std::vector<std::size_t>& in = kept[h];
+    std::vector<std::size_t>& in = kept[cell_key(cell(p.x(), spacing_mm), cell(p.y(), spacing_mm), cell(p.z(), spacing_mm))];
     for (std::size_t i : in)
       if (out[i].normal.dot(n) >= same_face) return;
     if (!reaches(p, n)) return;

@@ -66,7 +66,8 @@ class ToolReach {
   Key column(std::int64_t i, std::int64_t j) const;
   double margin_ = 1, reach_mm_ = 0;  // reach_mm_: the largest radius + margin added
   std::size_t tips_ = 0;
-  std::unordered_set<std::size_t> seen_;  // a tip at half-margin resolution, with its tool
+  static Key cell_key(std::int64_t i, std::int64_t j, std::int64_t k);
+  std::unordered_map<std::string, std::unordered_set<Key>> seen_;  // per tool, its tips at half-margin resolution
   std::unordered_map<Key, std::vector<Tip>> columns_;
 };
 
