@@ -51,16 +51,17 @@ PartGaps part_gaps(const std::vector<interp::Motion>& motions, const part::PartM
                    const engage::PathOptions& path, double gap_mm, double reach_mm) {
   PartGaps g;
   V3 feed = V3::UnitX();
+  struct Sample {
+    part::Contact c;
+    V3 travel;
+  };
+  std::vector<Sample> at;  // one motion's, the storage kept from motion to motion
   for (const interp::Motion& m : motions) {
     if (m.kind == interp::MotionKind::rapid) continue;
     auto it = tools.tools.find(tool_of(m));
     if (it == tools.tools.end()) continue;  // the simulation reports a missing tool
     const std::vector<engage::Point3> v = engage::motion_vertices(m, path);
-    struct Sample {
-      part::Contact c;
-      V3 travel;
-    };
-    std::vector<Sample> at;
+    at.clear();
     double gap_lo = std::numeric_limits<double>::infinity(), gap_hi = -gap_lo;
     for (std::size_t k = 1; k < v.size(); ++k) {
       const V3 tip(v[k][0], v[k][1], v[k][2]), prev(v[k - 1][0], v[k - 1][1], v[k - 1][2]);

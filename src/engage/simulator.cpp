@@ -16,6 +16,20 @@ namespace deflex::engage {
 
 namespace {
 
+// The sweeps a probe puts on the pending list for the call (an arc's chords,
+// the motions ahead) come off again however the call ends.
+class PendingForCall {
+ public:
+  explicit PendingForCall(std::vector<stock::LineSweep>& p) : p_(p), keep_(p.size()) {}
+  ~PendingForCall() { p_.erase(p_.begin() + static_cast<std::ptrdiff_t>(keep_), p_.end()); }
+  PendingForCall(const PendingForCall&) = delete;
+  PendingForCall& operator=(const PendingForCall&) = delete;
+
+ private:
+  std::vector<stock::LineSweep>& p_;
+  std::size_t keep_;
+};
+
 double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -246,7 +260,7 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
   const stock::LineSweep current = sweep_before(tool, m, v, static_cast<std::size_t>(k), o_.trim_mm);
   // An arc's chords before the sample are pending while it is evaluated; they
   // go on the pending list for the call and come off again.
-  const std::size_t keep = pend_.size();
+  const PendingForCall restore(pend_);
   if (!line)
     for (int c = 1; c < k; ++c) pend_.emplace_back(tool, v[static_cast<std::size_t>(c - 1)], v[static_cast<std::size_t>(c)]);
   // The sample as run() would make it, the feed direction carried over the
@@ -257,14 +271,7 @@ Metrics Simulator::probe(const interp::Motion& m, std::span<const Point3> v, int
   wait_commit_if(read_box(cl.point.tip_mm));
   const double t0 = now_s();
   const StockView view{&z_, std::span<const stock::LineSweep>(pend_.data(), pend_.size()), &current};
-  Metrics mt;
-  try {
-    mt = eng_.evaluate(view, cl.point, proc_, out);
-  } catch (...) {
-    pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
-    throw;
-  }
-  pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
+  const Metrics mt = eng_.evaluate(view, cl.point, proc_, out);
   t_engage_ += now_s() - t0;
   return mt;
 }
@@ -280,7 +287,7 @@ std::size_t Simulator::probe_ahead(std::span<const interp::Motion> ms, const Ahe
     Sample s;
   };
   std::vector<Ahead> todo;
-  const std::size_t keep = pend_.size();
+  const PendingForCall restore(pend_);
   std::array<double, 2> feed = feed_;
   double s = s_;
   const stock::ToolProfile& tool = eng_.tool();
@@ -323,22 +330,16 @@ std::size_t Simulator::probe_ahead(std::span<const interp::Motion> ms, const Ahe
     }
     work(a.i, a.k, a.s.cl, mt, eng);
   };
-  try {
-    if (o_.threads == 1 || todo.size() < 4) {
-      for (const Ahead& a : todo) one(a);
-    } else {
-      in_arena(arena_.get(), [&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                            for (std::size_t j = r.begin(); j != r.end(); ++j) one(todo[j]);
-                          });
-      });
-    }
-  } catch (...) {
-    pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
-    throw;
+  if (o_.threads == 1 || todo.size() < 4) {
+    for (const Ahead& a : todo) one(a);
+  } else {
+    in_arena(arena_.get(), [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t j = r.begin(); j != r.end(); ++j) one(todo[j]);
+                        });
+    });
   }
-  pend_.erase(pend_.begin() + static_cast<std::ptrdiff_t>(keep), pend_.end());
   t_engage_ += now_s() - t0;
   return covered;
 }

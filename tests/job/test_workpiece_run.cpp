@@ -5,8 +5,6 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <string>
 
 #include "support.hpp"
@@ -31,29 +29,6 @@ job::Settings thin_wall() {
 }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-// points.csv as columns by name, one row per point.
-std::vector<std::map<std::string, std::string>> read_points(const std::string& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::size_t a = 0, b; a <= line.size(); a = b + 1) {
-    b = std::min(line.find(',', a), line.size());
-    names.push_back(line.substr(a, b - a));
-  }
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(in, line)) {
-    std::map<std::string, std::string> r;
-    std::size_t k = 0;
-    for (std::size_t a = 0, b; a <= line.size() && k < names.size(); a = b + 1, ++k) {
-      b = std::min(line.find(',', a), line.size());
-      r[names[k]] = line.substr(a, b - a);
-    }
-    rows.push_back(r);
-  }
-  return rows;
-}
 
 }  // namespace
 
@@ -126,18 +101,15 @@ TEST_SUITE("job") {
       REQUIRE_MESSAGE(c.ok(), c.what);
       CHECK(test::read_file(in_pieces.report_dir + "/points.csv") == test::read_file(held.report_dir + "/points.csv"));
     }
-    const auto ra = read_points(rigid.report_dir + "/points.csv"), rb = read_points(held.report_dir + "/points.csv");
-    REQUIRE(ra.size() == rb.size());
+    const test::Csv ra = test::read_csv(rigid.report_dir + "/points.csv"), rb = test::read_csv(held.report_dir + "/points.csv");
+    REQUIRE(ra.rows.size() == rb.rows.size());
     double largest_share = 0;
-    for (std::size_t i = 0; i < ra.size(); ++i) {
-      CHECK(ra[i].at("workpiece_dy_mm").empty());  // no workpiece model: no column values
-      if (rb[i].at("workpiece_dy_mm").empty()) continue;  // a point in the air
-      const double wx = std::stod(rb[i].at("workpiece_dx_mm")), wy = std::stod(rb[i].at("workpiece_dy_mm")),
-                   wz = std::stod(rb[i].at("workpiece_dz_mm"));
-      const double nx = std::stod(rb[i].at("nx")), ny = std::stod(rb[i].at("ny")), nz = std::stod(rb[i].at("nz"));
-      const double share = -(wx * nx + wy * ny + wz * nz);
-      const double ea = std::stod(ra[i].at("surface_error_mm")), eb = std::stod(rb[i].at("surface_error_mm"));
-      CHECK(std::fabs(eb - (ea + share)) < 3e-6);  // points.csv's 6 decimals
+    for (std::size_t i = 0; i < ra.rows.size(); ++i) {
+      CHECK(ra.rows[i].at(ra.col("workpiece_dy_mm")).empty());  // no workpiece model: no column values
+      if (rb.rows[i].at(rb.col("workpiece_dy_mm")).empty()) continue;  // a point in the air
+      const double share = -(rb.num(i, "workpiece_dx_mm") * rb.num(i, "nx") + rb.num(i, "workpiece_dy_mm") * rb.num(i, "ny") +
+                             rb.num(i, "workpiece_dz_mm") * rb.num(i, "nz"));
+      CHECK(std::fabs(rb.num(i, "surface_error_mm") - (ra.num(i, "surface_error_mm") + share)) < 3e-6);  // 6 decimals
       largest_share = std::max(largest_share, share);
     }
     // The wall (2 mm, 35 mm high) gives way more than the tool: tens of um.
