@@ -308,11 +308,30 @@ class Stream {
     r_->split_points += static_cast<std::size_t>(chords - 1);
   }
 
+  // The largest |offset| along a normal: max_offset_mm less what rounding the
+  // written coordinates may add (half their last decimal on sqrt(3) axes).
+  double cap_mm(const interp::Motion& m) const {
+    const double rounding = m.inch ? s_.rounding_inch_mm : s_.rounding_mm;
+    return std::max(0.0, s_.max_offset_mm - std::sqrt(3.0) * rounding);
+  }
+
+  // How far a vertex at sample p could move its landing error from what the
+  // ramp `ramp` gives it: the offset along p's normal that zeroes the error,
+  // held to the cap. A split where this is small changes nothing: the ramp is
+  // not the cause, the offset is at its cap already. (The step limit is left
+  // out: where it holds a vertex back, the vertices before it, which the
+  // split brings, let the ramp start earlier.)
+  double split_reach_mm(const interp::Motion& m, const Point& p, const V3& ramp) const {
+    const double r = ramp.dot(p.normal), cap = cap_mm(m);
+    return std::fabs(std::clamp(r - landing_error(p, ramp), -cap, cap) - r);
+  }
+
   // The part [u0, u1] of linear motion m (parameters of the whole move), its
   // start at the current offset prev_. Its end offset is solved; where the
   // samples between land outside the tolerance under the straight ramp of the
-  // offsets and the move may be split, a vertex goes in at the worst sample and
-  // the part before it is done first (at most max_splits_per_move per move).
+  // offsets and the move may be split, a vertex goes in at the worst sample a
+  // vertex could bring at least half a tolerance closer, and the part before
+  // it is done first (at most max_splits_per_move per move).
   void piece(const interp::Motion& m, double u0, double u1, bool may_split, bool inserted = false) {
     const bool last = u1 == 1.0 && !inserted;
     for (;;) {
@@ -326,8 +345,9 @@ class Stream {
           if (p.air || p.plunge) continue;
           const double u = static_cast<double>(p.index) / p.count;
           if (m.comp && !comp_split_ok(m, u0, u1, u0 + u * (u1 - u0), s_.max_step_mm)) continue;
-          const double res = std::fabs(landing_error(p, prev_ + u * (off - prev_)));
-          if (res > worst) {
+          const V3 ramp = prev_ + u * (off - prev_);
+          const double res = std::fabs(landing_error(p, ramp));
+          if (res > worst && split_reach_mm(m, p, ramp) >= 0.5 * s_.tolerance_mm) {
             worst = res;
             at = u0 + u * (u1 - u0);
           }
@@ -356,10 +376,7 @@ class Stream {
     if (!p0.air && !p0.plunge && p0.normal_source != NormalSource::undetermined &&
         std::fabs(p0.error_mm) > s_.tolerance_mm) {
       const V3 n = p0.normal;
-      // Each written coordinate may round away by half its last decimal: the
-      // displacement as written stays within max_offset_mm (sqrt(3) axes).
-      const double rounding = m.inch ? s_.rounding_inch_mm : s_.rounding_mm;
-      const double g = s_.gain, cap = std::max(0.0, s_.max_offset_mm - std::sqrt(3.0) * rounding);
+      const double g = s_.gain, cap = cap_mm(m);
       // Root of h(s) = s + g e(s) by secant steps from s0 = 0 and a first step
       // that uses the slope de/ds of the previous point (neighbours cut alike).
       // The force model is piecewise smooth (a slice entering the cut adds its

@@ -256,9 +256,9 @@ class Aligner {
   }
 
   // Blocks inserted before one move that the look-ahead considers: twice
-  // what deflex writes (Settings::max_splits_per_move, 8); arc chords never
+  // what deflex writes (Settings::max_splits_per_move, 32); arc chords never
   // pair with the arc, so they raise no question.
-  static constexpr Line kMaxInserts = 16;
+  static constexpr Line kMaxInserts = 64;
   static constexpr Line kWindowA = 8;  // A lines the alignment looks ahead
   // The cost of a line only in A or only in B (not on the next move): more
   // than any pairing or split within reach, so the alignment makes one only

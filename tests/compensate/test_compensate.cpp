@@ -324,6 +324,44 @@ TEST_CASE("split moves: the entry and exit of a long wall pass land inside the t
                   Error);
 }
 
+TEST_CASE("split moves: none where the offset stands at its cap (a vertex there would change nothing)") {
+  // The side-wall sample's pass (the D12 flat T6 of the sample library
+  // 12 mm deep, a_e 2.5 mm): the wall deflects 0.17 mm, over the cap of
+  // 0.1 mm, so along the middle of the pass the offset stands at the cap and
+  // the straight ramp between two capped vertices lands every sample as well
+  // as a vertex would. Vertices go where the offset changes: its ramps into
+  // and out of the cap, max_step_mm at a time.
+  const char* kDeep =
+      "%\nO0002\nN1 G21 G90 G17 G40 G49 G80 G54\nN2 T6 M06\nN3 S6366 M03\nN4 G00 X-10. Y3.5 Z5.\n"
+      "N5 G01 Z-12. F2546.4\nN6 X110.\nN7 G00 Z5.\nN8 M30\n%\n";
+  Fixture f;
+  gcode::Program prog{SourceText("deep.nc", kDeep)};
+  const test::Interpreted in = test::interpret_text(kDeep);
+  REQUIRE(in.errors == 0);
+  stock::ZMap box = stock::make_stock("box:0,-40,-30,100,0,0", {});
+  f.ph.stock = &box;
+  f.s.tolerance_mm = 0.01;
+  f.s.max_splits_per_move = 1000;  // no budget: only the placement rule limits them
+  const std::vector<bool> split_ok = compensate::splittable(prog, in.motions);
+  const auto r = compensate::compensate(in.motions, f.ph, f.s, {}, &split_ok);
+  double largest_mm = 0;
+  for (const V3& o : r.offsets) largest_mm = std::max(largest_mm, o.norm());
+  REQUIRE(largest_mm > 0.9 * f.s.max_offset_mm);
+  // Inserted vertices whose offset equals both neighbours' (flat: nothing changes there).
+  std::size_t flat = 0;
+  for (std::size_t i = 1; i + 1 < r.motions.size(); ++i)
+    if (r.inserted[i] && (r.offsets[i] - r.offsets[i - 1]).norm() < 1e-12 &&
+        (r.offsets[i + 1] - r.offsets[i]).norm() < 1e-12)
+      ++flat;
+  MESSAGE("capped pass: ", r.split_points, " vertices inserted, ", flat, " of them flat");
+  // At most one ramp's worth flat at each end of the capped stretch (placed
+  // before the ramp had climbed); a vertex at every sample of the capped
+  // 100 mm (200 samples) is what a rule blind to the cap writes.
+  const auto ramp = static_cast<std::size_t>(std::ceil(f.s.max_offset_mm / f.s.max_step_mm));
+  CHECK(flat <= 2 * ramp);
+  CHECK(r.split_points <= 6 * ramp);
+}
+
 TEST_CASE("an arc whose compensation varies is linearised: G1 chords, the arc block keeps the last piece") {
   // Along the wall of the fixture, an arc bulging 2 mm away from it: a_e falls
   // from 2 mm at its ends to nothing in the middle, so moving it whole by one

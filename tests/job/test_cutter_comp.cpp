@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -146,23 +147,31 @@ TEST_SUITE("job") {
                            << " mm from the control's centre path");
     test::check_deflection_physics(test::read_csv(dir / "onpath/points.csv"), 0.01);
     // The D words and the G41 blocks stay as written; the face moved into
-    // the material (-Y) in down-milling, as the centre path did (Y3.421 at
-    // its end); the end's X so that the control's perpendicular to the last
-    // part (turned by 0.02 mm over 14.9 mm) lands on X110. The digits are a
-    // regression snapshot of deflex's output; the physics is checked on
-    // points.csv above, and here the face's offset is the centre's, into the
-    // material (the face at Y-2.5, the centre at Y3.5 as written).
+    // the material (-Y) in down-milling, as the centre path did, and back out
+    // before the pass leaves the stock (the centre's N24 as written); the
+    // end's X so that the control's perpendicular to the last part (turned by
+    // 0.02 mm over 10.4 mm) lands on X110. The digits are a regression
+    // snapshot of deflex's output; the physics is checked on points.csv
+    // above, and here the face's deepest offset in the pass is the centre's,
+    // into the material (the face at Y-2.5, the centre at Y3.5 as written).
     const std::string written = test::read_file(out41);
     CHECK(written.find("N22 G41 D6 X-10. Y-2.5\n") != std::string::npos);
     CHECK(written.find("N34 G41 D6 X-10. Y-5.\n") != std::string::npos);
-    CHECK(written.find("N24 X110.008 Y-2.579 F2546.4\n") != std::string::npos);
-    CHECK(test::read_file(outc).find("N24 X110. Y3.421 F2546.4\n") != std::string::npos);
-    auto end_y_mm = [](const std::string& program) {
-      std::smatch m;
-      REQUIRE(std::regex_search(program, m, std::regex(R"(\nN24 X[0-9.]+ Y(-?[0-9.]+) )")));
-      return std::stod(m[1]);
+    CHECK(written.find("N24 X110.011 Y-2.519 F2546.4\n") != std::string::npos);
+    CHECK(test::read_file(outc).find("N24 X110. F2546.4\n") != std::string::npos);
+    // The least Y written between N22 and N24 (the first pass).
+    auto deepest_y_mm = [](const std::string& program) {
+      const std::size_t from = program.find("\nN22 "), to = program.find("\nN24 ");
+      REQUIRE(from < to);
+      const std::string pass = program.substr(from, to - from);
+      double y = std::numeric_limits<double>::infinity();
+      const std::regex word(R"(Y(-?[0-9.]+))");
+      for (auto it = std::sregex_iterator(pass.begin(), pass.end(), word); it != std::sregex_iterator(); ++it)
+        y = std::min(y, std::stod((*it)[1]));
+      return y;
     };
-    const double face_offset_mm = end_y_mm(written) - -2.5, centre_offset_mm = end_y_mm(test::read_file(outc)) - 3.5;
+    const double face_offset_mm = deepest_y_mm(written) - -2.5,
+                 centre_offset_mm = deepest_y_mm(test::read_file(outc)) - 3.5;
     CHECK(face_offset_mm == doctest::Approx(centre_offset_mm));
     CHECK(face_offset_mm < 0);
   }

@@ -72,7 +72,7 @@ struct Settings {
   double slice_mm = 0.2;        // axial slice height of the force model
   int force_steps = 90;         // angular steps per revolution
   int threads = 0;              // 0: all cores
-  int max_splits_per_move = 8;  // points inserted into one move at most
+  int max_splits_per_move = 32;  // points inserted into one move at most
   double chord_tol_mm = 0.001;  // sagitta of the chords of a linearised arc
   double feed_limit_N = 0;      // > 0: lower F where the peak force would exceed it
   std::string tool_override;    // use this tool whatever the T words say
