@@ -169,6 +169,7 @@ const std::vector<Field>& fields() {
       fixture_field(),
       number_field("workpiece_mesh_mm", DEFLEX_REF(workholding.mesh_mm)),
       number_field("workpiece_spacing_mm", DEFLEX_REF(workholding.spacing_mm)),
+      int_field<int>("workpiece_stages", DEFLEX_REF(workholding.stages)),
       path_field("tool_file", DEFLEX_REF(tool_file)),
       path_field("tool", DEFLEX_REF(tool)),
       path_field("stock", DEFLEX_REF(stock)),

@@ -179,7 +179,11 @@ void describe(po::options_description& d, job::Settings& a, bool& help, std::str
       ("workpiece-spacing", po::value(&a.workholding.spacing_mm)->value_name("MM"),
        "with --fixture: the part's compliance is solved at nodes this far apart on the surface the program reaches "
        "and interpolated between them, mm (default: the coarsest of 12, 6 and 3 whose field is within 2 % of the "
-       "FEM where least sure)");
+       "FEM where least sure)")
+      ("workpiece-stages", po::value(&a.workholding.stages)->value_name("N"),
+       "with --fixture: the workpiece is the in-process stock, meshed at N moments (the starts of N equal groups of "
+       "the program's passes; material still to come off stiffens it), instead of the finished part throughout "
+       "(default 0). Each stage costs a mesh and a factorisation (docs/physics.md)");
   add_material_options(d, a.material);
   add_read_options(d, a.read);
 }

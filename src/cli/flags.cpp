@@ -17,7 +17,7 @@ std::string flag_of(std::string_view keyword) {
       {"material", "--material"}, {"material_file", "--material-file"}, {"kt_N_per_mm2", "--kt"},
       {"kr_N_per_mm2", "--kr"}, {"ka_N_per_mm2", "--ka"}, {"kte_N_per_mm", "--kte"}, {"kre_N_per_mm", "--kre"},
       {"kae_N_per_mm", "--kae"}, {"part", "--part"}, {"part_gap_mm", "--part-gap"}, {"fixture", "--fixture"},
-      {"workpiece_mesh_mm", "--workpiece-mesh"}, {"workpiece_spacing_mm", "--workpiece-spacing"}, {"tool_file", "--tool-file"},
+      {"workpiece_mesh_mm", "--workpiece-mesh"}, {"workpiece_spacing_mm", "--workpiece-spacing"}, {"workpiece_stages", "--workpiece-stages"}, {"tool_file", "--tool-file"},
       {"tool", "--tool"}, {"stock", "--stock"}, {"stock_from", "--stock-from"}, {"tolerance_mm", "--tolerance"},
       {"gain", "--gain"}, {"feed_limit_N", "--feed-limit"}, {"spindle_rpm", "--spindle"},
       {"feed_mm_per_min", "--feed"}, {"cell_mm", "--cell-mm"}, {"cl_spacing_mm", "--cl-spacing"},

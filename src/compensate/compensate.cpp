@@ -198,9 +198,9 @@ FeedLimits feed_limits(const Physics& ph, const Settings& s) {
 // -delta_w . n. A flank cut's e(z) shifts by it as a whole: the part's
 // compliance at one point, not how the wall bends between heights (a thin
 // wall's top gives way more than its foot under the same load).
-void add_workpiece(Point& p, const ToolModel& tm, const WorkpieceCompliance& w) {
+void add_workpiece(Point& p, const ToolModel& tm, const WorkpieceCompliance& w, std::size_t motion) {
   const V3 at = p.flank ? flank_point(p, tm.tool, p.height_mm) : contact_point(p, tm.tool);
-  p.workpiece_delta_mm = w.at(at, p.normal) * V3(-p.force_N);
+  p.workpiece_delta_mm = w.at(at, p.normal, motion) * V3(-p.force_N);
   const double shift = -p.workpiece_delta_mm.dot(p.normal);
   p.error_mm += shift;
   if (!p.flank) return;
@@ -251,7 +251,7 @@ Point point_of(const engage::CLSample& cl, const engage::Metrics& mt, const forc
   p.delta_mm = tm.compliance.at(p.height_mm) * p.force_N;
   p.error_mm = p.delta_mm.dot(p.normal);
   if (tm.flank_c.n && flank_cut(mt, tm.tool)) flank_profile(p, cl, mt, eng, tm, k, fz, keep_profile);
-  if (workpiece) add_workpiece(p, tm, *workpiece);
+  if (workpiece) add_workpiece(p, tm, *workpiece, index);
   return p;
 }
 

@@ -6,12 +6,12 @@
 namespace deflex {
 namespace {
 
-constexpr std::array<std::string_view, 55> kKeywords = {
+constexpr std::array<std::string_view, 56> kKeywords = {
     // The job's settings (include/deflex/job/settings.hpp), as Python names them.
     "program", "output", "reference", "report_dir", "dialect", "machine", "config", "max_errors", "block_delete",
     "strict", "max_blocks", "material", "material_file", "kt_N_per_mm2", "kr_N_per_mm2", "ka_N_per_mm2",
     "kte_N_per_mm", "kre_N_per_mm", "kae_N_per_mm", "part", "part_gap_mm", "fixture", "workpiece_mesh_mm",
-    "workpiece_spacing_mm", "tool_file", "tool", "stock",
+    "workpiece_spacing_mm", "workpiece_stages", "tool_file", "tool", "stock",
     "stock_from", "tolerance_mm", "gain", "feed_limit_N", "spindle_rpm", "feed_mm_per_min", "cell_mm",
     "cl_spacing_mm", "max_iterations", "threads", "tool_only", "expand_subprograms", "measured", "probe_program",
     "measured_reach_mm",

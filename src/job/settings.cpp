@@ -61,7 +61,7 @@ void apply_job_file(const std::string& file, Settings& a, std::vector<std::strin
   const YAML::Node root = yaml::load_text(yaml::read_file(file), file);
   const yaml::Map m(root, "job", file,
                     {"program", "machine", "dialect", "tool_file", "tool", "material", "material_file", "stock",
-                     "stock_from", "part", "fixture", "workpiece_mesh_mm", "workpiece_spacing_mm", "tolerance_mm", "gain", "output", "report", "measured", "probe_program"});
+                     "stock_from", "part", "fixture", "workpiece_mesh_mm", "workpiece_spacing_mm", "workpiece_stages", "tolerance_mm", "gain", "output", "report", "measured", "probe_program"});
   const fs::path dir = fs::path(file).parent_path();
   // A path of the job is relative to the job's folder (the file sits beside
   // the program); a box, a built-in name or an absolute path is taken as is.
@@ -89,6 +89,8 @@ void apply_job_file(const std::string& file, Settings& a, std::vector<std::strin
   if (w.mesh_mm == 0 && m.has("workpiece_mesh_mm")) w.mesh_mm = m.number("workpiece_mesh_mm", yaml::Range::positive());
   if (w.spacing_mm == 0 && m.has("workpiece_spacing_mm"))
     w.spacing_mm = m.number("workpiece_spacing_mm", yaml::Range::positive());
+  if (w.stages == 0 && m.has("workpiece_stages"))
+    w.stages = static_cast<int>(m.integer("workpiece_stages", 0, kMaxWorkpieceStages));
   if (!a.tolerance_mm && m.has("tolerance_mm")) a.tolerance_mm = m.number("tolerance_mm", yaml::Range::positive());
   if (!a.gain && m.has("gain")) a.gain = m.number("gain", yaml::Range::between(0, 2));
   text("output", a.output, true);

@@ -25,6 +25,9 @@ void check_sizes(const Workholding& w) {
     throw Error(ErrorKind::settings, "{workpiece_mesh_mm} must be >= 0 mm (0: half the part's thinnest wall)");
   if (!(w.spacing_mm >= 0) || !std::isfinite(w.spacing_mm))
     throw Error(ErrorKind::settings, "{workpiece_spacing_mm} must be >= 0 mm (0: the coarsest of 12, 6 and 3 mm whose field holds against the FEM)");
+  if (w.stages < 0 || w.stages > kMaxWorkpieceStages)
+    throw Error(ErrorKind::settings, "{workpiece_stages} must be 0 (the finished part) to " +
+                                         std::to_string(kMaxWorkpieceStages) + " (each stage is a mesh and a factorisation)");
 }
 
 // The reached points where the field is least sure and matters most: the
@@ -98,6 +101,17 @@ void print_workpiece(const WorkpieceFigures& f, Io& io) {
   io.err << io.named(b);
 }
 
+// One line per stage: where it begins and what its mesh cost.
+void print_stage(const WorkpieceStage& s, std::size_t k, std::size_t n, Io& io) {
+  char b[400];
+  std::snprintf(b, sizeof b,
+                "deflex: workpiece stage %zu of %zu, the in-process stock at line %u (%zu boxes): %zu dofs, meshed "
+                "%.1f s, factorised %.1f s; %zu nodes over %zu points reached, largest %.3g um/N\n",
+                k + 1, n, static_cast<unsigned>(s.first_line), s.boxes, s.mesh.dofs, s.mesh.mesh_seconds,
+                s.mesh.solve_seconds, s.nodes, s.reached_points, 1000 * s.largest_mm_per_N);
+  io.info() << b;
+}
+
 }  // namespace
 
 std::optional<WorkpiecePlan> plan_workpiece(const Run& j) {
@@ -123,6 +137,61 @@ std::optional<WorkpiecePlan> plan_workpiece(const Run& j) {
   return p;
 }
 
+namespace {
+
+// One model's field over the points its moves reach: the coarsest spacing
+// whose field holds the check (a bulky part's compliance is small and
+// smooth: a few nodes carry it), down to the one asked; a spacing given is
+// taken as it is. `f` gets the field's figures.
+st::WorkpieceField field_over(const st::WorkpieceModel& model, const WorkpiecePlan& plan,
+                              const std::vector<compensate::FacetPoint>& reached, const std::function<void(double)>& stage,
+                              WorkpieceFigures& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<V3> points, normals;
+  for (const compensate::FacetPoint& p : reached) points.push_back(p.point_mm), normals.push_back(p.normal);
+  std::vector<double> spacings = {plan.spacing_mm};
+  if (!plan.spacing_given) spacings = {4 * plan.spacing_mm, 2 * plan.spacing_mm, plan.spacing_mm};
+  std::optional<st::WorkpieceField> field;
+  st::SolvedCompliances solved;
+  for (std::size_t k = 0; k < spacings.size(); ++k) {
+    const double f0 = static_cast<double>(k) / spacings.size(), f1 = static_cast<double>(k + 1) / spacings.size();
+    field.emplace(model, points, normals, spacings[k], [&](double x) { stage(f0 + (f1 - f0) * x); }, &solved);
+    check_field(model, *field, reached, solved, f);
+    if (holds(f, kFieldAcceptRel)) break;
+  }
+  f.reached_points = reached.size();
+  f.spacing_mm = field->spacing_mm();
+  f.nodes = field->nodes();
+  f.solved = solved.size();
+  f.nodes_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return std::move(*field);
+}
+
+// The stages' figures as one: the largest mesh, the sums of the times and
+// nodes, the worst check (relative to the largest compliance of all).
+void add_stage(WorkpieceFigures& all, const WorkpieceFigures& one) {
+  all.mesh.dofs = std::max(all.mesh.dofs, one.mesh.dofs);
+  all.mesh.nodes = std::max(all.mesh.nodes, one.mesh.nodes);
+  all.mesh.elements = std::max(all.mesh.elements, one.mesh.elements);
+  all.mesh.mesh_mm = one.mesh.mesh_mm;
+  all.mesh.patch_radius_mm = one.mesh.patch_radius_mm;
+  all.mesh.mesh_seconds += one.mesh.mesh_seconds;
+  all.mesh.solve_seconds += one.mesh.solve_seconds;
+  all.reached_points += one.reached_points;
+  all.nodes += one.nodes;
+  all.solved += one.solved;
+  all.nodes_seconds += one.nodes_seconds;
+  all.spacing_mm = all.spacing_mm > 0 ? std::min(all.spacing_mm, one.spacing_mm) : one.spacing_mm;
+  all.checked += one.checked;
+  if (one.check_rel() >= all.check_rel() || all.largest_mm_per_N == 0) {
+    all.check_max_mm_per_N = one.check_max_mm_per_N;
+    all.check_worst_mm = one.check_worst_mm;
+  }
+  all.largest_mm_per_N = std::max(all.largest_mm_per_N, one.largest_mm_per_N);
+}
+
+}  // namespace
+
 std::shared_ptr<const WorkpieceInCut> build_workpiece(Run& j, const WorkpiecePlan& plan, Io& io,
                                                       const compensate::Progress& progress) {
   auto stage = [&progress](double f) {
@@ -130,59 +199,81 @@ std::shared_ptr<const WorkpieceInCut> build_workpiece(Run& j, const WorkpiecePla
   };
   stage(0);
   // Where the tools reach the part, widened by a spacing: the interpolation
-  // then has nodes round every contact.
-  compensate::ToolReach reach(plan.spacing_mm);
-  engage::PathOptions po;
-  po.cl_spacing_mm = j.settings.cl_spacing_mm;
-  const auto tool_of = [&j](const interp::Motion& m) { return compensate::tool_id(m, j.settings); };
-  if (j.pieces) each_piece(j, [&](std::vector<interp::Motion>& ms) { reach.add(ms, j.physics.tools, tool_of, po); });
-  else reach.add(j.motions, j.physics.tools, tool_of, po);
-  const std::vector<compensate::FacetPoint> reached = reach.reached_points(plan.surface.triangles, 0.5 * plan.spacing_mm);
-  if (reached.empty()) {
+  // then has nodes round every contact. Staged, each stage's moves apart.
+  const int asked = j.given.workholding.stages;
+  const bool staged = asked > 0;
+  // Staged, every stage at the part's element size (the stock's surface has
+  // ledges a finishing allowance wide, whose "thinnest wall" would ask for
+  // elements that small), its heights to a quarter of an element, and the
+  // load at the stock's surface point nearest the part's, however deep the
+  // material still on it.
+  st::WorkpieceOptions options = plan.options;
+  if (staged && options.mesh_mm <= 0)
+    options.mesh_mm = st::default_workpiece_mesh_mm(plan.surface, st::thinnest_wall_mm(plan.surface));
+  if (staged) options.on_part_mm = std::numeric_limits<double>::infinity();
+  StagePlan sp = plan_stages(j, asked, plan.spacing_mm, 0.25 * options.mesh_mm);
+  const std::size_t n = sp.first_motion.size();
+  std::vector<std::vector<compensate::FacetPoint>> reached(n);
+  std::size_t reached_total = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    reached[k] = sp.reach[k].reached_points(plan.surface.triangles, 0.5 * plan.spacing_mm);
+    reached_total += reached[k].size();
+  }
+  if (reached_total == 0) {
     io.err << "deflex: warning: no cutting move reaches the part " << plan.surface.file
            << ": the workpiece's compliance is left out (a rigid workpiece)\n";
     return nullptr;
   }
-  WorkpieceFigures f;
-  f.fixtures = j.given.workholding.fixtures;
-  f.material = plan.elastic.name;
-  f.elastic = plan.elastic;
-  f.reached_points = reached.size();
-  const st::WorkpieceModel model(plan.surface, plan.fixtures, plan.elastic, plan.options);
-  f.mesh = model.info();
-  stage(0.2);
-  const auto t0 = std::chrono::steady_clock::now();
-  std::vector<V3> points, normals;
-  for (const compensate::FacetPoint& p : reached) points.push_back(p.point_mm), normals.push_back(p.normal);
-  // The coarsest spacing whose field holds the check (a bulky part's
-  // compliance is small and smooth: a few nodes carry it), down to the one
-  // asked; a spacing given is taken as it is.
-  std::vector<double> spacings = {plan.spacing_mm};
-  if (!plan.spacing_given) spacings = {4 * plan.spacing_mm, 2 * plan.spacing_mm, plan.spacing_mm};
-  std::optional<st::WorkpieceField> field;
-  st::SolvedCompliances solved;
-  for (std::size_t k = 0; k < spacings.size(); ++k) {
-    const double f0 = 0.2 + 0.8 * k / spacings.size(), f1 = 0.2 + 0.8 * (k + 1) / spacings.size();
-    field.emplace(model, points, normals, spacings[k], [&](double x) { stage(f0 + (f1 - f0) * x); }, &solved);
-    check_field(model, *field, reached, solved, f);
-    if (holds(f, kFieldAcceptRel)) break;
+  WorkpieceFigures all;
+  all.fixtures = j.given.workholding.fixtures;
+  all.material = plan.elastic.name;
+  all.elastic = plan.elastic;
+  std::vector<std::optional<st::WorkpieceField>> fields(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (reached[k].empty()) continue;
+    const double f0 = static_cast<double>(k) / n, f1 = static_cast<double>(k + 1) / n;
+    st::PartSurface stock_surface;
+    if (staged) {
+      stock_surface.file = "the in-process stock at line " + std::to_string(sp.first_line[k]);
+      stock_surface.triangles = std::move(sp.surfaces[k]);
+      stock_surface.boxes = std::move(sp.solids[k]);
+      stock_surface.stl = true;
+    }
+    const st::WorkpieceModel model(staged ? stock_surface : plan.surface, plan.fixtures, plan.elastic, options);
+    WorkpieceFigures f;
+    f.mesh = model.info();
+    stage(f0 + 0.2 * (f1 - f0));
+    fields[k] = field_over(model, plan, reached[k], [&](double x) { stage(f0 + (0.2 + 0.8 * x) * (f1 - f0)); }, f);
+    if (staged) {
+      WorkpieceStage ws;
+      ws.first_motion = sp.first_motion[k];
+      ws.first_line = sp.first_line[k];
+      ws.mesh = f.mesh;
+      ws.triangles = stock_surface.triangles.size();
+      ws.boxes = stock_surface.boxes.size();
+      ws.reached_points = f.reached_points;
+      ws.nodes = f.nodes;
+      ws.largest_mm_per_N = f.largest_mm_per_N;
+      all.stages.push_back(ws);
+      print_stage(ws, k, n, io);
+    }
+    add_stage(all, f);
   }
-  f.spacing_mm = field->spacing_mm();
-  f.nodes = field->nodes();
-  f.solved = solved.size();
-  f.nodes_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stage(1);
-  print_workpiece(f, io);
-  return std::make_shared<const WorkpieceInCut>(std::move(*field), std::move(f));
+  print_workpiece(all, io);
+  return std::make_shared<const WorkpieceInCut>(std::move(fields), std::move(sp.first_motion), std::move(all));
 }
 
 }  // namespace deflex::job::detail
 
 namespace deflex::job {
 
-Eigen::Matrix3d WorkpieceInCut::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
-  bool covered = true;
-  const stiffness::Compliance c = field_.at(p, n, &covered);
+Eigen::Matrix3d WorkpieceInCut::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n, std::size_t motion) const {
+  // The last stage beginning at or before the move.
+  const std::size_t k = static_cast<std::size_t>(std::upper_bound(first_.begin(), first_.end(), motion) - first_.begin());
+  const std::optional<stiffness::WorkpieceField>& field = fields_[k == 0 ? 0 : k - 1];
+  bool covered = field.has_value();
+  const stiffness::Compliance c = field ? field->at(p, n, &covered) : stiffness::Compliance::Zero();
   if (!covered) uncovered_.fetch_add(1, std::memory_order_relaxed);
   return c;
 }
@@ -224,6 +315,17 @@ report::Json workpiece_json(const Run& j, const report::RunFigures& f) {
                        {"relative", report::fixed(w.check_rel(), 4)},
                        {"at_mm", {report::fixed(w.check_worst_mm.x(), 4), report::fixed(w.check_worst_mm.y(), 4),
                                   report::fixed(w.check_worst_mm.z(), 4)}}};
+  report::Json stages = report::Json::array();
+  for (const WorkpieceStage& s : w.stages)
+    stages.push_back({{"first_line", s.first_line},
+                      {"boxes", s.boxes},
+                      {"dofs", s.mesh.dofs},
+                      {"mesh_s", report::fixed(s.mesh.mesh_seconds, 2)},
+                      {"factorise_s", report::fixed(s.mesh.solve_seconds, 2)},
+                      {"reached_points", s.reached_points},
+                      {"nodes", s.nodes},
+                      {"largest_mm_per_N", s.largest_mm_per_N}});
+  js["stages"] = stages;
   js["contacts_outside_field"] = j.workpiece->uncovered();
   js["share"] = {{"workpiece", share_json(f.workpiece_share)}, {"tool", share_json(f.tool_share)}};
   return js;

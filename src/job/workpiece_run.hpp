@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "deflex/compensate/reach.hpp"
 #include "deflex/job/run.hpp"
 #include "deflex/job/workpiece.hpp"
 #include "deflex/report/json.hpp"
@@ -33,9 +34,22 @@ struct WorkpiecePlan {
 // surface (closed) and each fixture box touching it: nullopt without a fixture.
 std::optional<WorkpiecePlan> plan_workpiece(const Run& j);
 
+// Where the workpiece's stages begin (Workholding::stages; 0: one stage, the
+// finished part), each stage's tool reach (widened by margin_mm), and staged,
+// the in-process stock's surface when each begins (workpiece_stages.cpp).
+struct StagePlan {
+  std::vector<std::size_t> first_motion;  // program order, ascending, the first 0
+  std::vector<std::uint32_t> first_line;
+  std::vector<compensate::ToolReach> reach;
+  std::vector<std::vector<stock::Triangle>> surfaces;  // staged only
+  std::vector<std::vector<stock::BoxSpec>> solids;     // staged only: the stock as boxes (stock::zmap_boxes)
+};
+StagePlan plan_stages(Run& j, int stages, double margin_mm, double height_step_mm);
+
 // The model (mesh, clamp, factorisation), its field over the surface the
 // program's tools reach, checked against the FEM where the field is least
-// sure; the model's memory is freed on return. `progress` gets the stage
+// sure; the model's memory is freed on return. Staged, one model and field
+// per stage, the stock's surface meshed at the part's element size. `progress` gets the stage
 // "workpiece". Null, with a warning, where no tool reaches the part.
 std::shared_ptr<const WorkpieceInCut> build_workpiece(Run& j, const WorkpiecePlan& plan, Io& io,
                                                       const compensate::Progress& progress);

@@ -42,6 +42,8 @@ Api load() {
   sym(a.geo_add_surface_loop, "gmshModelGeoAddSurfaceLoop");
   sym(a.geo_add_volume, "gmshModelGeoAddVolume");
   sym(a.geo_synchronize, "gmshModelGeoSynchronize");
+  sym(a.occ_add_box, "gmshModelOccAddBox");
+  sym(a.occ_fuse, "gmshModelOccFuse");
   sym(a.free, "gmshFree");
   return a;
 }

@@ -29,6 +29,9 @@ struct Api {
   decltype(&gmshModelGeoAddSurfaceLoop) geo_add_surface_loop;
   decltype(&gmshModelGeoAddVolume) geo_add_volume;
   decltype(&gmshModelGeoSynchronize) geo_synchronize;
+  // A solid as a union of boxes (a staged workpiece, solid_mesh.cpp: mesh_boxes).
+  decltype(&gmshModelOccAddBox) occ_add_box;
+  decltype(&gmshModelOccFuse) occ_fuse;
   decltype(&gmshFree) free;
 };
 

@@ -11,6 +11,7 @@
 
 #include "deflex/stiffness/compliance.hpp"
 #include "deflex/stiffness/tool.hpp"
+#include "deflex/stock/build.hpp"
 
 namespace deflex::stiffness::solid {
 
@@ -35,6 +36,9 @@ TetMesh mesh_brep(const std::string& brep_path, double mesh_size_mm, bool move_t
 // Meshes the volume a closed STL bounds, its surface remeshed at mesh_size_mm
 // (gmsh's classifySurfaces and createGeometry).
 TetMesh mesh_stl(const std::string& stl_path, double mesh_size_mm);
+// The union of axis-aligned boxes (OpenCASCADE's fuse, exact faces: nothing
+// to reparametrise, unlike a faceted surface with ledges a cell wide).
+TetMesh mesh_boxes(const std::vector<stock::BoxSpec>& boxes, double mesh_size_mm);
 
 // A load patch around a point c: the smooth weight phi = (1 - d^2/r^2)^2 for
 // d < r over the part of the ball inside the body, as nodal weights

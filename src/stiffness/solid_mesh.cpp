@@ -187,4 +187,34 @@ TetMesh mesh_stl(const std::string& stl_path, double h_mm) {
   });
 }
 
+TetMesh mesh_boxes(const std::vector<stock::BoxSpec>& boxes, double h_mm) {
+  return mesh_model(h_mm, [&](const gmshrt::Api& g) {
+    int ierr = 0;
+    std::vector<int> object, tools;
+    for (const stock::BoxSpec& b : boxes) {
+      const int tag = g.occ_add_box(b.x0_mm, b.y0_mm, b.z0_mm, b.x1_mm - b.x0_mm, b.y1_mm - b.y0_mm, b.z1_mm - b.z0_mm,
+                                    -1, &ierr);
+      gmshrt::check(ierr, "gmsh: cannot add a box of the solid");
+      std::vector<int>& to = object.empty() ? object : tools;
+      to.insert(to.end(), {3, tag});
+    }
+    if (!tools.empty()) {
+      int* out = nullptr;
+      std::size_t out_n = 0;
+      int** map = nullptr;
+      std::size_t* map_n = nullptr;
+      std::size_t map_nn = 0;
+      g.occ_fuse(object.data(), object.size(), tools.data(), tools.size(), &out, &out_n, &map, &map_n, &map_nn, -1, 1,
+                 1, &ierr);
+      gmshrt::check(ierr, "gmsh: cannot unite the boxes of the solid");
+      for (std::size_t i = 0; i < map_nn; ++i) g.free(map[i]);
+      g.free(map);
+      g.free(map_n);
+      g.free(out);
+    }
+    g.occ_synchronize(&ierr);
+    gmshrt::check(ierr, "gmsh: cannot build the solid");
+  });
+}
+
 }  // namespace deflex::stiffness::solid

@@ -43,6 +43,7 @@ struct PartFile {
   std::string path;
   int slot = -1;
   explicit PartFile(const PartSurface& s) {
+    if (!s.boxes.empty()) return;  // meshed from the boxes themselves
     static int counter = 0;
     path = (fs::temp_directory_path() / ("deflex-part-" + std::to_string(::getpid()) + "-" +
                                          std::to_string(counter++) + (s.stl ? ".stl" : ".brep")))
@@ -59,11 +60,13 @@ struct PartFile {
     }
   }
   ~PartFile() {
+    if (path.empty()) return;
     std::error_code ec;
     fs::remove(path, ec);
     writer::temp_files::forget(slot);
   }
   solid::TetMesh mesh(const PartSurface& s, double h_mm) const {
+    if (!s.boxes.empty()) return solid::mesh_boxes(s.boxes, h_mm);
     return s.stl ? solid::mesh_stl(path, h_mm) : solid::mesh_brep(path, h_mm, false);
   }
 };

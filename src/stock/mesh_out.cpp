@@ -220,4 +220,36 @@ void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, cons
   if (!out) throw Error(ErrorKind::io, "writing the STL failed");
 }
 
+std::vector<BoxSpec> zmap_boxes(const ZMap& z, double step_mm) {
+  const GridSpec& g = z.grid();
+  const double base = z.base_z_mm();
+  // The rounded height of a cell in steps above the base; 0: no box.
+  auto level = [&](int i, int j) -> long {
+    const double h = z.at(i, j);
+    if (!(h > base)) return 0;
+    return std::max(1L, std::lround((h - base) / step_mm));
+  };
+  std::vector<char> done(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny), 0);
+  auto taken = [&](int i, int j) -> char& { return done[static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(i)]; };
+  std::vector<BoxSpec> boxes;
+  for (int j = 0; j < g.ny; ++j)
+    for (int i = 0; i < g.nx; ++i) {
+      const long l = taken(i, j) ? 0 : level(i, j);
+      if (l == 0) continue;
+      int w = 1;
+      while (i + w < g.nx && !taken(i + w, j) && level(i + w, j) == l) ++w;
+      int rows = 1;
+      for (; j + rows < g.ny; ++rows) {
+        bool same = true;
+        for (int k = i; k < i + w && same; ++k) same = !taken(k, j + rows) && level(k, j + rows) == l;
+        if (!same) break;
+      }
+      for (int r = 0; r < rows; ++r)
+        for (int k = i; k < i + w; ++k) taken(k, j + r) = 1;
+      boxes.push_back({g.x0_mm + i * g.cell_mm, g.y0_mm + j * g.cell_mm, base, g.x0_mm + (i + w) * g.cell_mm,
+                       g.y0_mm + (j + rows) * g.cell_mm, base + static_cast<double>(l) * step_mm});
+    }
+  return boxes;
+}
+
 }  // namespace deflex::stock

@@ -54,6 +54,21 @@ ZMap::ZMap(const GridSpec& g, float height, double base_z_mm) : g_(g), base_z_(b
   for (Tile& t : tiles_) t.uniform = t.max = height;
 }
 
+ZMap ZMap::clone() const {
+  ZMap z(g_, no_material, base_z_);
+  for (std::size_t k = 0; k < tiles_.size(); ++k) {
+    const Tile& from = tiles_[k];
+    Tile& to = z.tiles_[k];
+    to.uniform = from.uniform;
+    to.max = from.max;
+    if (from.cells) {
+      to.cells.reset(new float[tile_floats]);
+      std::copy(from.cells.get(), from.cells.get() + tile_floats, to.cells.get());
+    }
+  }
+  return z;
+}
+
 float* ZMap::materialize(Tile& t) {
   if (!t.cells) {
     t.cells.reset(new float[tile_floats]);

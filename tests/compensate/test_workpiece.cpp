@@ -21,7 +21,7 @@ namespace {
 // A wall that gives way in Y more the farther along X the point lies (a plate
 // clamped at X = 0, say), and a little in Z everywhere: mm/N.
 struct Field : compensate::WorkpieceCompliance {
-  Eigen::Matrix3d at(const Eigen::Vector3d& p, const Eigen::Vector3d&) const override {
+  Eigen::Matrix3d at(const Eigen::Vector3d& p, const Eigen::Vector3d&, std::size_t) const override {
     Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
     c(1, 1) = 1e-5 * std::max(0.0, p.x());
     c(2, 2) = 1e-5;
@@ -73,7 +73,7 @@ TEST_CASE("workpiece: its displacement under -F at the contact adds to the tool'
     // Where the force acts on the part: the wall at the resultant's height for
     // a flank cut, else the contact.
     const V3 at = b.flank ? compensate::flank_point(b, t1, b.height_mm) : compensate::contact_point(b, t1);
-    const V3 w = r.field.at(at, b.normal) * V3(-b.force_N);
+    const V3 w = r.field.at(at, b.normal, b.motion) * V3(-b.force_N);
     CHECK((b.workpiece_delta_mm - w).norm() < 1e-15);
     const double shift = -w.dot(b.normal);
     CHECK(b.error_mm == doctest::Approx(a.error_mm + shift).epsilon(1e-12));

@@ -6,6 +6,9 @@
 
 #include <cmath>
 #include <string>
+#include <cstdint>
+#include <vector>
+#include <limits>
 
 #include "support.hpp"
 
@@ -161,5 +164,69 @@ TEST_SUITE("job") {
     // The worst point too: within a few micrometres of the tolerance (the
     // mirror's step limit at the arcs' ends), not the wall's tens.
     CHECK(kept.max_abs < 1.5 * tolerance_mm);
+  }
+
+  TEST_CASE("thin-wall sample in stages: the material still to come off stiffens the wall, as (2 / 2.1)^3 at the top") {
+    // The in-process stock contains the finished part, and an earlier stock
+    // the later one: the workpiece's share at every point can only fall as
+    // more of the stock is kept (a body with more material is stiffer under
+    // the same clamp). At the first pass the wall is still 2.1 mm thick all
+    // the way up (its 0.1 mm allowance on): a cantilever's compliance goes as
+    // 1 / t^3, so its largest share is (2 / 2.1)^3 = 0.864 of the finished
+    // wall's.
+    const test::TempDir dir("workpiece-stages");
+    auto shares = [&](int stages, std::string& err) {
+      job::Settings s = thin_wall_coarse();
+      s.workholding.stages = stages;
+      s.report_dir = (dir.p / std::to_string(stages)).string();
+      const auto o = test::simulate_job(s);
+      REQUIRE_MESSAGE(o.ok(), o.what);
+      err = o.err;
+      const test::Csv c = test::read_csv(s.report_dir + "/points.csv");
+      std::vector<std::pair<std::uint32_t, double>> v;  // line, share (NaN: in the air)
+      for (std::size_t i = 0; i < c.rows.size(); ++i) {
+        double share = std::nan("");
+        if (!c.rows[i].at(c.col("workpiece_dy_mm")).empty())
+          share = -(c.num(i, "workpiece_dx_mm") * c.num(i, "nx") + c.num(i, "workpiece_dy_mm") * c.num(i, "ny") +
+                    c.num(i, "workpiece_dz_mm") * c.num(i, "nz"));
+        v.emplace_back(static_cast<std::uint32_t>(c.num(i, "line")), share);
+      }
+      return v;
+    };
+    std::string e0, e1, e2;
+    const auto finished = shares(0, e0), one = shares(1, e1), two = shares(2, e2);
+    CHECK(!has(e0, "workpiece stage"));
+    CHECK(has(e1, "workpiece stage 1 of 1, the in-process stock at line "));
+    CHECK(has(e2, "workpiece stage 2 of 2, the in-process stock at line "));
+    REQUIRE(finished.size() == two.size());
+    REQUIRE(one.size() == two.size());
+    const double slack_mm = 1e-5;  // points.csv's 6 decimals, the fields' nodes
+    // The line where the finished wall gives way most: the top level's pass.
+    std::uint32_t top = 0;
+    double most = 0;
+    for (std::size_t i = 0; i < two.size(); ++i) {
+      if (std::isnan(two[i].second)) continue;
+      if (finished[i].second > most) most = finished[i].second, top = finished[i].first;
+      CHECK(one[i].second <= two[i].second + slack_mm);
+      CHECK(two[i].second <= finished[i].second + slack_mm);
+    }
+    double top_finished = 0, top_staged = 0;
+    for (std::size_t i = 0; i < two.size(); ++i)
+      if (two[i].first == top && !std::isnan(two[i].second)) {
+        top_finished = std::max(top_finished, finished[i].second);
+        top_staged = std::max(top_staged, two[i].second);
+      }
+    MESSAGE("the pass where the wall gives way most (line ", top, "): its largest share ", 1000 * top_finished, " um finished, ",
+            1000 * top_staged, " um in stages");
+    REQUIRE(top_finished > 0.01);
+    CHECK(top_staged / top_finished == doctest::Approx(std::pow(2.0 / 2.1, 3)).epsilon(0.03));
+  }
+
+  TEST_CASE("workpiece stages: a count out of range is refused before the program is read") {
+    job::Settings s = thin_wall();
+    s.workholding.stages = -1;
+    const auto o = test::simulate_job(s);
+    CHECK(o.error == ErrorKind::settings);
+    CHECK(has(o.what, "workpiece_stages"));
   }
 }

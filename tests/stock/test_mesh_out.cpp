@@ -2,7 +2,8 @@
 // orientations, the enclosed volume that of the Z-map, every cell's height
 // within the tolerance when read back, flat regions merged; and the issue's
 // check: a finish simulated on the written STL engages exactly as on the stock
-// swept from the same roughing program.
+// swept from the same roughing program. And the stock as boxes (a solid for
+// OpenCASCADE): disjoint, every cell with material once, at its rounded height.
 #include <doctest/doctest.h>
 
 #include <unistd.h>
@@ -148,5 +149,42 @@ TEST_SUITE("stock") {
     CHECK(swept != box);
     CHECK(test::run_cli({"stock", "--stock", "box:0,0,-10,40,30,0"}).rc == 2);  // -o is required
     fs::remove_all(dir);
+  }
+
+  TEST_CASE("zmap_boxes: disjoint boxes that cover every cell with material, each at its cell's rounded height") {
+    // The cut box: a ball slot (every cell its own height) and a flat pocket.
+    const ZMap z = cut_box();
+    const GridSpec& g = z.grid();
+    const double step = 0.25;
+    const std::vector<BoxSpec> boxes = zmap_boxes(z, step);
+    std::vector<int> covered(static_cast<std::size_t>(g.nx) * static_cast<std::size_t>(g.ny), 0);
+    double volume = 0;
+    for (const BoxSpec& b : boxes) {
+      const int i0 = static_cast<int>(std::lround((b.x0_mm - g.x0_mm) / g.cell_mm));
+      const int i1 = static_cast<int>(std::lround((b.x1_mm - g.x0_mm) / g.cell_mm));
+      const int j0 = static_cast<int>(std::lround((b.y0_mm - g.y0_mm) / g.cell_mm));
+      const int j1 = static_cast<int>(std::lround((b.y1_mm - g.y0_mm) / g.cell_mm));
+      REQUIRE(i0 < i1);
+      REQUIRE(j0 < j1);
+      CHECK(b.z0_mm == z.base_z_mm());
+      for (int j = j0; j < j1; ++j)
+        for (int i = i0; i < i1; ++i) {
+          ++covered[static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(i)];
+          // Its top is the cell's height rounded to the step.
+          CHECK(std::fabs(b.z1_mm - z.at(i, j)) <= 0.5 * step + 1e-9);
+        }
+      volume += (b.x1_mm - b.x0_mm) * (b.y1_mm - b.y0_mm) * (b.z1_mm - b.z0_mm);
+    }
+    double cells_volume = 0;
+    for (int j = 0; j < g.ny; ++j)
+      for (int i = 0; i < g.nx; ++i) {
+        const int c = covered[static_cast<std::size_t>(j) * static_cast<std::size_t>(g.nx) + static_cast<std::size_t>(i)];
+        CHECK(c == (z.at(i, j) > z.base_z_mm() ? 1 : 0));  // once each, and only material
+        cells_volume += g.cell_mm * g.cell_mm * (z.at(i, j) - z.base_z_mm());
+      }
+    // The volume within half a step over the footprint; merged far below a box per cell.
+    CHECK(std::fabs(volume - cells_volume) <= 0.5 * step * 20 * 10);
+    MESSAGE(boxes.size(), " boxes for ", g.nx * g.ny, " cells");
+    CHECK(boxes.size() < static_cast<std::size_t>(g.nx * g.ny) / 20);
   }
 }

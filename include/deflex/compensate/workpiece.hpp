@@ -8,6 +8,7 @@
 // since). Where the part is stiff C_w is zero and nothing changes.
 #pragma once
 #include <Eigen/Core>
+#include <cstddef>
 
 namespace deflex::compensate {
 
@@ -15,13 +16,15 @@ namespace deflex::compensate {
 // there: a 3x3 compliance in mm/N, machine axes. `normal` is the part's
 // outward unit normal there: it tells the faces of a thin wall apart, whose
 // points lie a wall's thickness apart and give way alike but not the same.
-// Asked from the simulation's threads at once (const, thread-safe). The
-// workpiece FEM implements it (stiffness/workpiece.hpp); the tests give
-// closed forms.
+// `motion` is the index, in program order, of the move cutting there: the
+// in-process workpiece changes as the program removes material (staged models
+// answer for the stage the move is in). Asked from the simulation's threads
+// at once (const, thread-safe). The workpiece FEM implements it
+// (stiffness/workpiece.hpp); the tests give closed forms.
 class WorkpieceCompliance {
  public:
   virtual ~WorkpieceCompliance() = default;
-  virtual Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal) const = 0;
+  virtual Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal, std::size_t motion) const = 0;
 };
 
 }  // namespace deflex::compensate

@@ -43,7 +43,9 @@ struct Workholding {
   double mesh_mm = 0;                 // the part's element size (0: half its thinnest wall)
   double spacing_mm = 0;              // between the nodes of the compliance field (0: the coarsest of
                                       // 4, 2 and 1 x kDefaultFieldSpacingMm whose field holds against the FEM)
+  int stages = 0;                     // the in-process stock meshed at this many moments (0: the finished part)
 };
+inline constexpr int kMaxWorkpieceStages = 100;
 inline constexpr double kDefaultFieldSpacingMm = 3;
 
 // An earlier program swept into the stock, and its tool library ("": the job's).
@@ -84,7 +86,7 @@ struct Settings {
 
 // Fills what `s` leaves out from the job file `file` (YAML: program, machine,
 // dialect, tool_file, tool, material, material_file, stock, stock_from, part,
-// fixture, workpiece_mesh_mm, workpiece_spacing_mm, tolerance_mm, gain,
+// fixture, workpiece_mesh_mm, workpiece_spacing_mm, workpiece_stages, tolerance_mm, gain,
 // output, report, measured, probe_program). Paths in it are relative to its folder.
 // `programs` gets the job's program when it holds none. Throws a config Error
 // at line:col of a bad key or value.

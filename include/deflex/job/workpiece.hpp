@@ -3,6 +3,8 @@
 #pragma once
 #include <Eigen/Core>
 #include <atomic>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,8 +39,22 @@ struct WorkpieceResult {
 // one mesh and one factorisation for all the points.
 WorkpieceResult workpiece_compliance(const WorkpieceSettings& s);
 
+// One stage of a staged workpiece (Workholding::stages): the in-process
+// stock when its first pass begins, meshed and asked by that stage's passes.
+struct WorkpieceStage {
+  std::size_t first_motion = 0;  // program order: the moves from here on (to the next stage) see it
+  std::uint32_t first_line = 0;  // that move's line
+  stiffness::WorkpieceInfo mesh;
+  std::size_t triangles = 0;     // of the stock's surface (nearest points, fixtures)
+  std::size_t boxes = 0;         // of the stock's solid meshed (stock::zmap_boxes)
+  std::size_t reached_points = 0, nodes = 0;
+  double largest_mm_per_N = 0;
+};
+
 // The workpiece in a simulation or compensation (Settings::workholding):
-// how it was modelled, for the report.
+// how it was modelled, for the report. Staged, the mesh figures are the
+// largest stage's dofs and the sums of the times, the field's the sums of the
+// nodes and the worst check; `stages` says each.
 struct WorkpieceFigures {
   std::vector<std::string> fixtures;
   std::string material;          // the entry's name
@@ -56,22 +72,28 @@ struct WorkpieceFigures {
   double check_max_mm_per_N = 0;
   Eigen::Vector3d check_worst_mm = Eigen::Vector3d::Zero();
   double check_rel() const { return largest_mm_per_N > 0 ? check_max_mm_per_N / largest_mm_per_N : 0; }
+  std::vector<WorkpieceStage> stages;  // empty: the finished part throughout
 };
 
 // The workpiece's compliance at a contact: the field's (stiffness/
-// workpiece_field.hpp), built from the FEM over the surface the program reaches.
+// workpiece_field.hpp), built from the FEM over the surface the program
+// reaches; staged, the field of the stage the move is in.
 class WorkpieceInCut final : public compensate::WorkpieceCompliance {
  public:
-  WorkpieceInCut(stiffness::WorkpieceField field, WorkpieceFigures figures)
-      : field_(std::move(field)), figures_(std::move(figures)) {}
-  Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal) const override;
+  // fields[k] answers the moves from first_motions[k] on (ascending, the
+  // first 0); a stage no tool reaches has none (a contact there is uncovered).
+  WorkpieceInCut(std::vector<std::optional<stiffness::WorkpieceField>> fields, std::vector<std::size_t> first_motions,
+                 WorkpieceFigures figures)
+      : fields_(std::move(fields)), first_(std::move(first_motions)), figures_(std::move(figures)) {}
+  Eigen::Matrix3d at(const Eigen::Vector3d& point_mm, const Eigen::Vector3d& normal, std::size_t motion) const override;
   const WorkpieceFigures& figures() const { return figures_; }
   // Contacts asked farther than twice the spacing from every node (their
   // compliance was the nearest node's), since the model was built.
   std::size_t uncovered() const { return uncovered_.load(std::memory_order_relaxed); }
 
  private:
-  stiffness::WorkpieceField field_;
+  std::vector<std::optional<stiffness::WorkpieceField>> fields_;
+  std::vector<std::size_t> first_;
   WorkpieceFigures figures_;
   mutable std::atomic<std::size_t> uncovered_{0};
 };

@@ -29,6 +29,10 @@ struct PartSurface {
   std::string file;
   std::vector<stock::Triangle> triangles;  // outward, as stock::read_solid_triangles gives them
   bool stl = false;
+  // Non-empty: the solid is the union of these boxes, meshed from them (the
+  // triangles are its surface, for the nearest points and the fixtures): the
+  // in-process stock, a heightfield, at a stage.
+  std::vector<stock::BoxSpec> boxes;
 };
 
 // Reads an STL, STEP or IGES part (stock::read_solid_triangles). Throws

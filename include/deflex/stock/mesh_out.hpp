@@ -30,6 +30,14 @@ namespace deflex::stock {
 
 std::vector<Triangle> zmap_mesh(const ZMap& z, double tolerance_mm);
 
+// The Z-map as a union of boxes from its base up to the cells' heights, each
+// height rounded to the nearest multiple of height_step_mm above the base
+// (cells at or below the base, or empty, have none): rectangles of cells of
+// one rounded height, each grown along its row, then down the rows while the
+// whole run matches (greedy; the cells' own edges, so a wall a cell thick
+// stays one). For a solid modeller that meshes exact faces (OpenCASCADE).
+std::vector<BoxSpec> zmap_boxes(const ZMap& z, double height_step_mm);
+
 // Binary STL (little-endian float32, normals from the vertex order); throws
 // Error(ErrorKind::io) when the stream fails.
 void write_binary_stl(std::ostream& out, const std::vector<Triangle>& tris, const std::string& header);

@@ -55,6 +55,10 @@ class ZMap {
   const GridSpec& grid() const { return g_; }
   double base_z_mm() const { return base_z_; }
 
+  // An independent copy, every cell as it is (the map is move-only: a copy
+  // of a large stock is never made by accident).
+  ZMap clone() const;
+
   // Cell index of a coordinate (may be outside [0, n)).
   int ix(double x_mm) const { return fast_floor((x_mm - g_.x0_mm) * inv_cell_); }
   int iy(double y_mm) const { return fast_floor((y_mm - g_.y0_mm) * inv_cell_); }
