@@ -87,6 +87,11 @@ inline Interpreted interpret_text(const std::string& text, const std::string& di
 }
 
 // A compensable G1 from a to b (mm) at `feed_mm_per_min`.
+// `expected` within a fraction `rel` of itself. doctest::Approx(x).epsilon(e)
+// is not that: it allows e * (1 + max(|a|, |x|)), so at the mm/N of a
+// compliance (1e-3) it allows e in absolute terms, far more than x itself.
+inline doctest::Approx within(double expected, double rel) { return doctest::Approx(expected).epsilon(rel).scale(0); }
+
 inline interp::Motion linear_motion(interp::Vec3 a, interp::Vec3 b, double feed_mm_per_min = 1000) {
   interp::Motion m;
   m.kind = interp::MotionKind::linear;
