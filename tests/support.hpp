@@ -18,6 +18,8 @@
 
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include "deflex/cli/command.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/gcode/program.hpp"
@@ -90,7 +92,10 @@ inline Interpreted interpret_text(const std::string& text, const std::string& di
 // `expected` within a fraction `rel` of itself. doctest::Approx(x).epsilon(e)
 // is not that: it allows e * (1 + max(|a|, |x|)), so at the mm/N of a
 // compliance (1e-3) it allows e in absolute terms, far more than x itself.
-inline doctest::Approx within(double expected, double rel) { return doctest::Approx(expected).epsilon(rel).scale(0); }
+// (The scale: the least positive double, so that 0 is within any fraction of 0.)
+inline doctest::Approx within(double expected, double rel) {
+  return doctest::Approx(expected).epsilon(rel).scale(std::numeric_limits<double>::min());
+}
 
 inline interp::Motion linear_motion(interp::Vec3 a, interp::Vec3 b, double feed_mm_per_min = 1000) {
   interp::Motion m;

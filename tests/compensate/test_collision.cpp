@@ -85,9 +85,9 @@ TEST_CASE("collision: a pocket deeper than the stick-out lets the holder in, a l
   CHECK(f->line_count == 2);  // the plunge and the cut
   CHECK(f->tool == "T1");
   // By hand: the walls stand to Z0, the holder's face at Z-55 + 40 = Z-15.
-  CHECK(f->first_mm == doctest::Approx(15.0).epsilon(1e-4));
-  CHECK(f->worst_mm == doctest::Approx(15.0).epsilon(1e-4));
-  CHECK(f->clears_mm == doctest::Approx(55.0).epsilon(1e-4));
+  CHECK(f->first_mm == deflex::test::within(15.0, 1e-4));
+  CHECK(f->worst_mm == deflex::test::within(15.0, 1e-4));
+  CHECK(f->clears_mm == deflex::test::within(55.0, 1e-4));
   CHECK(f->message().find("a stick-out of at least 55.0 mm keeps the holder clear") != std::string::npos);
   CHECK_FALSE(short_tool.find("shank_collision"));  // the shank (radius 5) stays inside the pocket
   // The same at 60 mm: the holder starts at Z5, above the stock.
@@ -104,8 +104,8 @@ TEST_CASE("collision: the stock is what the earlier program left, and a shank in
   const Run buried(test::pocket_floor_pass(1), solid);
   const compensate::Collision* shank = buried.find("shank_collision");
   REQUIRE(shank);
-  CHECK(shank->worst_mm == doctest::Approx(35.0).epsilon(1e-4));
-  CHECK(shank->clears_mm == doctest::Approx(55.0).epsilon(1e-4));
+  CHECK(shank->worst_mm == deflex::test::within(35.0, 1e-4));
+  CHECK(shank->clears_mm == deflex::test::within(55.0, 1e-4));
   CHECK(shank->message().find("reach 55.0 mm above the tip") != std::string::npos);
   const Run pocket(test::pocket_floor_pass(1), pocketed());
   CHECK_FALSE(pocket.find("shank_collision"));
@@ -136,7 +136,7 @@ TEST_CASE("collision: a plunge deeper than the flutes: the shank follows into it
   const compensate::Collision* s3 = wide.find("shank_collision");
   REQUIRE(s3);
   CHECK(s3->first_line == 5);
-  CHECK(s3->worst_mm == doctest::Approx(35.0).epsilon(1e-3));
+  CHECK(s3->worst_mm == deflex::test::within(35.0, 1e-3));
 }
 
 TEST_CASE("collision: the neck and shank begin where the force model's flutes end") {

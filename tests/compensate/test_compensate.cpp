@@ -133,10 +133,10 @@ TEST_CASE("MRR per point is a_e a_p v_f at the motion's own feed; D_eff and CWE 
   for (const auto& q : pts) {
     if (q.index != q.count / 2 || (q.line != 9 && q.line != 10)) continue;
     const double vf_mm_per_s = (q.line == 9 ? 800.0 : 1600.0) / 60;
-    CHECK(q.mrr_mm3_per_s == doctest::Approx(2.0 * 10.0 * vf_mm_per_s).epsilon(0.02));
+    CHECK(q.mrr_mm3_per_s == deflex::test::within(2.0 * 10.0 * vf_mm_per_s, 0.02));
     CHECK(q.d_eff_mm == doctest::Approx(10.0));  // a flat end cuts with its full diameter
     // The engaged flank: a_p 10 times the arc of a_e 2 on a D10 (acos(1 - 2/5) 5 mm).
-    CHECK(q.cwe_area_mm2 == doctest::Approx(10.0 * 5 * std::acos(1 - 2.0 / 5)).epsilon(0.03));
+    CHECK(q.cwe_area_mm2 == deflex::test::within(10.0 * 5 * std::acos(1 - 2.0 / 5), 0.03));
     ++seen;
   }
   CHECK(seen == 2);
@@ -150,8 +150,8 @@ TEST_CASE("the deflection at a steady wall point equals C(h) F from the force an
   for (const auto& q : pts)
     if (q.line == 9 && q.index == q.count / 2) p = &q;
   REQUIRE(p != nullptr);
-  CHECK(p->ap_mm == doctest::Approx(10.0).epsilon(0.01));
-  CHECK(p->ae_mm == doctest::Approx(2.0).epsilon(0.01));
+  CHECK(p->ap_mm == deflex::test::within(10.0, 0.01));
+  CHECK(p->ae_mm == deflex::test::within(2.0, 0.01));
   // Independent: the textbook engagement (a_e 2 on the +Y side, up-milling),
   // the same slices and coefficients, f_z = 800 / (8000 * 4).
   const auto& tool = stiffness::find_tool(f.ph.tools, "T1");
@@ -166,11 +166,11 @@ TEST_CASE("the deflection at a steady wall point equals C(h) F from the force an
   force::simple_engagement(cs, 2.0, 10.0, force::MillingMode::up, e);
   auto rev = force::revolution_forces(cs, f.ph.k, 800.0 / (8000.0 * 4), e, 360);
   force::Vec3 F = force::summarize(rev).mean_N;
-  CHECK(p->force_N.x() == doctest::Approx(F.x()).epsilon(0.02));
-  CHECK(p->force_N.y() == doctest::Approx(F.y()).epsilon(0.02));
-  CHECK(p->force_N.z() == doctest::Approx(F.z()).epsilon(0.05));
+  CHECK(p->force_N.x() == deflex::test::within(F.x(), 0.02));
+  CHECK(p->force_N.y() == deflex::test::within(F.y(), 0.02));
+  CHECK(p->force_N.z() == deflex::test::within(F.z(), 0.05));
   // The force acts at mid depth of the engaged flank.
-  CHECK(p->height_mm == doctest::Approx(5.0).epsilon(0.02));
+  CHECK(p->height_mm == deflex::test::within(5.0, 0.02));
   auto C = stiffness::beam_compliance(tool, f.ph.machine, false);
   V3 delta = C.at(5.0) * V3(F.x(), F.y(), F.z());
   CHECK((p->delta_mm - delta).norm() < 0.02 * delta.norm());
@@ -178,7 +178,7 @@ TEST_CASE("the deflection at a steady wall point equals C(h) F from the force an
   // wall's normal points to -Y, so the error is an undercut (> 0).
   CHECK(p->normal.y() == doctest::Approx(-1.0));
   CHECK(p->delta_mm.dot(p->normal) > 0.0);
-  CHECK(p->delta_mm.dot(p->normal) == doctest::Approx(-delta.y()).epsilon(0.02));
+  CHECK(p->delta_mm.dot(p->normal) == deflex::test::within(-delta.y(), 0.02));
   // A flank cut: the error is the mid-range of the wall profile e(z), which
   // spans the mean-force value (the tool bends most at the top of the cut... or
   // the generating forces differ from the mean: only bracket it loosely).
@@ -527,10 +527,10 @@ TEST_CASE("flank cuts: the side-wall sample's wall profile e(z), its mid-range d
     const double phi = force::generating_phi(force::MillingMode::down);
     const auto prof = force::flank_error_profile({cs, f.ph.k, 0.1, e, phi, force::wall_normal(phi)}, sc);
     CHECK(force::wall_normal(phi).y() == doctest::Approx(1.0));  // the design normal, +Y
-    CHECK(mid->flank_min_mm == doctest::Approx(prof.min_mm).epsilon(0.03));
-    CHECK(mid->flank_max_mm == doctest::Approx(prof.max_mm).epsilon(0.03));
-    CHECK(mid->flank_z_min_mm == doctest::Approx(prof.z_of_min_mm).epsilon(0.05));
-    CHECK(mid->flank_z_max_mm == doctest::Approx(prof.z_of_max_mm).epsilon(0.05));
+    CHECK(mid->flank_min_mm == deflex::test::within(prof.min_mm, 0.03));
+    CHECK(mid->flank_max_mm == deflex::test::within(prof.max_mm, 0.03));
+    CHECK(mid->flank_z_min_mm == deflex::test::within(prof.z_of_min_mm, 0.05));
+    CHECK(mid->flank_z_max_mm == deflex::test::within(prof.z_of_max_mm, 0.05));
   }
   // Re-simulated from scratch, the compensated program: every compensated end
   // point's mid-range inside the tolerance, and no worse band than as written.

@@ -67,7 +67,7 @@ TEST_CASE("plausibility: a slot deeper than the flute length") {
   Run r(slot(1, -8), "box:0,-20,-20,50,20,0");
   const compensate::Finding* f = r.pl.find("flute_length");
   REQUIRE(f);
-  CHECK(f->worst == doctest::Approx(8.0).epsilon(0.02));
+  CHECK(f->worst == deflex::test::within(8.0, 0.02));
   CHECK(f->limit == 5.0);
   CHECK(f->line == 6);
   CHECK(f->tool == "T1");
@@ -197,13 +197,13 @@ TEST_CASE("plausibility: a_p of an offset pocket is the level's depth, not the w
     return 0.0;
   };
   REQUIRE(force_at(7) > 0);
-  CHECK(force_at(45) == doctest::Approx(force_at(7)).epsilon(0.01));
-  CHECK(force_at(83) == doctest::Approx(force_at(7)).epsilon(0.01));
+  CHECK(force_at(45) == deflex::test::within(force_at(7), 0.01));
+  CHECK(force_at(83) == deflex::test::within(force_at(7), 0.01));
   // A real full-width slot 12 mm deep in one pass still looks like a raw blank.
   Run deep(slot(1, -12), "box:0,-20,-20,50,20,0", "C35", "");
   const compensate::Finding* f = deep.pl.find("roughing");
   REQUIRE(f);
-  CHECK(f->worst == doctest::Approx(12.0).epsilon(0.02));
+  CHECK(f->worst == deflex::test::within(12.0, 0.02));
   CHECK(f->line == 6);
 }
 

@@ -71,7 +71,7 @@ TEST_CASE("spindle load: torque and power at every cutting point, P = M 2 pi n /
     ++n;
     CHECK(p.spindle_rpm == 8000);
     CHECK(p.torque_Nm > 0);
-    CHECK(p.power_kW == doctest::Approx(p.torque_Nm * 2 * std::numbers::pi * 8000 / 60 / 1000).epsilon(1e-12));
+    CHECK(p.power_kW == deflex::test::within(p.torque_Nm * 2 * std::numbers::pi * 8000 / 60 / 1000, 1e-12));
     CHECK(p.feed_share == 1);  // no feed limit: not computed
   }
   CHECK(n > 50);
@@ -128,7 +128,7 @@ TEST_CASE("--feed-limit and the spindle's S1 curve: the feed lowered by the torq
   w.s.feed_limit_N = 1e9;  // the force limit never binds here
   const auto r = compensate::compensate(w.in.motions, w.ph, w.s);
   REQUIRE_FALSE(r.feed_lowered_lines.empty());
-  CHECK(lowest_cutting_feed(r) == doctest::Approx(std::floor(800 * share * 10) / 10).epsilon(1e-9));
+  CHECK(lowest_cutting_feed(r) == deflex::test::within(std::floor(800 * share * 10) / 10, 1e-9));
   double after = 0;
   for (const auto& p : r.final) after = std::max(after, p.torque_Nm);
   CHECK(after <= allowed_Nm * (1 + 1e-9));

@@ -76,8 +76,8 @@ TEST_CASE("stability along a program: a slot's points are held against the lobes
   for (const compensate::Point& p : w.run(3.0)) {
     if (!steady(p)) continue;
     ++n;
-    CHECK(p.ap_mm == doctest::Approx(3.0).epsilon(1e-3));
-    CHECK(p.ap_limit_mm == doctest::Approx(want).epsilon(0.02));
+    CHECK(p.ap_mm == deflex::test::within(3.0, 1e-3));
+    CHECK(p.ap_limit_mm == deflex::test::within(want, 0.02));
   }
   CHECK(n > 50);
 }
@@ -94,7 +94,7 @@ TEST_CASE("stability along a program: chatter where a_p is over the limit, at it
   REQUIRE(f != nullptr);
   CHECK(f->line == 8);  // N6 X90., the eighth line of the text
   CHECK(f->tool == "T1");
-  CHECK(f->worst == doctest::Approx(deep / limit).epsilon(0.03));
+  CHECK(f->worst == deflex::test::within(deep / limit, 0.03));
   CHECK(f->message.find("deflex stability --tool T1") != std::string::npos);
   CHECK(compensate::plausibility(w.run(shallow), w.ph.tools, w.s).find("chatter") == nullptr);
 }
@@ -126,7 +126,7 @@ TEST_CASE("stability along a program: a tool's measured FRF (frf_file) replaces 
     if (!steady(a[i])) continue;
     ++n;
     // The measured path keys the matrix's direction in 64ths: within 3 %.
-    CHECK(b[i].ap_limit_mm == doctest::Approx(a[i].ap_limit_mm).epsilon(0.03));
+    CHECK(b[i].ap_limit_mm == deflex::test::within(a[i].ap_limit_mm, 0.03));
   }
   CHECK(n > 50);
 }

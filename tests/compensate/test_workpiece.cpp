@@ -76,11 +76,11 @@ TEST_CASE("workpiece: its displacement under -F at the contact adds to the tool'
     const V3 w = r.field.at(at, b.normal, b.motion) * V3(-b.force_N);
     CHECK((b.workpiece_delta_mm - w).norm() < 1e-15);
     const double shift = -w.dot(b.normal);
-    CHECK(b.error_mm == doctest::Approx(a.error_mm + shift).epsilon(1e-12));
+    CHECK(b.error_mm == deflex::test::within(a.error_mm + shift, 1e-12));
     if (b.flank) {
       ++flank;
-      CHECK(b.flank_min_mm == doctest::Approx(a.flank_min_mm + shift).epsilon(1e-12));
-      CHECK(b.flank_max_mm == doctest::Approx(a.flank_max_mm + shift).epsilon(1e-12));
+      CHECK(b.flank_min_mm == deflex::test::within(a.flank_min_mm + shift, 1e-12));
+      CHECK(b.flank_max_mm == deflex::test::within(a.flank_max_mm + shift, 1e-12));
       // The wall gives way from the tool (the force on it pushes it into the
       // material): it leaves the surface proud, more the farther along X.
       CHECK(shift * a.error_mm >= 0);

@@ -103,12 +103,12 @@ TEST_CASE("full slot: [0, pi] on every engaged slice; a_p, a_e, MRR, CWE, up/dow
     }
   }
   CHECK(r.m.ap_mm == doctest::Approx(ap));
-  CHECK(r.m.ae_mm == doctest::Approx(10).epsilon(1e-4));
+  CHECK(r.m.ae_mm == deflex::test::within(10, 1e-4));
   CHECK(r.m.d_eff_mm == doctest::Approx(10));
-  CHECK(r.m.up_share == doctest::Approx(0.5).epsilon(1e-3));
+  CHECK(r.m.up_share == deflex::test::within(0.5, 1e-3));
   // Removal rate = feed speed x slot cross-section D a_p; contact = half cylinder.
-  CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * 10 * ap).epsilon(1e-3));
-  CHECK(r.m.cwe_area_mm2 == doctest::Approx(pi * 5 * ap).epsilon(1e-3));
+  CHECK(r.m.mrr_mm3_per_s == deflex::test::within(vf(proc, 2) * 10 * ap, 1e-3));
+  CHECK(r.m.cwe_area_mm2 == deflex::test::within(pi * 5 * ap, 1e-3));
 }
 
 TEST_CASE("half immersion, up and down milling, four feed directions: the textbook interval") {
@@ -142,9 +142,9 @@ TEST_CASE("half immersion, up and down milling, four feed directions: the textbo
           CHECK(std::fabs(r.e.slices[i][0].start - want_start) <= angle_tol);
           CHECK(std::fabs(r.e.slices[i][0].end - want_end) <= angle_tol);
         }
-        CHECK(r.m.ae_mm == doctest::Approx(ae).epsilon(2e-3));
+        CHECK(r.m.ae_mm == deflex::test::within(ae, 2e-3));
         CHECK(r.m.ap_mm == doctest::Approx(ap));
-        CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * ae * ap).epsilon(2e-3));
+        CHECK(r.m.mrr_mm3_per_s == deflex::test::within(vf(proc, 2) * ae * ap, 2e-3));
         if (ae <= R) CHECK(std::fabs(r.m.up_share - (mode == force::MillingMode::up ? 1.0 : 0.0)) < 1e-3);
       }
 }
@@ -173,11 +173,11 @@ TEST_CASE("ball at depth a_p: exactly the slices below a_p, D_eff = 2 sqrt(a_p (
     // Independent check: the widest engaged slice spans a_e, just under D_eff.
     const double top_slice_z = (std::floor(ap / dz - 0.5) + 0.5) * dz;
     const double r_top = std::sqrt(top_slice_z * (D - top_slice_z));
-    CHECK(r.m.ae_mm == doctest::Approx(2 * r_top).epsilon(1e-4));
+    CHECK(r.m.ae_mm == deflex::test::within(2 * r_top, 1e-4));
     CHECK(r.m.ae_mm <= deff);
     // Removal rate / feed speed = cross-section of the trench (a circular segment).
     const double seg = R * R * std::acos((R - ap) / R) - (R - ap) * std::sqrt(2 * R * ap - ap * ap);
-    CHECK(r.m.mrr_mm3_per_s / vf(proc, 2) == doctest::Approx(seg).epsilon(0.01));
+    CHECK(r.m.mrr_mm3_per_s / vf(proc, 2) == deflex::test::within(seg, 0.01));
   }
 }
 
@@ -252,8 +252,8 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
   CHECK(r.m.ramp_angle == doctest::Approx(-pi / 2));
   CHECK(r.e.empty());  // the flanks slide along their own earlier positions
   CHECK_FALSE(r.m.air_cut);
-  CHECK(r.m.bottom_area_mm2 == doctest::Approx(pi * 25).epsilon(1e-9));
-  CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * pi * 25).epsilon(1e-9));
+  CHECK(r.m.bottom_area_mm2 == deflex::test::within(pi * 25, 1e-9));
+  CHECK(r.m.mrr_mm3_per_s == deflex::test::within(vf(proc, 2) * pi * 25, 1e-9));
   CHECK(r.m.ap_mm == 0);  // no flank cuts
 
   auto z2 = stock::zmap_from_box(stock::parse_box("box:-20,-20,-40,20,20,0"));
@@ -269,7 +269,7 @@ TEST_CASE("plunge: a flat end cuts with its bottom only, a ball with its lower h
     }
   }
   // Removal rate of a plunging ball: v times its cross-section pi R^2 (slice sum).
-  CHECK(r.m.mrr_mm3_per_s == doctest::Approx(vf(proc, 2) * pi * 25).epsilon(2e-3));
+  CHECK(r.m.mrr_mm3_per_s == deflex::test::within(vf(proc, 2) * pi * 25, 2e-3));
 }
 
 TEST_CASE("batched parallel evaluation and commits beside it give the same results on 1 thread and on all") {
@@ -443,7 +443,7 @@ TEST_CASE("slot along an arc: [0, pi] in the arc's own feed frame") {
     CHECK(std::fabs(start) < half_chord + angle_tol);
     CHECK(std::fabs(start + iv.end - iv.start - pi) < half_chord + angle_tol);
   }
-  CHECK(r.m.ae_mm == doctest::Approx(10).epsilon(1e-3));
+  CHECK(r.m.ae_mm == deflex::test::within(10, 1e-3));
 }
 
 }  // TEST_SUITE

@@ -94,8 +94,8 @@ TEST_CASE("fit: a hidden machine's structure is recovered from four walls; what 
   const std::string fitted = dir / "fitted.yaml";
   std::ofstream(fitted) << r.profile_text;
   const stiffness::MachineStiffness m = stiffness::load_machine_stiffness(fitted);
-  CHECK(1 / m.structure_mm_per_N(0, 0) == doctest::Approx(84e3 * r.fit.params[2].scale / 1.4).epsilon(1e-4));
-  CHECK(1 / m.structure_mm_per_N(1, 1) == doctest::Approx(60e3 * r.fit.params[3].scale / 1.2).epsilon(1e-4));
+  CHECK(1 / m.structure_mm_per_N(0, 0) == deflex::test::within(84e3 * r.fit.params[2].scale / 1.4, 1e-4));
+  CHECK(1 / m.structure_mm_per_N(1, 1) == deflex::test::within(60e3 * r.fit.params[3].scale / 1.2, 1e-4));
 }
 
 TEST_CASE("fit: walls fed along X only cannot tell the structure's X stiffness, and the fit says so") {
@@ -175,7 +175,7 @@ TEST_CASE("fit: measurements read from a CSV (job::fit with Settings::measured) 
   CHECK(read.matched == given.matched);
   for (int k = 0; k < fit::kParams; ++k) {
     CHECK(read.fit.params[k].fitted == given.fit.params[k].fitted);
-    CHECK(read.fit.params[k].scale == doctest::Approx(given.fit.params[k].scale).epsilon(1e-6));
+    CHECK(read.fit.params[k].scale == deflex::test::within(given.fit.params[k].scale, 1e-6));
   }
 }
 

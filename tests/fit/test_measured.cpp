@@ -72,7 +72,7 @@ TEST_CASE("simulate --measured: the machine that made the measurements agrees wi
   CHECK(a.correlation > 0.95);
   CHECK(a.within_tolerance_share == 1.0);
   CHECK(a.rms_measured_mm > 0.01);      // a real error was measured, not zero against zero
-  for (std::size_t i = 0; i < truth.size(); ++i) CHECK(m.rows[i].predicted_error_mm == doctest::Approx(truth[i]).epsilon(1e-9));
+  for (std::size_t i = 0; i < truth.size(); ++i) CHECK(m.rows[i].predicted_error_mm == deflex::test::within(truth[i], 1e-9));
   CHECK(lines_of(dir / "report/measured.csv") == truth.size() + 1);
   CHECK(o.result->summary["measured"]["compared"].get<std::size_t>() == truth.size());
   CHECK(o.err.find("predicted against measured over " + std::to_string(truth.size()) + " points") != std::string::npos);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/calibration.hpp"
 #include "deflex/force/mechanistic.hpp"
@@ -24,12 +25,12 @@ Coefficients truth() {
 }
 
 void check_coefficients(const Coefficients& got, const Coefficients& want, double rel) {
-  CHECK(got.Ktc_N_per_mm2 == doctest::Approx(want.Ktc_N_per_mm2).epsilon(rel));
-  CHECK(got.Krc_N_per_mm2 == doctest::Approx(want.Krc_N_per_mm2).epsilon(rel));
-  CHECK(got.Kac_N_per_mm2 == doctest::Approx(want.Kac_N_per_mm2).epsilon(rel));
-  CHECK(got.Kte_N_per_mm == doctest::Approx(want.Kte_N_per_mm).epsilon(rel));
-  CHECK(got.Kre_N_per_mm == doctest::Approx(want.Kre_N_per_mm).epsilon(rel));
-  CHECK(got.Kae_N_per_mm == doctest::Approx(want.Kae_N_per_mm).epsilon(rel));
+  CHECK(got.Ktc_N_per_mm2 == deflex::test::within(want.Ktc_N_per_mm2, rel));
+  CHECK(got.Krc_N_per_mm2 == deflex::test::within(want.Krc_N_per_mm2, rel));
+  CHECK(got.Kac_N_per_mm2 == deflex::test::within(want.Kac_N_per_mm2, rel));
+  CHECK(got.Kte_N_per_mm == deflex::test::within(want.Kte_N_per_mm, rel));
+  CHECK(got.Kre_N_per_mm == deflex::test::within(want.Kre_N_per_mm, rel));
+  CHECK(got.Kae_N_per_mm == deflex::test::within(want.Kae_N_per_mm, rel));
 }
 
 }  // namespace

@@ -91,9 +91,9 @@ TEST_CASE("deflex forces --format csv: one row per step; the mean is Altintas' c
            N * ap / (2 * pi) * (kte * std::cos(p) + kre * std::sin(p));
   };
   auto fzf = [&](double p) { return N * ap / (2 * pi) * (ka * fz * std::cos(p) - kae * p); };
-  CHECK(sum[0] / rows == doctest::Approx(fx(e) - fx(s)).epsilon(0.005));
-  CHECK(sum[1] / rows == doctest::Approx(fy(e) - fy(s)).epsilon(0.005));
-  CHECK(sum[2] / rows == doctest::Approx(fzf(e) - fzf(s)).epsilon(0.005));
+  CHECK(sum[0] / rows == deflex::test::within(fx(e) - fx(s), 0.005));
+  CHECK(sum[1] / rows == deflex::test::within(fy(e) - fy(s), 0.005));
+  CHECK(sum[2] / rows == deflex::test::within(fzf(e) - fzf(s), 0.005));
   CHECK(sum[1] > 0);  // down-milling on a -Y wall pushes the tool to +Y
 }
 
@@ -121,8 +121,8 @@ TEST_CASE("deflex forces --format json --rpm: the spindle's torque and power by 
   const auto [st, ex] = deflex::test::textbook_immersion(12, 2.5, false);
   const double Ft_N = 4 * 12 / (2 * std::numbers::pi) * 700 * 0.1 * (std::cos(st) - std::cos(ex));
   const auto j = nlohmann::json::parse(r.out);
-  CHECK(j["mean_torque_Nm"].get<double>() == doctest::Approx(Ft_N * 6 / 1000).epsilon(1e-3));
-  CHECK(j["power_kW"].get<double>() == doctest::Approx(Ft_N * 6 / 1000 * 2 * std::numbers::pi * 6000 / 60 / 1000).epsilon(1e-3));
+  CHECK(j["mean_torque_Nm"].get<double>() == deflex::test::within(Ft_N * 6 / 1000, 1e-3));
+  CHECK(j["power_kW"].get<double>() == deflex::test::within(Ft_N * 6 / 1000 * 2 * std::numbers::pi * 6000 / 60 / 1000, 1e-3));
   CHECK(usage_error({"--tool-file", tools, "--tool", "F12", "--kt", "700", "--kr", "200", "--ka", "0", "--ae", "2.5",
                      "--ap", "12", "--fz", "0.1", "--down", "--rpm", "-1", "--format", "json"}) == Exit::usage);
 }
@@ -185,8 +185,8 @@ TEST_CASE("deflex calibrate: recovers the sample's coefficients and writes a loa
   CHECK(r.out.find("written to") != std::string::npos);
   const auto lib = deflex::force::load_material_library(out_yaml);
   const auto& m = deflex::force::find_material(lib, "fitted");
-  CHECK(m.k.Ktc_N_per_mm2 == doctest::Approx(850).epsilon(0.03));
-  CHECK(m.k.Kte_N_per_mm == doctest::Approx(24).epsilon(0.03));
+  CHECK(m.k.Ktc_N_per_mm2 == deflex::test::within(850, 0.03));
+  CHECK(m.k.Kte_N_per_mm == deflex::test::within(24, 0.03));
   CHECK(m.source.find("slot_tests_al7075.csv") != std::string::npos);
   std::filesystem::remove(out_yaml);
 

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <vector>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/force/mechanistic.hpp"
 #include "deflex/force/morelli.hpp"
@@ -73,7 +74,7 @@ TEST_CASE("Eq. 6: the single-flute slot F_y peaks at phi_max in the simulation")
                                       [](const Vec3& p, const Vec3& q) { return p.y() < q.y(); });
     const double theta_peak = 2 * std::numbers::pi * (it - F.begin()) / steps;
     INFO("a_p " << ap);
-    CHECK(theta_peak == doctest::Approx(a.phi_max).epsilon(0.004));
+    CHECK(theta_peak == deflex::test::within(a.phi_max, 0.004));
   }
 }
 
@@ -116,7 +117,7 @@ TEST_CASE("Morelli Table 2: key-point positions of the paper's three tests (IIM,
     REQUIRE(kp.size() == t.points.size());
     for (std::size_t i = 0; i < kp.size(); ++i) {
       CHECK(kp[i].name == t.points[i].name);
-      CHECK(kp[i].z_mm == doctest::Approx(t.points[i].z_mm).epsilon(1e-5));
+      CHECK(kp[i].z_mm == deflex::test::within(t.points[i].z_mm, 1e-5));
     }
   }
 }

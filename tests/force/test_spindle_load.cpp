@@ -82,14 +82,14 @@ TEST_CASE("mean torque of a flat end mill: Altintas' closed form, and P = F_t v_
     const double Ft_N = c.N * a / (2 * pi) * (k.Ktc_N_per_mm2 * f * (std::cos(st) - std::cos(ex)) + k.Kte_N_per_mm * (ex - st));
     const MeanTorque m = mean_torque(sl, k, f, e);
     INFO("D " << c.D << " ae " << c.ae);
-    CHECK(m.total_Nm() == doctest::Approx(Ft_N * c.D / 2 / 1000).epsilon(1e-3));
+    CHECK(m.total_Nm() == deflex::test::within(Ft_N * c.D / 2 / 1000, 1e-3));
     // The edge part does not depend on the feed; the cutting part is linear in it.
     const MeanTorque half = mean_torque(sl, k, f / 2, e);
-    CHECK(half.edge_Nm == doctest::Approx(m.edge_Nm).epsilon(1e-12));
-    CHECK(half.cutting_Nm == doctest::Approx(m.cutting_Nm / 2).epsilon(1e-12));
+    CHECK(half.edge_Nm == deflex::test::within(m.edge_Nm, 1e-12));
+    CHECK(half.cutting_Nm == deflex::test::within(m.cutting_Nm / 2, 1e-12));
     // P = F_t v_c, v_c = pi D n / 60 (m/s), in kW.
     const double rpm = 6366, vc_m_per_s = pi * c.D / 1000 * rpm / 60;
-    CHECK(deflex::profile::power_from_torque_kW(m.total_Nm(), rpm) == doctest::Approx(Ft_N * vc_m_per_s / 1000).epsilon(1e-3));
+    CHECK(deflex::profile::power_from_torque_kW(m.total_Nm(), rpm) == deflex::test::within(Ft_N * vc_m_per_s / 1000, 1e-3));
   }
 }
 
@@ -105,7 +105,7 @@ TEST_CASE("mean torque of ball and bull ends: the closed form against a direct q
       const double want = torque_by_quadrature(sl, k, 0.08, e, 7200);
       REQUIRE(want > 0.1);  // in the cut
       INFO(to_string(c.type));
-      CHECK(mean_torque(sl, k, 0.08, e).total_Nm() == doctest::Approx(want).epsilon(2e-3));
+      CHECK(mean_torque(sl, k, 0.08, e).total_Nm() == deflex::test::within(want, 2e-3));
     }
   }
 }
@@ -136,7 +136,7 @@ TEST_CASE("the feed share of a peak force limit: the forces at that share meet t
       revolution_forces(sl, g, k, limit / written * f, e, at);
       CHECK(peak(at) > 1.05 * limit);
     } else {
-      CHECK(s == doctest::Approx(limit / written).epsilon(1e-9));
+      CHECK(s == deflex::test::within(limit / written, 1e-9));
     }
     CHECK(peak_feed_share(total, edge, 2 * written) == 1.0);
     if (edges) CHECK(peak_feed_share(total, edge, 0.9 * edge_alone) == 0.0);

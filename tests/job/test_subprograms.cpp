@@ -65,7 +65,7 @@ TEST_SUITE("job") {
       largest_mm = std::max(largest_mm, std::fabs(pts.num(i, "surface_error_mm")));
     }
     CHECK(outside == 412);
-    CHECK(largest_mm == doctest::Approx(0.0923).epsilon(1e-3));
+    CHECK(largest_mm == deflex::test::within(0.0923, 1e-3));
     test::check_deflection_physics(pts, 0.01);
     CHECK(r.err.find("side_wall_sub.nc:22:1: warning: 412 points outside +-0.0100 mm are left as programmed on moves in "
                      "subprograms that run more than once (the first here, in O5113, called at lines 12, 16); the "

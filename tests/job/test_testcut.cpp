@@ -158,8 +158,8 @@ TEST_SUITE("job") {
             u < f.u0_mm || u > f.u1_mm)
           continue;
         ++n;
-        CHECK(p.ae_mm == doctest::Approx(f.ae_mm).epsilon(0.06 / f.ae_mm));
-        CHECK(p.ap_mm == doctest::Approx(f.ap_mm).epsilon(0.06 / f.ap_mm));
+        CHECK(p.ae_mm == deflex::test::within(f.ae_mm, 0.06 / f.ae_mm));
+        CHECK(p.ap_mm == deflex::test::within(f.ap_mm, 0.06 / f.ap_mm));
         // deflex's rule (compensate/normals.cpp): a flank cut's normal is +Y'
         // of the feed frame (left of the feed) exactly when it is down-milling.
         CHECK_FALSE(std::isnan(p.flank_min_mm));

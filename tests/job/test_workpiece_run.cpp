@@ -219,7 +219,7 @@ TEST_SUITE("job") {
     MESSAGE("the pass where the wall gives way most (line ", top, "): its largest share ", 1000 * top_finished, " um finished, ",
             1000 * top_staged, " um in stages");
     REQUIRE(top_finished > 0.01);
-    CHECK(top_staged / top_finished == test::within(std::pow(2.0 / 2.1, 3), 0.03));
+    CHECK(top_staged / top_finished == deflex::test::within(std::pow(2.0 / 2.1, 3), 0.03));
   }
 
   TEST_CASE("workpiece stages: a count out of range is refused before the program is read") {

@@ -176,11 +176,11 @@ TEST_CASE("part model: flat and bull-nose flank and floor contacts") {
     // Flank on the wall, 0.05 mm off it, tip 1 mm above the floor: contact on the wall.
     const part::Contact w = pm.contact(shape, V3(6.05, 0, 1), V3(-6, 0, 4));
     CHECK(angle_deg(w.normal, V3::UnitX()) < 1e-6);
-    CHECK(w.gap_mm == doctest::Approx(0.05).epsilon(1e-6));
+    CHECK(w.gap_mm == deflex::test::within(0.05, 1e-6));
     // End face 0.03 mm into the floor, away from the wall: contact on the floor.
     const part::Contact f = pm.contact(shape, V3(12, 0, -0.03), V3::Zero());
     CHECK(angle_deg(f.normal, V3::UnitZ()) < 1e-6);
-    CHECK(f.gap_mm == doctest::Approx(-0.03).epsilon(1e-6));
+    CHECK(f.gap_mm == deflex::test::within(-0.03, 1e-6));
   }
 }
 
@@ -196,7 +196,7 @@ TEST_CASE("part model: a flat or bull-nose end buried in a block: the gap is min
     for (double depth_mm : {0.1, 0.5, 3.0, 12.0}) {
       const part::Contact c = pm.contact(shape, V3(50, 50, -depth_mm), V3::Zero());
       INFO(id << " plunged " << depth_mm << " mm: gap " << c.gap_mm);
-      CHECK(c.gap_mm == doctest::Approx(-depth_mm).epsilon(1e-6));
+      CHECK(c.gap_mm == deflex::test::within(-depth_mm, 1e-6));
       CHECK(angle_deg(c.normal, V3::UnitZ()) < 1e-6);
       CHECK_FALSE(c.depth_at_least);
     }
@@ -204,12 +204,12 @@ TEST_CASE("part model: a flat or bull-nose end buried in a block: the gap is min
     // and from the bottom, and the depth says it is a bound.
     const part::Contact through = pm.contact(shape, V3(50, 50, -20), V3::Zero());
     INFO(id << " plunged 20 mm: gap " << through.gap_mm);
-    CHECK(through.gap_mm == doctest::Approx(-15 - shape.rho_mm).epsilon(1e-4));
+    CHECK(through.gap_mm == deflex::test::within(-15 - shape.rho_mm, 1e-4));
     CHECK(through.depth_at_least);
     // The flank 3 mm into the wall x = 100, the tip 15 mm down.
     const part::Contact w = pm.contact(shape, V3(100 + R - 3, 50, -15), V3(-R, 0, 4));
     INFO(id << " flank in the wall: gap " << w.gap_mm);
-    CHECK(w.gap_mm == doctest::Approx(-3).epsilon(1e-6));
+    CHECK(w.gap_mm == deflex::test::within(-3, 1e-6));
     CHECK(angle_deg(w.normal, V3::UnitX()) < 1e-6);
     CHECK_FALSE(w.depth_at_least);
   }
@@ -398,8 +398,8 @@ TEST_CASE("gouge check: a pass dug into the part and a pass standing off are nam
   REQUIRE(g.overcut.lines == std::vector<std::uint32_t>{11});
   REQUIRE(g.standoff.lines == std::vector<std::uint32_t>{12});
   // Moved 0.05 straight down on a 20 deg slope: 0.05 cos 20 into it.
-  CHECK(g.overcut.worst_mm == doctest::Approx(0.05 * std::cos(20 / deg)).epsilon(1e-3));
-  CHECK(g.standoff.worst_mm == doctest::Approx(0.04 * std::cos(20 / deg)).epsilon(1e-3));
+  CHECK(g.overcut.worst_mm == deflex::test::within(0.05 * std::cos(20 / deg), 1e-3));
+  CHECK(g.standoff.worst_mm == deflex::test::within(0.04 * std::cos(20 / deg), 1e-3));
   // A program checked in pieces (compensate reads a long one so): the same gaps.
   compensate::PartGaps merged;
   for (std::size_t k = 0; k < m.size(); ++k)
@@ -504,7 +504,7 @@ TEST_CASE("a flat end finishing a wall standing on the floor: the design normal 
     CHECK(p.normal_source == compensate::NormalSource::part);
     CHECK(angle_deg(p.normal, V3::UnitX()) < 1e-6);
     CHECK(p.flank);
-    CHECK(p.error_mm == doctest::Approx(0.5 * (p.flank_min_mm + p.flank_max_mm)).epsilon(1e-12));
+    CHECK(p.error_mm == deflex::test::within(0.5 * (p.flank_min_mm + p.flank_max_mm), 1e-12));
     CHECK(p.error_mm > 1e-3);                           // the wall's error, micrometres
     CHECK(std::fabs(p.delta_mm.z()) < 0.1 * p.error_mm);  // what the floor's normal would have seen
   }
@@ -526,7 +526,7 @@ TEST_CASE("gouge check: a tangential arc onto a wall and off it is a lead-in, no
       compensate::part_gaps(in.motions, pm, lib, [](const interp::Motion&) { return std::string("T6"); }, {}, 0.02, 1.0);
   CHECK(g.overcut.lines.empty());
   CHECK(g.standoff.lines == std::vector<std::uint32_t>{11});
-  CHECK(g.standoff.worst_mm == doctest::Approx(0.5).epsilon(1e-3));
+  CHECK(g.standoff.worst_mm == deflex::test::within(0.5, 1e-3));
 }
 
 }  // TEST_SUITE

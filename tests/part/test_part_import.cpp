@@ -182,7 +182,7 @@ TEST_CASE("gouge check: the pocket program against the block without the pocket 
         compensate::part_gaps(in.motions, pm, lib, [](const interp::Motion&) { return "T1"; }, {}, 0.02, 1.0);
     INFO(file << ": deepest " << g.overcut.worst_mm << " mm at line " << g.overcut.worst_line);
     // The tip 12 mm under the top all round the loop (lines 8 to 14 of the text).
-    CHECK(g.overcut.worst_mm == doctest::Approx(12).epsilon(1e-6));
+    CHECK(g.overcut.worst_mm == deflex::test::within(12, 1e-6));
     CHECK(g.overcut.lines == std::vector<std::uint32_t>{7, 8, 9, 10, 11, 12, 13, 14});
     const test::CliResult r = test::run_cli({"check", tmp / "pocket.nc", "--part", file});
     INFO(r.err);

@@ -46,7 +46,7 @@ TEST_SUITE("plan") {
       const int k = f.feed_axis == 0 ? x++ : y++;
       CHECK(f.id == std::string("W") + (f.feed_axis == 0 ? "X" : "Y") + std::to_string(k + 1));
       CHECK(f.ae_mm == doctest::Approx(std::vector<double>{1, 2.5, 5}[k % 3]));
-      CHECK(f.ap_mm == doctest::Approx((k < 3 ? 0.4 : 1.25) * pitch).epsilon(1e-3));
+      CHECK(f.ap_mm == deflex::test::within((k < 3 ? 0.4 : 1.25) * pitch, 1e-3));
       CHECK(f.z1_mm == 0);
       CHECK(f.z0_mm == doctest::Approx(-f.ap_mm));
       CHECK(f.u1_mm - f.u0_mm == doctest::Approx(6));
@@ -115,8 +115,8 @@ TEST_SUITE("plan") {
       CHECK(f.id == "S" + std::to_string(k + 1));
       CHECK(f.normal[1] == doctest::Approx(-std::sin(th)));
       CHECK(f.normal[2] == doctest::Approx(std::cos(th)));
-      CHECK(f.ap_mm == doctest::Approx(0.8 * R).epsilon(1e-3));  // the wedge at most 0.8 R thick
-      CHECK(f.z0_mm == doctest::Approx(-0.8 * R).epsilon(1e-3));
+      CHECK(f.ap_mm == deflex::test::within(0.8 * R, 1e-3));  // the wedge at most 0.8 R thick
+      CHECK(f.z0_mm == deflex::test::within(-0.8 * R, 1e-3));
       // Every cutting pass: the ball centre R off the plane (tangent) where
       // it cuts along the strike, the last pass's contact past the front face.
       int along = 0;
@@ -127,7 +127,7 @@ TEST_SUITE("plan") {
         ++along;
         const plan::Vec3 c{b[0], b[1], b[2] + R};  // the ball centre
         const double d = (c[0] - f.point_mm[0]) * f.normal[0] + (c[1] - f.point_mm[1]) * f.normal[1] + (c[2] - f.point_mm[2]) * f.normal[2];
-        CHECK(d == doctest::Approx(R).epsilon(2e-3 / R));
+        CHECK(d == deflex::test::within(R, 2e-3 / R));
         lowest_contact_y = std::min(lowest_contact_y, c[1] - R * f.normal[1]);
         // Never lower than the wedge's bottom edge (z0 at the front face)
         // reached by the ball, one stepover past it at most.

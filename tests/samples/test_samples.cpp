@@ -165,7 +165,7 @@ TEST_CASE("samples: six-surface CL points are the ball (R 8) offset of the profi
   double zmin = 1e300, zmax = -1e300, ymax = 0;
   for (const auto& p : pts) zmin = std::min(zmin, p[2]), zmax = std::max(zmax, p[2]), ymax = std::max(ymax, p[1]);
   CHECK(zmin == doctest::Approx(0));
-  CHECK(zmax == doctest::Approx(18.098).epsilon(1e-4));
+  CHECK(zmax == deflex::test::within(18.098, 1e-4));
   CHECK(ymax == 78);
 
   stock::SolidOptions o;
@@ -286,8 +286,8 @@ TEST_CASE("samples: side wall cuts a_e 2.5, a_p 12 in down-milling on its box st
   for (const Seen& s : seen) {
     CAPTURE(s.y);
     (s.y > 2 ? pass1 : pass2)++;
-    CHECK(s.ae == doctest::Approx(2.5).epsilon(0.04));   // the second pass sees the first one's wall to a cell
-    CHECK(s.ap == doctest::Approx(12).epsilon(0.01));
+    CHECK(s.ae == deflex::test::within(2.5, 0.04));   // the second pass sees the first one's wall to a cell
+    CHECK(s.ap == deflex::test::within(12, 0.01));
     CHECK(s.up < 0.01);                                   // all removal on the down-milling side
   }
   CHECK(pass1 > 50);

@@ -6,6 +6,7 @@
 #include <complex>
 #include <numbers>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stability/lobes.hpp"
 
@@ -91,15 +92,15 @@ TEST_SUITE("stability") {
     const Lobes lobes = zero_order_lobes(frf, cut, 5000, 40000);
     const double a_crit = 8 * k_N_per_mm * zeta * (1 + zeta) / (cut.flutes * cut.Kt_N_per_mm2 * cut.Kr_ratio);
     MESSAGE("SDOF slot: a_crit " << lobes.ap_min_mm << " mm, closed form " << a_crit << " mm");
-    CHECK(lobes.ap_min_mm == doctest::Approx(a_crit).epsilon(0.02));
+    CHECK(lobes.ap_min_mm == deflex::test::within(a_crit, 0.02));
     const double r = std::sqrt(1 + 2 * zeta), fc = fn * r, eps = pi + 2 * std::atan(r);
-    CHECK(lobes.ap_min_chatter_Hz == doctest::Approx(fc).epsilon(0.01));
+    CHECK(lobes.ap_min_chatter_Hz == deflex::test::within(fc, 0.01));
     for (int k : {0, 1, 2}) {
       const LobePoint m = lobe_minimum(lobes, k);
       CAPTURE(k);
       MESSAGE("lobe " << k << " minimum at " << m.rpm << " rpm, closed form "
                       << 60 * fc / (cut.flutes * (k + eps / (2 * pi))) << " rpm");
-      CHECK(m.ap_limit_mm == doctest::Approx(a_crit).epsilon(0.02));
+      CHECK(m.ap_limit_mm == deflex::test::within(a_crit, 0.02));
       CHECK(m.rpm == doctest::Approx(60 * fc / (cut.flutes * (k + eps / (2 * pi)))).epsilon(0.01));
     }
   }
@@ -144,7 +145,7 @@ TEST_SUITE("stability") {
       scan_min = std::min(scan_min, scan);
       CAPTURE(rpm);
       worst = std::max(worst, std::abs(limit.ap_limit_mm(rpm) / scan - 1));
-      CHECK(limit.ap_limit_mm(rpm) == doctest::Approx(scan).epsilon(0.02));
+      CHECK(limit.ap_limit_mm(rpm) == deflex::test::within(scan, 0.02));
     }
     MESSAGE("table against the scan: worst " << 100 * worst << " %; a_min " << lobes.ap_min_mm << " mm, scan's least "
                                              << scan_min << " mm");

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "../support.hpp"
 #include "deflex/force/cutter.hpp"
 #include "deflex/force/engagement.hpp"
 #include "deflex/stability/model.hpp"
@@ -77,7 +78,7 @@ TEST_CASE("the limit at one speed from the sweep is the lobes' envelope (Stabili
     const StabilityLimit table(zero_order_lobes(frf, cut, 1000, 20000), 1000, 20000, 20000);
     for (double rpm = 1500; rpm <= 19500; rpm += 250) {
       CAPTURE(rpm);
-      CHECK(ap_limit_at(sw, rpm) == doctest::Approx(table.ap_limit_mm(rpm)).epsilon(0.005));
+      CHECK(ap_limit_at(sw, rpm) == deflex::test::within(table.ap_limit_mm(rpm), 0.005));
     }
   }
 }
@@ -107,7 +108,7 @@ TEST_CASE("LimitCache: the per-phase sweeps give the limit of the cut's own lobe
     for (const double rpm : {3000.0, 7500.0, 12000.0, 17000.0}) {
       CAPTURE(rpm);
       const double want = direct_limit_mm(B / ap, 3, k.Ktc_N_per_mm2, rpm);
-      CHECK(cache.ap_limit_mm(B, ap, rpm) == doctest::Approx(want).epsilon(0.02));
+      CHECK(cache.ap_limit_mm(B, ap, rpm) == deflex::test::within(want, 0.02));
     }
   }
   // Nothing engaged: no limit.

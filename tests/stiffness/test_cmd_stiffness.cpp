@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../support.hpp"
 #include "deflex/cli/command.hpp"
 #include "deflex/cli/exit.hpp"
 #include "deflex/diag/diagnostics.hpp"
@@ -61,7 +62,7 @@ TEST_SUITE("stiffness") {
       for (int i = 0; i < 3; ++i)
         for (int m = 0; m < 3; ++m)
           CHECK(row["matrix_mm_per_N"][i][m].as<double>() ==
-                doctest::Approx(c.at(hs[k])(i, m)).epsilon(1e-6));
+                deflex::test::within(c.at(hs[k])(i, m), 1e-6));
     }
   }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stiffness/beam.hpp"
 #include "deflex/stiffness/modes.hpp"
@@ -48,7 +49,7 @@ TEST_SUITE("stiffness") {
       CAPTURE(n);
       MESSAGE("mode " << n + 1 << ": " << modes[n].frequency_Hz << " Hz, Euler-Bernoulli " << expect << " Hz ("
                       << 100 * (modes[n].frequency_Hz / expect - 1) << " %)");
-      CHECK(modes[n].frequency_Hz == doctest::Approx(expect).epsilon(0.01));
+      CHECK(modes[n].frequency_Hz == deflex::test::within(expect, 0.01));
       CHECK(modes[n].frequency_Hz < expect);  // Timoshenko: shear and rotary inertia only lower it
       CHECK(modes[n].damping_ratio == 0.03);  // the dynamics: default
     }
@@ -57,7 +58,7 @@ TEST_SUITE("stiffness") {
     const double w1 = 2 * pi * eb_frequency_Hz(betaL[0], 4, 200, t.material);
     const double rhoAL_t = t.material.density_kg_per_m3 * 1e-12 * pi * 4 * 200;
     MESSAGE("k_1 " << modes[0].stiffness_N_per_mm << " N/mm, closed form " << w1 * w1 * rhoAL_t / 4);
-    CHECK(modes[0].stiffness_N_per_mm == doctest::Approx(w1 * w1 * rhoAL_t / 4).epsilon(0.01));
+    CHECK(modes[0].stiffness_N_per_mm == deflex::test::within(w1 * w1 * rhoAL_t / 4, 0.01));
   }
 
   TEST_CASE("modes: a stubby tool's first frequency falls below Euler-Bernoulli's (Timoshenko)") {
@@ -74,7 +75,7 @@ TEST_SUITE("stiffness") {
     SUBCASE("tool only, a plain cylinder") {
       const Tool t = cylinder(10, 50, *material_preset("carbide"));
       const double c0 = beam_compliance(t, {}, true).at(0)(0, 0);
-      CHECK(modal_compliance_sum(tip_modes(t, {}, true, 0)) == doctest::Approx(c0).epsilon(1e-6));
+      CHECK(modal_compliance_sum(tip_modes(t, {}, true, 0)) == deflex::test::within(c0, 1e-6));
     }
     SUBCASE("the full chain of the sample machine and tool") {
       const Tool& t = find_tool(load_tool_library(sample_path("samples/tools.yaml")), "T3");
@@ -85,7 +86,7 @@ TEST_SUITE("stiffness") {
       MESSAGE("T3 on mill3: " << all.size() << " modes, the lowest " << all[0].frequency_Hz << " Hz (k "
                               << all[0].stiffness_N_per_mm << " N/mm); sum 1/k " << modal_compliance_sum(all)
                               << " mm/N, static " << c0);
-      CHECK(modal_compliance_sum(all) == doctest::Approx(c0).epsilon(1e-6));
+      CHECK(modal_compliance_sum(all) == deflex::test::within(c0, 1e-6));
       // The lowest modes hold most of it; frequencies ascend.
       const std::vector<Mode> low = tip_modes(t, m, false, 3);
       REQUIRE(low.size() == 3);
@@ -99,7 +100,7 @@ TEST_SUITE("stiffness") {
       m.tool_clamp = Springs{4e5, 6e8, std::nullopt};
       m.spindle = Springs{2e5, 2e9, 4e5};
       const double c0 = beam_compliance(t, m, false).at(0)(0, 0);
-      CHECK(modal_compliance_sum(tip_modes(t, m, false, 0)) == doctest::Approx(c0).epsilon(1e-6));
+      CHECK(modal_compliance_sum(tip_modes(t, m, false, 0)) == deflex::test::within(c0, 1e-6));
     }
   }
 

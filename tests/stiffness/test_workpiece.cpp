@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <cstdio>
 
+#include "../support.hpp"
 #include "deflex/stiffness/workpiece.hpp"
 #include "helpers.hpp"
 #include "workpiece_parts.hpp"
@@ -51,11 +52,11 @@ TEST_CASE("workpiece: a narrow strip 10 x 2 x 40 mm clamped at its base is an Eu
   MESSAGE("strip: C_yy ", got, " mm/N, Euler-Bernoulli ", expected, " (L ", L, " mm), ", 100 * (got / expected - 1),
           " %; ", info.nodes, " nodes, ", info.elements, " tets, ", info.dofs, " dofs, mesh ", info.mesh_seconds,
           " s, solve ", info.solve_seconds, " s");
-  CHECK(got == test::within(expected, 0.03));
+  CHECK(got == deflex::test::within(expected, 0.03));
   // Bending about the other axis: b and t exchanged.
   const double expected_x = cantilever_mm_per_N(L, 2, 10, 70000);
   MESSAGE("strip: C_xx ", c.matrix_mm_per_N(0, 0), " mm/N, Euler-Bernoulli ", expected_x);
-  CHECK(c.matrix_mm_per_N(0, 0) == test::within(expected_x, 0.05));
+  CHECK(c.matrix_mm_per_N(0, 0) == deflex::test::within(expected_x, 0.05));
   CHECK(symmetric_positive_definite(c.matrix_mm_per_N, 1e-8));
   // Several points solved together (more than one batch) give each point's
   // own matrix, patch and surface point.
@@ -108,9 +109,9 @@ TEST_CASE("workpiece: a wide plate 100 x 2 x 40 mm under a load along its free e
             info.nodes, " nodes, ", info.elements, " tets, ", info.dofs, " dofs, mesh ", info.mesh_seconds,
             " s, solve ", info.solve_seconds, " s");
   }
-  CHECK(ratio[0] == test::within(1, 0.03));
+  CHECK(ratio[0] == deflex::test::within(1, 0.03));
   CHECK(ratio[0] > 1);  // the free sides soften it
-  CHECK(ratio[1] == test::within(1, 0.01));
+  CHECK(ratio[1] == deflex::test::within(1, 0.01));
 }
 
 TEST_CASE("workpiece: the compliance converges as the mesh is refined; the default mesh within 2 % of the finest") {
@@ -128,7 +129,7 @@ TEST_CASE("workpiece: the compliance converges as the mesh is refined; the defau
   // Stiffness-based elements converge from below (too stiff when coarse).
   CHECK(c[0] <= c[1] * (1 + 1e-6));
   CHECK(std::abs(c[1] - c[2]) <= std::abs(c[0] - c[2]));
-  CHECK(c[1] == test::within(c[2], 0.02));
+  CHECK(c[1] == deflex::test::within(c[2], 0.02));
 }
 
 TEST_CASE("workpiece: the 3x3 compliance is symmetric positive definite, and the transfer reciprocal (Maxwell-Betti)") {
@@ -158,7 +159,7 @@ TEST_CASE("workpiece: an STL of the strip gives the STEP's compliance") {
   const WorkpieceModel from_stl(stl, base_clamp(10, 2), aluminium(), o);
   const double a = step.compliance_at(V3(5, 1, 40)).matrix_mm_per_N(1, 1);
   const double b = from_stl.compliance_at(V3(5, 1, 40)).matrix_mm_per_N(1, 1);
-  CHECK(b == test::within(a, 0.01));
+  CHECK(b == deflex::test::within(a, 0.01));
 }
 
 }  // TEST_SUITE

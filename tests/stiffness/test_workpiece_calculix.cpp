@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "../support.hpp"
 #include "deflex/stiffness/workpiece.hpp"
 #include "workpiece_parts.hpp"
 
@@ -118,7 +119,7 @@ TEST_CASE("workpiece: the strip's compliance agrees with CalculiX's (C3D20R) wit
   const double ours = model.compliance_at(V3(5, 1, 40)).matrix_mm_per_N(1, 1);
   MESSAGE("strip: deflex C_yy ", ours, " mm/N (a patch at the middle of the top face), CalculiX ", ccx,
           " mm/N (the force shared by the top face's nodes, their mean displacement), ", 100 * (ours / ccx - 1), " %");
-  CHECK(ours == test::within(ccx, 0.03));
+  CHECK(ours == deflex::test::within(ccx, 0.03));
 }
 
 TEST_CASE("workpiece: the plate 100 x 2 x 40 mm along its free edge agrees with CalculiX's (C3D20R) within 3 %" *
@@ -161,7 +162,7 @@ TEST_CASE("workpiece: the plate 100 x 2 x 40 mm along its free edge agrees with 
     }
     MESSAGE("plate edge at x = ", x, " mm under the spread load: deflex ", ours, " mm/N, CalculiX ", ccx, " mm/N, ",
             100 * (ours / ccx - 1), " %");
-    CHECK(ours == test::within(ccx, 0.03));
+    CHECK(ours == deflex::test::within(ccx, 0.03));
   }
 }
 

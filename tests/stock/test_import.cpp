@@ -10,6 +10,7 @@
 #include <limits>
 #include <random>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stock/build.hpp"
 
@@ -42,7 +43,7 @@ std::string write_pyramid_stl() {
 }
 
 void check_sphere(const ZMap& z, double deflection) {
-  CHECK(z.base_z_mm() == doctest::Approx(-10).epsilon(1e-3));
+  CHECK(z.base_z_mm() == deflex::test::within(-10, 1e-3));
   int inside = 0;
   for (int j = 0; j < z.grid().ny; j += 7)
     for (int i = 0; i < z.grid().nx; i += 7) {

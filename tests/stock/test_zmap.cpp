@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "../support.hpp"
 #include "deflex/diag/diagnostics.hpp"
 #include "deflex/stock/build.hpp"
 #include "deflex/stock/sweep.hpp"
@@ -195,7 +196,7 @@ TEST_CASE("ball along a line leaves the circular trench, exact at cell centres")
       if (std::fabs(z.at(i, j) - expect) > 1e-5) {
         CAPTURE(x);
         CAPTURE(y);
-        REQUIRE(z.at(i, j) == doctest::Approx(expect).epsilon(1e-6));
+        REQUIRE(z.at(i, j) == deflex::test::within(expect, 1e-6));
       }
       ++checked;
     }
@@ -211,7 +212,7 @@ TEST_CASE("ball along a line leaves the circular trench, exact at cell centres")
   const double h = ap;
   const double seg = R * R * std::acos((R - h) / R) - (R - h) * std::sqrt(2 * R * h - h * h);
   const double cap = std::numbers::pi * h * h * (3 * R - h) / 3;
-  CHECK(removed == doctest::Approx(seg * 40 + cap).epsilon(2e-3));
+  CHECK(removed == deflex::test::within(seg * 40 + cap, 2e-3));
 }
 
 TEST_CASE("flat end along a diagonal line leaves a rectangular trench") {
@@ -246,12 +247,12 @@ TEST_CASE("bull nose along a line: torus profile across the trench") {
       continue;
     }
     const double want = std::min(0.0, tip_z + lower_surface_mm(bull, rho));
-    CHECK(z.at(i, j) == doctest::Approx(want).epsilon(1e-6));
+    CHECK(z.at(i, j) == deflex::test::within(want, 1e-6));
     on_corner += rho > D / 2 - r && want < 0;
   }
   CHECK(on_corner >= 10);  // the corner's arc is sampled, not only the flat floor
   // Half-way round the corner, rho = 3.5 mm: 1 - sqrt(0.75) = 0.133975 mm above the tip.
-  CHECK(lower_surface_mm(bull, 3.5) == doctest::Approx(0.133975).epsilon(1e-6));
+  CHECK(lower_surface_mm(bull, 3.5) == deflex::test::within(1 - std::sqrt(0.75), 1e-6));
 }
 
 TEST_CASE("ramps and plunges: closed-form envelope equals the brute-force minimum") {
@@ -362,7 +363,7 @@ TEST_CASE("chained sweeps in parallel bands equal one-by-one sweeps, cell for ce
       for (int i = 0; i < a.grid().nx; ++i) diff += a.at(i, j) != b.at(i, j);
     CHECK(diff == 0);
     // Removed volumes differ only by rounding (cells lowered in another order).
-    CHECK(vb == doctest::Approx(va).epsilon(1e-9));
+    CHECK(vb == deflex::test::within(va, 1e-9));
   }
 }
 
@@ -467,7 +468,7 @@ TEST_CASE("chains of short moves with the fast paths equal straightforward sweep
       CHECK(higher == 0);  // no cell the reference lowers is skipped
       CHECK(lower == 0);
       CHECK(worst <= 1e-6);  // float rounding of the same height only
-      CHECK(vfast == doctest::Approx(vref).epsilon(1e-6));
+      CHECK(vfast == deflex::test::within(vref, 1e-6));
     }
 }
 
@@ -518,7 +519,7 @@ TEST_CASE("lower_row: cells, removed volume and row / tile maxima equal a per-ce
       }
     }
     const double v = z.lower_row(j, i0, n, h.data());
-    REQUIRE(v == doctest::Approx(vref * g.cell_mm * g.cell_mm).epsilon(1e-9));
+    REQUIRE(v == deflex::test::within(vref * g.cell_mm * g.cell_mm, 1e-9));
     if (it % 500 == 0 || it + 1 == 20000) {
       for (int jj = 0; jj < g.ny; ++jj)
         for (int i = 0; i < g.nx; ++i)
