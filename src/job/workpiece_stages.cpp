@@ -22,7 +22,7 @@
 
 #include "checks.hpp"
 #include "workpiece_run.hpp"
-#include "deflex/engage/sweep_program.hpp"
+#include "deflex/job/earlier.hpp"
 #include "deflex/stock/mesh_out.hpp"
 
 namespace deflex::job::detail {
@@ -71,21 +71,13 @@ StagePlan plan_stages(Run& j, int stages, double margin_mm, double height_step_m
   engage::PathOptions po;
   po.cl_spacing_mm = j.settings.cl_spacing_mm;
   const auto tool_of = [&j](const interp::Motion& m) { return compensate::tool_id(m, j.settings); };
-  const auto profile = [&j, &tool_of](const interp::Motion& m) { return profile_of(j.physics.tools.tools.at(tool_of(m))); };
-  // The moves of the current stage not yet reached and swept.
-  std::vector<interp::Motion> batch;
-  auto flush = [&]() {
-    if (batch.empty()) return;
-    plan.reach.back().add(batch, j.physics.tools, tool_of, po);
-    if (z) {
-      // Only moves whose tool is known sweep (the simulation reports the others).
-      std::erase_if(batch, [&](const interp::Motion& m) { return !j.physics.tools.tools.contains(tool_of(m)); });
-      engage::sweep_motions(*z, batch, profile, po);
-    }
-    batch.clear();
+  // Moves of the current stage: reached, and staged, swept into the stock
+  // (with a profile per tool change, as an earlier operation's).
+  auto add = [&](const std::vector<interp::Motion>& ms) {
+    plan.reach.back().add(ms, j.physics.tools, tool_of, po);
+    if (z) sweep_earlier(ms, *z, j.physics.tools, j.settings.cl_spacing_mm, j.settings.tool_override);
   };
   auto begin_stage = [&](std::size_t motion, std::uint32_t line) {
-    flush();
     plan.first_motion.push_back(motion);
     plan.first_line.push_back(line);
     plan.reach.emplace_back(margin_mm);
@@ -93,25 +85,34 @@ StagePlan plan_stages(Run& j, int stages, double margin_mm, double height_step_m
     plan.surfaces.push_back(stock::zmap_mesh(*z, kStockMeshToleranceMm));
     plan.solids.push_back(stock::zmap_boxes(*z, height_step_mm));
   };
+  // The first stage from the first move (the stock as given), named by its first pass.
+  begin_stage(0, 0);
   std::size_t pass = 0;
   after_rapid = true;
   each_motion_batch(j, [&](std::vector<interp::Motion>& ms, std::size_t first) {
+    // A piece goes to its stage whole (no copy) unless a stage begins inside it.
+    std::size_t from = 0;
+    auto to_stage = [&](std::size_t to) {
+      if (to == from) return;
+      if (from == 0 && to == ms.size()) add(ms);
+      else add(std::vector<interp::Motion>(ms.begin() + static_cast<std::ptrdiff_t>(from), ms.begin() + static_cast<std::ptrdiff_t>(to)));
+      from = to;
+    };
     for (std::size_t i = 0; i < ms.size(); ++i) {
       const interp::Motion& m = ms[i];
       if (starts_pass(m, after_rapid)) {
-        if (plan.first_motion.size() < n && pass == first_pass[plan.first_motion.size()]) begin_stage(first + i, m.line);
-        else if (pass == 0) plan.first_line.front() = m.line;  // the first stage is named by its first pass
+        if (pass == 0) {
+          plan.first_line.front() = m.line;
+        } else if (plan.first_motion.size() < n && pass == first_pass[plan.first_motion.size()]) {
+          to_stage(i);
+          begin_stage(first + i, m.line);
+        }
         ++pass;
       }
       after_rapid = m.kind == interp::MotionKind::rapid;
-      if (plan.first_motion.empty()) begin_stage(0, m.line);  // the moves before the first pass
-      batch.push_back(m);
     }
-    flush();  // a piece's moves go out of scope with it
+    to_stage(ms.size());
   });
-  if (plan.first_motion.empty()) begin_stage(0, 0);
-  // A stage's moves from 0: the moves before the first pass are the first stage's.
-  plan.first_motion.front() = 0;
   return plan;
 }
 

@@ -195,6 +195,16 @@ TEST_SUITE("job") {
     };
     std::string e0, e1, e2;
     const auto finished = shares(0, e0), one = shares(1, e1), two = shares(2, e2);
+    {
+      // Read in pieces of 5 lines (a stage begins inside a piece): the same points.
+      const test::PieceLines pieces("5");
+      job::Settings s = thin_wall_coarse();
+      s.workholding.stages = 2;
+      s.report_dir = (dir.p / "pieces").string();
+      const auto o = test::simulate_job(s);
+      REQUIRE_MESSAGE(o.ok(), o.what);
+      CHECK(test::read_file(s.report_dir + "/points.csv") == test::read_file((dir.p / "2").string() + "/points.csv"));
+    }
     CHECK(!has(e0, "workpiece stage"));
     CHECK(has(e1, "workpiece stage 1 of 1, the in-process stock at line "));
     CHECK(has(e2, "workpiece stage 2 of 2, the in-process stock at line "));
@@ -222,11 +232,19 @@ TEST_SUITE("job") {
     CHECK(top_staged / top_finished == deflex::test::within(std::pow(2.0 / 2.1, 3), 0.03));
   }
 
-  TEST_CASE("workpiece stages: a count out of range is refused before the program is read") {
+  TEST_CASE("workpiece stages: a count out of range is refused before the program is checked") {
+    // A program with an error in it: the setting is what is refused (exit 2),
+    // not the program (exit 4), so nothing is swept or meshed first.
+    const test::TempDir dir("workpiece-stages-refused");
     job::Settings s = thin_wall();
-    s.workholding.stages = -1;
-    const auto o = test::simulate_job(s);
-    CHECK(o.error == ErrorKind::settings);
-    CHECK(has(o.what, "workpiece_stages"));
+    s.program = test::edited_copy(dir, "samples/programs/thin_wall.nc", "bad.nc", "N24 G01 X82.\n", "N24 G999 X82.\n");
+    const auto bad = test::simulate_job(s);
+    CHECK(bad.error == ErrorKind::input);  // the program's own error, with a valid count
+    for (const int stages : {-1, job::kMaxWorkpieceStages + 1}) {
+      s.workholding.stages = stages;
+      const auto o = test::simulate_job(s);
+      CHECK(o.error == ErrorKind::settings);
+      CHECK(has(o.what, "workpiece_stages"));
+    }
   }
 }

@@ -45,7 +45,6 @@ struct WorkpieceStage {
   std::size_t first_motion = 0;  // program order: the moves from here on (to the next stage) see it
   std::uint32_t first_line = 0;  // that move's line
   stiffness::WorkpieceInfo mesh;
-  std::size_t triangles = 0;     // of the stock's surface (nearest points, fixtures)
   std::size_t boxes = 0;         // of the stock's solid meshed (stock::zmap_boxes)
   std::size_t reached_points = 0, nodes = 0;
   double largest_mm_per_N = 0;
